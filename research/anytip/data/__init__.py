@@ -1,0 +1,1 @@
+"""Calibration run files, the registry, CSV import and training arrays."""

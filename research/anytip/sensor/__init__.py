@@ -1,0 +1,1 @@
+"""Sensor geometry, contact physics, unit variation, calibration protocols, fleet simulation."""
