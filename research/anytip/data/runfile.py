@@ -154,7 +154,8 @@ def _validate(run: CalibrationRun, path: str | Path) -> None:
         raise _problem(path, f"attribute 'source' is {run.source!r}; allowed: {', '.join(SOURCES)}")
     for name in ("orientation_deg", "sample_rate_hz"):
         value = getattr(run, name)
-        if not isinstance(value, (int, float, np.floating, np.integer)) or not math.isfinite(value):
+        number = isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)
+        if not number or not math.isfinite(value):
             raise _problem(path, f"attribute {name!r} must be a finite number, got {value!r}")
     if not run.sample_rate_hz > 0:
         raise _problem(path, f"attribute 'sample_rate_hz' must be > 0, got {run.sample_rate_hz}")
@@ -162,13 +163,27 @@ def _validate(run: CalibrationRun, path: str | Path) -> None:
         raise _problem(path, "attribute 'created' must be an ISO 8601 string")
     for key, value in run.extra.items():
         if key not in OPTIONAL_ATTRS or not isinstance(value, str):
-            raise _problem(path, f"optional attribute {key!r} must be one of {OPTIONAL_ATTRS} and a string")
+            raise _problem(
+                path, f"optional attribute {key!r} must be one of {OPTIONAL_ATTRS} and a string"
+            )
+    for key, value in [("sensor_model", run.sensor_model), ("created", run.created), *run.extra.items()]:
+        _check_text(path, key, value)
     if "simulator" in run.extra:
         try:
             json.loads(run.extra["simulator"])
         except json.JSONDecodeError as e:
             raise _problem(path, f"attribute 'simulator' is not valid JSON ({e})") from None
     _validate_arrays(run, path)
+
+
+def _check_text(path: str | Path, key: str, value: str) -> None:
+    """HDF5 strings are UTF-8 without NUL characters; refuse text that cannot be stored."""
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        raise _problem(path, f"attribute {key!r} is not valid UTF-8 text") from None
+    if "\x00" in value:
+        raise _problem(path, f"attribute {key!r} contains a NUL character")
 
 
 def _validate_arrays(run: CalibrationRun, path: str | Path) -> None:
@@ -178,13 +193,17 @@ def _validate_arrays(run: CalibrationRun, path: str | Path) -> None:
     if run.pressure.ndim != 2 or run.pressure.shape[1] < 1:
         raise _problem(path, f"dataset 'pressure' must have shape (N, C), got {run.pressure.shape}")
     c = run.pressure.shape[1]
-    expected = {"pressure": (n, c), "force": (n, 3), "angles": (n, 2), "temperature": (n, c), "in_contact": (n,)}
+    expected = {
+        "pressure": (n, c), "force": (n, 3), "angles": (n, 2), "temperature": (n, c), "in_contact": (n,),
+    }
     for name, arr in run.datasets().items():
         if name == "time":
             continue
         want = expected[name]
         if arr.ndim != len(want):
-            raise _problem(path, f"dataset {name!r} must have {len(want)} dimension(s), got shape {arr.shape}")
+            raise _problem(
+                path, f"dataset {name!r} must have {len(want)} dimension(s), got shape {arr.shape}"
+            )
         if arr.shape[0] != n:
             raise _problem(path, f"dataset {name!r} has {arr.shape[0]} rows but 'time' has {n}")
         if arr.shape != want:
@@ -225,7 +244,8 @@ def read_run(path: str | Path) -> CalibrationRun:
             return _read_open(f, path)
     except RunFormatError:
         raise
-    except OSError as e:
+    except (OSError, KeyError, RuntimeError, ValueError) as e:
+        # h5py reports damaged headers as KeyError or RuntimeError, not only OSError.
         raise _problem(path, f"not a readable HDF5 file (truncated or corrupt?): {e}") from None
 
 
@@ -237,9 +257,13 @@ def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
     if attrs["format"] != FORMAT:
         raise _problem(path, f"attribute 'format' is {attrs['format']!r}, expected {FORMAT!r}")
     if not isinstance(attrs["format_version"], int) or isinstance(attrs["format_version"], bool):
-        raise _problem(path, f"attribute 'format_version' must be an integer, got {attrs['format_version']!r}")
+        raise _problem(
+            path, f"attribute 'format_version' must be an integer, got {attrs['format_version']!r}"
+        )
     if attrs["format_version"] != FORMAT_VERSION:
-        raise _problem(path, f"unknown format_version {attrs['format_version']}; this reader knows {FORMAT_VERSION}")
+        raise _problem(
+            path, f"unknown format_version {attrs['format_version']}; this reader knows {FORMAT_VERSION}"
+        )
     for key in ("sensor_id", "sensor_model", "source", "created"):
         if not isinstance(attrs[key], str):
             raise _problem(path, f"attribute {key!r} must be a string, got {attrs[key]!r}")
@@ -289,23 +313,32 @@ def _read_dataset(node: h5py.Dataset, name: str, path: Path) -> np.ndarray:
 def write_run(run: CalibrationRun, path: str | Path, *, compression: str | None = "gzip") -> Path:
     """Write `run` as an interchange file at `path` (chunked, shuffled, gzip, fletcher32).
 
-    Validates first; nothing is written for an invalid run. Not atomic by itself: the
-    registry writes to a temporary name and renames.
+    Validates first; nothing is written for an invalid run, and a write that fails part
+    way removes its file. Not atomic by itself: the registry writes to a temporary name
+    and renames.
     """
     path = Path(path)
     run.validate(path)
-    with h5py.File(path, "w", libver=("earliest", "v110")) as f:
-        for key, value in run.attrs().items():
-            f.attrs[key] = value
-        for name, arr in run.datasets().items():
-            arr = np.ascontiguousarray(arr, dtype=DTYPES[name])
-            chunk_rows = int(min(arr.shape[0], max(1, 2**18 // max(1, arr[:1].nbytes))))
-            f.create_dataset(
-                name, data=arr, chunks=(chunk_rows, *arr.shape[1:]), compression=compression,
-                compression_opts=1 if compression == "gzip" else None, shuffle=compression is not None,
-                fletcher32=True,
-            )
+    try:
+        with h5py.File(path, "w", libver=("earliest", "v110")) as f:
+            for key, value in run.attrs().items():
+                f.attrs[key] = value
+            for name, arr in run.datasets().items():
+                _write_dataset(f, name, np.ascontiguousarray(arr, dtype=DTYPES[name]), compression)
+    except BaseException:
+        path.unlink(missing_ok=True)  # never leave half a file behind
+        raise
     return path
+
+
+def _write_dataset(f: h5py.File, name: str, arr: np.ndarray, compression: str | None) -> None:
+    """One dataset in chunks of about 256 KiB of rows, shuffled, compressed, fletcher32."""
+    chunk_rows = int(min(arr.shape[0], max(1, 2**18 // max(1, arr[:1].nbytes))))
+    f.create_dataset(
+        name, data=arr, chunks=(chunk_rows, *arr.shape[1:]), compression=compression,
+        compression_opts=1 if compression == "gzip" else None,
+        shuffle=compression is not None, fletcher32=True,
+    )
 
 
 def run_fields() -> list[str]:

@@ -1,0 +1,177 @@
+"""Command line: `anytip` (the main job), `anytip data ...` (the registry)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from anytip.errors import AnytipError
+
+
+def _registry(args: argparse.Namespace):
+    from anytip.data.registry import Registry, default_registry_path
+
+    return Registry(Path(args.registry) if args.registry else default_registry_path())
+
+
+def _print_runs(records, as_json: bool) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    if as_json:
+        for rec in records:
+            print(json.dumps(rec.to_json(), sort_keys=True))
+        return
+    table = Table(title=f"{len(records)} runs, {len({r.unit for r in records})} units")
+    for col in ("run_id", "unit", "model", "orient.", "protocol", "source", "rows", "robot s"):
+        table.add_column(col, justify="right" if col in ("orient.", "rows", "robot s") else "left")
+    for r in records:
+        table.add_row(
+            r.run_id, r.unit, r.sensor_model, f"{r.orientation_deg:g}", r.protocol or "-",
+            r.source, f"{r.rows:,}", f"{r.duration_s:,.0f}",
+        )
+    Console(width=max(140, Console().width)).print(table)
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig, load_fleet_config
+
+    config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
+    registry = _registry(args)
+    protocols = [p for p in args.protocols.split(",") if p]
+    start = time.perf_counter()
+    added, unchanged = simulate_into(registry, config, args.units, args.seed, protocols,
+                                     progress=sys.stderr.isatty())
+    print(f"simulated {args.units} units into {registry.root}: {added} runs added, "
+          f"{unchanged} unchanged ({time.perf_counter() - start:.1f} s)")
+    return 0
+
+
+def cmd_import(args: argparse.Namespace) -> int:
+    registry = _registry(args)
+    report = registry.import_paths([Path(p) for p in args.paths], column_map=args.csv_map)
+    print(report.summary())
+    return 0
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    paths = _registry(args).export(args.target, Path(args.out))
+    for p in paths:
+        print(p)
+    return 0
+
+
+def cmd_list(args: argparse.Namespace) -> int:
+    records = _registry(args).list_runs(unit=args.unit, sensor_model=args.model)
+    _print_runs(records, args.json)
+    return 0
+
+
+def cmd_verify(args: argparse.Namespace) -> int:
+    report = _registry(args).verify()
+    for problem in report.problems():
+        print(problem)
+    print(f"{report.checked} runs checked: " + ("ok" if report.ok else f"{len(report.problems())} problems"))
+    return 0 if report.ok else 1
+
+
+def cmd_remove(args: argparse.Namespace) -> int:
+    removed = _registry(args).remove(args.target)
+    print(f"removed {len(removed)} runs: {', '.join(r.run_id for r in removed)}")
+    return 0
+
+
+def quickstart_spec() -> Path:
+    """experiments/quickstart.yaml of this checkout (the main job's spec)."""
+    import anytip
+
+    for root in (Path(anytip.__file__).resolve().parents[2], Path.cwd()):
+        if (root / "experiments" / "quickstart.yaml").is_file():
+            return root / "experiments" / "quickstart.yaml"
+    raise AnytipError("experiments/quickstart.yaml not found beside the package or in the current directory")
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from anytip.runner import run_experiment
+
+    run_experiment(args.spec, _registry(args), out=args.out, overrides=args.set,
+                   progress=sys.stderr.isatty())
+    return 0
+
+
+def cmd_main_job(args: argparse.Namespace) -> int:
+    """The README's main job: the quickstart experiment (simulates a fleet into an empty registry)."""
+    ns = argparse.Namespace(spec=str(quickstart_spec()), registry=args.registry, out=None, set=[])
+    return cmd_run(ns)
+
+
+def _add_registry_opt(p: argparse.ArgumentParser, top: bool = False) -> None:
+    # Sub-commands suppress the default so `anytip --registry X data list` keeps X.
+    p.add_argument("--registry", default=None if top else argparse.SUPPRESS,
+                   help="registry directory (default: $ANYTIP_REGISTRY or ./data/registry)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="anytip", description=__doc__)
+    _add_registry_opt(parser, top=True)
+    parser.set_defaults(func=cmd_main_job)
+    sub = parser.add_subparsers(dest="command")
+    run = sub.add_parser("run", help="run an experiment spec")
+    _add_registry_opt(run)
+    run.add_argument("spec", help="experiments/<name>.yaml")
+    run.add_argument("--out", default=None, help="run directory (default runs/<spec>/<UTC time>/)")
+    run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                     help="override a spec key, e.g. --set training.epochs=3 (repeatable)")
+    run.set_defaults(func=cmd_run)
+    data = sub.add_parser("data", help="the registry of calibration runs")
+    data_sub = data.add_subparsers(dest="verb", required=True)
+
+    def verb(name: str, func: Callable[[argparse.Namespace], int], help_: str):
+        p = data_sub.add_parser(name, help=help_)
+        _add_registry_opt(p)
+        p.set_defaults(func=func)
+        return p
+
+    p = verb("simulate", cmd_simulate, "simulate a fleet into the registry")
+    p.add_argument("--fleet", help="fleet config YAML (default: the built-in default fleet)")
+    p.add_argument("--units", type=int, default=8)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--protocols", default="full,short", help="comma-separated protocol names")
+    p = verb("import", cmd_import, "import interchange HDF5 files or CSV rig logs")
+    p.add_argument("paths", nargs="+")
+    p.add_argument("--csv-map", default=None, help="column map YAML for CSV logs")
+    p = verb("export", cmd_export, "write a unit's or a run's interchange files")
+    p.add_argument("target", metavar="UNIT_OR_RUN")
+    p.add_argument("--out", required=True)
+    p = verb("list", cmd_list, "list runs")
+    p.add_argument("--json", action="store_true", help="one JSON object per run")
+    p.add_argument("--unit", default=None)
+    p.add_argument("--model", default=None, help="sensor model")
+    verb("verify", cmd_verify, "re-hash payloads, find missing and orphaned files")
+    p = verb("remove", cmd_remove, "remove a unit's or a run's runs")
+    p.add_argument("target", metavar="UNIT_OR_RUN")
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    if getattr(args, "registry", None) is None and os.environ.get("ANYTIP_REGISTRY"):
+        args.registry = os.environ["ANYTIP_REGISTRY"]
+    try:
+        return args.func(args)
+    except AnytipError as e:
+        print(f"anytip: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("anytip: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,193 @@
+"""The registry's SQLite catalog: one row per run, the run id rule, and the registry hash.
+
+The catalog is the registry's source of truth: a payload file counts only once its row
+is committed. Connections use WAL (readers never block the one writer) and a busy
+timeout (a second writer waits instead of failing). See docs/registry.md.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+import sqlite3
+from collections.abc import Iterable
+from dataclasses import asdict, dataclass, fields
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+from anytip.data.runfile import CalibrationRun, check_sensor_id
+from anytip.errors import AnytipError
+
+SCHEMA_VERSION = 1
+BUSY_TIMEOUT_S = 120.0
+RUN_ID_RE = re.compile(r"[A-Za-z0-9._-]{1,160}")
+
+SCHEMA = """
+CREATE TABLE IF NOT EXISTS runs (
+    run_id          TEXT PRIMARY KEY,
+    unit            TEXT NOT NULL,
+    sensor_model    TEXT NOT NULL,
+    orientation_deg REAL NOT NULL,
+    source          TEXT NOT NULL,
+    rows            INTEGER NOT NULL,
+    channels        INTEGER NOT NULL,
+    duration_s      REAL NOT NULL,
+    protocol        TEXT,
+    sha256          TEXT NOT NULL,
+    created         TEXT NOT NULL,
+    path            TEXT NOT NULL,
+    imported_at     TEXT NOT NULL
+);
+CREATE INDEX IF NOT EXISTS runs_unit ON runs (unit);
+CREATE INDEX IF NOT EXISTS runs_sensor_model ON runs (sensor_model);
+"""
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """One catalog row. `path` is relative to the registry root; times are ISO 8601 UTC."""
+
+    run_id: str
+    unit: str
+    sensor_model: str
+    orientation_deg: float
+    source: str
+    rows: int
+    channels: int
+    duration_s: float
+    protocol: str | None
+    sha256: str
+    created: str
+    path: str
+    imported_at: str
+
+    def to_json(self) -> dict[str, Any]:
+        """The record as a JSON-ready dict (column name -> value)."""
+        return asdict(self)
+
+
+COLUMNS = tuple(f.name for f in fields(RunRecord))
+
+
+def check_run_id(run_id: str) -> str:
+    """Return `run_id` if it is a safe file name ([A-Za-z0-9._-], not only dots), else raise."""
+    if not isinstance(run_id, str) or not RUN_ID_RE.fullmatch(run_id) or set(run_id) == {"."}:
+        raise AnytipError(f"run id {run_id!r} must match [A-Za-z0-9._-]{{1,160}} and not be only dots")
+    return run_id
+
+
+def compact_time(created: str) -> str:
+    """ISO 8601 time -> 'YYYYMMDDTHHMMSSZ' in UTC (with '.ffffff' before 'Z' if sub-second).
+
+    A time without a zone is taken as UTC, as the format prescribes.
+    """
+    try:
+        t = datetime.fromisoformat(created)
+    except (TypeError, ValueError):
+        raise AnytipError(f"'created' {created!r} is not an ISO 8601 time") from None
+    t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
+    frac = f".{t.microsecond:06d}" if t.microsecond else ""
+    return t.strftime("%Y%m%dT%H%M%S") + frac + "Z"
+
+
+def compact_number(x: float) -> str:
+    """-45.0 -> '-45', 22.5 -> '22.5': the shortest text that round-trips the float."""
+    x = float(x)
+    return str(int(x)) if x.is_integer() else repr(x)
+
+
+def make_run_id(run: CalibrationRun) -> str:
+    """`<sensor_id>_o<orientation_deg>_<created as YYYYMMDDTHHMMSSZ>`, e.g. FT-0007_o-45_20240501T120000Z.
+
+    Built from the run's identity (unit, rig orientation, recording time), never its
+    values, so a re-import of the same recording finds the same id.
+    """
+    check_sensor_id(run.sensor_id)
+    return check_run_id(f"{run.sensor_id}_o{compact_number(run.orientation_deg)}_{compact_time(run.created)}")
+
+
+def payload_relpath(unit: str, run_id: str) -> str:
+    """Where a run's payload lives, relative to the registry root (POSIX separators)."""
+    return f"runs/{check_sensor_id(unit, 'unit')}/{check_run_id(run_id)}.h5"
+
+
+def protocol_name(run: CalibrationRun) -> str | None:
+    """`name` of the `protocol` object in the `simulator` JSON attribute, if any."""
+    try:
+        sim = run.simulator
+    except ValueError:
+        return None
+    protocol = sim.get("protocol") if isinstance(sim, dict) else None
+    name = protocol.get("name") if isinstance(protocol, dict) else None
+    return name if isinstance(name, str) else None
+
+
+def record_for(run: CalibrationRun, run_id: str, sha256: str, imported_at: str) -> RunRecord:
+    """The catalog row describing `run` stored under `run_id`."""
+    return RunRecord(
+        run_id=run_id, unit=run.sensor_id, sensor_model=run.sensor_model,
+        orientation_deg=float(run.orientation_deg), source=run.source, rows=run.n_rows,
+        channels=run.n_channels, duration_s=run.duration_s, protocol=protocol_name(run),
+        sha256=sha256, created=run.created, path=payload_relpath(run.sensor_id, run_id),
+        imported_at=imported_at,
+    )
+
+
+def connect(db_path: Path) -> sqlite3.Connection:
+    """Open (creating if needed) the catalog in autocommit mode; transactions are explicit."""
+    conn = sqlite3.connect(db_path, timeout=BUSY_TIMEOUT_S, isolation_level=None)
+    conn.execute(f"PRAGMA busy_timeout = {int(BUSY_TIMEOUT_S * 1000)}")
+    conn.execute("PRAGMA journal_mode = WAL")
+    conn.execute("PRAGMA synchronous = FULL")
+    version = conn.execute("PRAGMA user_version").fetchone()[0]
+    if version == 0:
+        conn.execute("BEGIN IMMEDIATE")
+        for statement in SCHEMA.split(";"):
+            conn.execute(statement)
+        conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        conn.execute("COMMIT")
+    elif version != SCHEMA_VERSION:
+        conn.close()
+        raise AnytipError(f"{db_path}: catalog schema version {version}; this code knows {SCHEMA_VERSION}")
+    return conn
+
+
+def _record(row: tuple) -> RunRecord:
+    return RunRecord(*row)
+
+
+def get(conn: sqlite3.Connection, run_id: str) -> RunRecord | None:
+    row = conn.execute(f"SELECT {', '.join(COLUMNS)} FROM runs WHERE run_id = ?", (run_id,)).fetchone()
+    return None if row is None else _record(row)
+
+
+def query(conn: sqlite3.Connection, **equal: str | None) -> list[RunRecord]:
+    """Rows whose columns equal the given non-None values, ordered by unit then run id."""
+    keys = [k for k, v in equal.items() if v is not None]
+    for k in keys:
+        assert k in COLUMNS, k
+    where = " AND ".join(f"{k} = ?" for k in keys) or "1"
+    sql = f"SELECT {', '.join(COLUMNS)} FROM runs WHERE {where} ORDER BY unit, run_id"
+    return [_record(r) for r in conn.execute(sql, [equal[k] for k in keys])]
+
+
+def insert(conn: sqlite3.Connection, record: RunRecord) -> None:
+    marks = ", ".join("?" for _ in COLUMNS)
+    conn.execute(f"INSERT INTO runs ({', '.join(COLUMNS)}) VALUES ({marks})", astuple(record))
+
+
+def delete(conn: sqlite3.Connection, run_ids: Iterable[str]) -> None:
+    conn.executemany("DELETE FROM runs WHERE run_id = ?", [(r,) for r in run_ids])
+
+
+def astuple(record: RunRecord) -> tuple:
+    return tuple(getattr(record, c) for c in COLUMNS)
+
+
+def hash_pairs(pairs: Iterable[tuple[str, str]]) -> str:
+    """sha256 over sorted (run_id, sha256) pairs: independent of insertion order."""
+    h = hashlib.sha256()
+    for run_id, sha in sorted(pairs):
+        h.update(f"{run_id}\t{sha}\n".encode())
+    return h.hexdigest()

@@ -1,0 +1,66 @@
+"""Splits: units into train / validation / held-out roles, rows into the paper's random
+split and into held-out patches. Everything is deterministic from a seed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from anytip.errors import AnytipError
+
+
+@dataclass(frozen=True)
+class UnitSplit:
+    """Unit roles; no unit is in two roles."""
+
+    train: tuple[str, ...]
+    val: tuple[str, ...]
+    test: tuple[str, ...]
+
+    def to_json(self) -> dict[str, list[str]]:
+        return {k: list(v) for k, v in asdict(self).items()}
+
+
+def split_units(units: Sequence[str], seed: int, n_val: int, n_test: int,
+                n_train: int | None = None) -> UnitSplit:
+    """Shuffle `units` with `seed` and deal held-out, then validation, then training units.
+
+    `n_train` None takes every remaining unit. Raises if the registry holds too few.
+    """
+    units = sorted(set(units))
+    need = n_val + n_test + (n_train or 1)
+    if len(units) < need:
+        raise AnytipError(
+            f"the registry holds {len(units)} units of this sensor model; the split needs "
+            f"at least {need} ({n_test} held-out, {n_val} validation, {n_train or '>= 1'} training)"
+        )
+    order = [units[i] for i in np.random.default_rng(seed).permutation(len(units))]
+    test, val = order[:n_test], order[n_test:n_test + n_val]
+    rest = order[n_test + n_val:]
+    train = rest if n_train is None else rest[:n_train]
+    return UnitSplit(tuple(sorted(train)), tuple(sorted(val)), tuple(sorted(test)))
+
+
+def random_rows(n_rows: int, test_fraction: float, seed: int) -> np.ndarray:
+    """The paper's split: (n_rows,) bool, True for a random `test_fraction` of rows."""
+    rng = np.random.default_rng(seed)
+    mask = np.zeros(n_rows, bool)
+    mask[rng.choice(n_rows, size=int(round(test_fraction * n_rows)), replace=False)] = True
+    return mask
+
+
+def held_out_patches(patch: np.ndarray, test_fraction: float, seed: int) -> np.ndarray:
+    """(N,) bool, True for rows of whole patches held out from training.
+
+    A `test_fraction` of the distinct patch cells (at least one, at most all but one)
+    is chosen at random; every row of a chosen patch is a test row.
+    """
+    cells = np.unique(patch)
+    if len(cells) < 2:
+        raise AnytipError(f"held-out patches need at least 2 patches; the rows cover {len(cells)}")
+    k = int(np.clip(round(test_fraction * len(cells)), 1, len(cells) - 1))
+    chosen = np.random.default_rng(seed).choice(cells, size=k, replace=False)
+    return np.isin(patch, chosen)

@@ -1,0 +1,137 @@
+"""Save and load a fleet of MLPs: `<name>.safetensors` (tensors) + `<name>.json` (metadata).
+
+No pickles anywhere: tensors go through safetensors, everything else is JSON. The JSON
+holds the format version, the MLPConfig, the number of models and a free `meta` dict
+(unit ids, output names, recipe, seed, ...).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import torch
+from safetensors import SafetensorError
+from safetensors.torch import load_file, save_file
+from torch import Tensor
+
+from anytip.errors import AnytipError
+from anytip.models.mlp import BatchedMLP, MLPConfig
+from anytip.models.scaler import Scaler
+
+FORMAT = "anytip.batched_mlp"
+FORMAT_VERSION = 1
+DEFAULT_NAME = "model"
+
+
+class ModelFileError(AnytipError):
+    """A model file that is missing, unreadable or does not match its metadata."""
+
+    def __init__(self, path: str | Path, problem: str):
+        self.path, self.problem = str(path), problem
+        super().__init__(f"{path}: {problem}")
+
+
+@dataclass
+class LoadedModels:
+    """What `load_models` returns: the model, its scalers and the saved metadata."""
+
+    model: BatchedMLP
+    in_scaler: Scaler
+    out_scaler: Scaler
+    meta: dict[str, Any] = field(default_factory=dict)
+
+
+def model_paths(path: str | Path) -> tuple[Path, Path]:
+    """(tensors, metadata) paths: `x.safetensors` names a file; anything else is a directory."""
+    path = Path(path)
+    if path.suffix == ".safetensors":
+        return path, path.with_suffix(".json")
+    return path / f"{DEFAULT_NAME}.safetensors", path / f"{DEFAULT_NAME}.json"
+
+
+def save_models(path: str | Path, model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler,
+                meta: dict[str, Any] | None = None) -> Path:
+    """Write the model and scalers; returns the .safetensors path. `meta` must be JSON-able."""
+    meta = dict(meta or {})
+    ids = meta.get("unit_ids")
+    if ids is not None and len(ids) != model.n_models:
+        raise ValueError(f"meta has {len(ids)} unit_ids for {model.n_models} models")
+    tensors_path, json_path = model_paths(path)
+    tensors_path.parent.mkdir(parents=True, exist_ok=True)
+    save_file(_tensors(model, in_scaler, out_scaler), str(tensors_path))
+    header = {"format": FORMAT, "format_version": FORMAT_VERSION,
+              "config": model.config.model_dump(mode="json"), "n_models": model.n_models,
+              "meta": meta}
+    json_path.write_text(json.dumps(header, indent=2) + "\n")
+    return tensors_path
+
+
+def load_models(path: str | Path, device: torch.device | str = "cpu") -> LoadedModels:
+    """Read what `save_models` wrote; any mismatch raises ModelFileError naming the file."""
+    tensors_path, json_path = model_paths(path)
+    header = _read_header(json_path)
+    try:
+        config = MLPConfig(**header["config"])
+        n_models = int(header["n_models"])
+    except Exception as e:  # noqa: BLE001 - any bad header is reported the same way
+        raise ModelFileError(json_path, f"bad config or n_models: {e}") from e
+    if not tensors_path.exists():
+        raise ModelFileError(tensors_path, "file not found")
+    try:
+        tensors = load_file(str(tensors_path), device=str(device))
+    except (SafetensorError, OSError) as e:
+        raise ModelFileError(tensors_path, f"not a readable safetensors file: {e}") from e
+    _check(tensors_path, tensors, _expected_shapes(config, n_models))
+    model = BatchedMLP(n_models, config, seed=[0] * n_models).to(device)
+    model.load_state_dict({k: tensors[k] for k in model.state_dict()})
+    in_scaler = Scaler(tensors["in_scaler.mean"], tensors["in_scaler.std"])
+    out_scaler = Scaler(tensors["out_scaler.mean"], tensors["out_scaler.std"])
+    return LoadedModels(model, in_scaler, out_scaler, header.get("meta", {}))
+
+
+def _tensors(model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler) -> dict[str, Tensor]:
+    out = {k: v.detach().contiguous().cpu() for k, v in model.state_dict().items()}
+    for name, s in (("in_scaler", in_scaler), ("out_scaler", out_scaler)):
+        out[f"{name}.mean"] = s.mean.detach().contiguous().cpu()
+        out[f"{name}.std"] = s.std.detach().contiguous().cpu()
+    return out
+
+
+def _expected_shapes(config: MLPConfig, n: int) -> dict[str, tuple[int, ...]]:
+    shapes: dict[str, tuple[int, ...]] = {}
+    pairs = zip(config.sizes[:-1], config.sizes[1:], strict=True)
+    for l, (i, o) in enumerate(pairs):
+        shapes[f"weights.{l}"] = (n, i, o)
+        shapes[f"biases.{l}"] = (n, 1, o)
+    for name, d in (("in_scaler", config.sizes[0]), ("out_scaler", config.sizes[-1])):
+        shapes[f"{name}.mean"] = shapes[f"{name}.std"] = (n, 1, d)
+    return shapes
+
+
+def _check(path: Path, tensors: dict[str, Tensor], expected: dict[str, tuple[int, ...]]) -> None:
+    missing, extra = sorted(expected.keys() - tensors.keys()), sorted(tensors.keys() - expected.keys())
+    if missing or extra:
+        raise ModelFileError(path, f"tensor names do not match the config: missing {missing}, "
+                                   f"unexpected {extra}")
+    for k, shape in expected.items():
+        if tuple(tensors[k].shape) != shape:
+            raise ModelFileError(path, f"tensor {k!r} has shape {tuple(tensors[k].shape)}, "
+                                       f"the config expects {shape}")
+
+
+def _read_header(json_path: Path) -> dict[str, Any]:
+    if not json_path.exists():
+        raise ModelFileError(json_path, "metadata file not found")
+    try:
+        header = json.loads(json_path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise ModelFileError(json_path, f"not valid JSON: {e}") from e
+    if not isinstance(header, dict) or header.get("format") != FORMAT:
+        raise ModelFileError(json_path, f"not an {FORMAT} metadata file")
+    if header.get("format_version") != FORMAT_VERSION:
+        raise ModelFileError(json_path, f"format_version {header.get('format_version')!r} is not "
+                                        f"supported (this code reads {FORMAT_VERSION})")
+    return header

@@ -1,0 +1,143 @@
+"""A fleet of small MLPs held as one batched model.
+
+Layer l of model u computes h @ weights[l][u] + biases[l][u], so a forward pass over
+every model is one `torch.baddbmm` per layer: x (U, B, in) -> (U, B, out).
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+from collections.abc import Sequence
+from typing import Literal
+
+import numpy as np
+import torch
+import torch.nn.functional as F
+from pydantic import BaseModel, ConfigDict, field_validator
+from torch import Tensor, nn
+
+Activation = Literal["relu", "tanh", "gelu", "silu"]
+ACTIVATIONS = {"relu": torch.relu, "tanh": torch.tanh, "gelu": F.gelu, "silu": F.silu}
+ACTIVATION_MODULES = {"relu": nn.ReLU, "tanh": nn.Tanh, "gelu": nn.GELU, "silu": nn.SiLU}
+
+Plain = list[tuple[Tensor, Tensor]]  # one model as [(W (in, out), b (out,)), ...]
+
+
+class MLPConfig(BaseModel):
+    """Shape of one MLP: layer widths from input to output and the nonlinearities."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    sizes: tuple[int, ...] = (8, 12, 64, 64, 5)
+    activation: Activation = "relu"
+    output_activation: Activation | None = None
+
+    @field_validator("sizes")
+    @classmethod
+    def _check_sizes(cls, sizes: tuple[int, ...]) -> tuple[int, ...]:
+        if len(sizes) < 2 or min(sizes) < 1:
+            raise ValueError(f"sizes {sizes} needs at least an input and an output width, all >= 1")
+        return sizes
+
+    @property
+    def n_params(self) -> int:
+        """Weights and biases of one model."""
+        return sum((i + 1) * o for i, o in zip(self.sizes[:-1], self.sizes[1:], strict=True))
+
+
+def unit_seed(seed: int, unit: int, stream: str = "init") -> int:
+    """A 63-bit seed for one unit's random stream that does not depend on the fleet size."""
+    entropy = [seed, unit, zlib.crc32(stream.encode())]
+    return int(np.random.SeedSequence(entropy).generate_state(1, np.uint64)[0] >> 1)
+
+
+class BatchedMLP(nn.Module):
+    """U independent MLPs of one shape: weights[l] (U, in, out), biases[l] (U, 1, out).
+
+    `seed` is either one int (model u is initialised from `unit_seed(seed, u)`) or one seed
+    per model. Initialisation matches nn.Linear's default: W, b ~ U(-1/sqrt(in), 1/sqrt(in)).
+    """
+
+    def __init__(self, n_models: int, config: MLPConfig, seed: int | Sequence[int] = 0):
+        super().__init__()
+        self.n_models, self.config = n_models, config
+        pairs = list(zip(config.sizes[:-1], config.sizes[1:], strict=True))
+        self.weights = nn.ParameterList(nn.Parameter(torch.empty(n_models, i, o)) for i, o in pairs)
+        self.biases = nn.ParameterList(nn.Parameter(torch.empty(n_models, 1, o)) for _, o in pairs)
+        seeds = [unit_seed(seed, u) for u in range(n_models)] if isinstance(seed, int) else seed
+        self.reset_parameters(seeds)
+
+    @torch.no_grad()
+    def reset_parameters(self, seeds: Sequence[int]) -> None:
+        """Initialise model u from its own CPU generator, so its weights depend on seeds[u] only."""
+        if len(seeds) != self.n_models:
+            raise ValueError(f"got {len(seeds)} seeds for {self.n_models} models")
+        for u, s in enumerate(seeds):
+            g = torch.Generator().manual_seed(int(s))
+            for W, b in zip(self.weights, self.biases, strict=True):
+                fan_in, fan_out = W.shape[1], W.shape[2]
+                bound = 1.0 / math.sqrt(fan_in)
+                # drawn as (out, in) like nn.Linear.weight, then stored transposed
+                w = torch.empty(fan_out, fan_in).uniform_(-bound, bound, generator=g)
+                W[u].copy_(w.T)
+                b[u, 0].copy_(torch.empty(fan_out).uniform_(-bound, bound, generator=g))
+
+    def forward(self, x: Tensor) -> Tensor:
+        """x (U, B, in) -> (U, B, out), in whatever units the model was trained on."""
+        act = ACTIVATIONS[self.config.activation]
+        last = len(self.weights) - 1
+        for l, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
+            x = torch.baddbmm(b, x, W)
+            if l < last:
+                x = act(x)
+        if self.config.output_activation is not None:
+            x = ACTIVATIONS[self.config.output_activation](x)
+        return x
+
+    def to_plain(self, i: int) -> Plain:
+        """Model i as [(W (in, out), b (out,)), ...], detached copies on the model's device."""
+        return [(W[i].detach().clone(), b[i, 0].detach().clone())
+                for W, b in zip(self.weights, self.biases, strict=True)]
+
+    def model_slice(self, i: int) -> BatchedMLP:
+        """A one-model BatchedMLP holding a copy of model i."""
+        return BatchedMLP.from_plain([self.to_plain(i)], self.config)
+
+    def to_sequential(self, i: int) -> nn.Sequential:
+        """Model i as a plain nn.Sequential of nn.Linear layers (weights copied)."""
+        return plain_to_sequential(self.to_plain(i), self.config)
+
+    @classmethod
+    def from_plain(cls, models: Sequence[Plain], config: MLPConfig) -> BatchedMLP:
+        """Stack per-model [(W (in, out), b (out,)), ...] lists into one BatchedMLP."""
+        out = cls(len(models), config, seed=[0] * len(models))
+        device = models[0][0][0].device
+        out.to(device)
+        with torch.no_grad():
+            for l, (W, b) in enumerate(zip(out.weights, out.biases, strict=True)):
+                W.copy_(torch.stack([m[l][0] for m in models]))
+                b.copy_(torch.stack([m[l][1] for m in models]).unsqueeze(1))
+        return out
+
+
+def plain_to_sequential(plain: Plain, config: MLPConfig) -> nn.Sequential:
+    """[(W (in, out), b (out,)), ...] -> nn.Sequential(Linear, act, ..., Linear[, out act])."""
+    layers: list[nn.Module] = []
+    for l, (W, b) in enumerate(plain):
+        lin = nn.Linear(W.shape[0], W.shape[1], device=W.device)
+        with torch.no_grad():
+            lin.weight.copy_(W.T)
+            lin.bias.copy_(b)
+        layers.append(lin)
+        if l < len(plain) - 1:
+            layers.append(ACTIVATION_MODULES[config.activation]())
+    if config.output_activation is not None:
+        layers.append(ACTIVATION_MODULES[config.output_activation]())
+    return nn.Sequential(*layers)
+
+
+def sequential_to_plain(net: nn.Sequential) -> Plain:
+    """The nn.Linear layers of `net` as [(W (in, out), b (out,)), ...] (detached copies)."""
+    return [(m.weight.detach().T.clone(), m.bias.detach().clone())
+            for m in net if isinstance(m, nn.Linear)]

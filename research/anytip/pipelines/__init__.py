@@ -1,0 +1,1 @@
+"""One module per kind of experiment; each has `run(ctx) -> rows`."""

@@ -1,0 +1,160 @@
+"""What every pipeline does first: pick runs from the registry, load them, build per-unit
+tensors for a row split, and score per-unit models on their test rows.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from anytip.config import DataConfig, ExperimentSpec
+from anytip.data.arrays import FleetArrays, load_arrays
+from anytip.data.registry import Registry, RunRecord
+from anytip.data.splits import held_out_patches, random_rows
+from anytip.errors import AnytipError
+from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.fleet import FitResult
+from anytip.train.metrics import predict
+
+OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
+
+
+@dataclass
+class Context:
+    """What a pipeline gets: the spec, the registry, where to write, the device."""
+
+    spec: ExperimentSpec
+    registry: Registry
+    run_dir: Path
+    device: torch.device
+    progress: bool = True
+    provenance: dict[str, Any] = field(default_factory=dict)
+
+
+def resolve_device(name: str) -> torch.device:
+    if name == "auto":
+        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    if name == "cuda" and not torch.cuda.is_available():
+        raise AnytipError("device 'cuda' was asked for but torch sees no CUDA device; use 'cpu' or 'auto'")
+    return torch.device(name)
+
+
+def select_runs(registry: Registry, cfg: DataConfig, seed: int,
+                min_units: int = 1) -> tuple[str, list[RunRecord]]:
+    """Runs of one sensor model (the named one, else the one with most units).
+
+    `protocol` keeps runs of that protocol and measured runs (no protocol recorded);
+    `max_units` keeps that many units, chosen by `seed`.
+    """
+    records = registry.list_runs()
+    if not records:
+        raise AnytipError(f"registry {registry.root} is empty; add runs with "
+                          "`anytip data simulate` or `anytip data import`")
+    if cfg.protocol is not None:
+        records = [r for r in records if r.protocol in (cfg.protocol, None)]
+    units_per_model = Counter()
+    for model, unit in {(r.sensor_model, r.unit) for r in records}:
+        units_per_model[model] += 1
+    if cfg.sensor_model is None:
+        if not units_per_model:
+            raise AnytipError(f"registry {registry.root} holds no runs of protocol {cfg.protocol!r}")
+        model = max(sorted(units_per_model), key=lambda m: units_per_model[m])
+    else:
+        model = cfg.sensor_model
+    records = [r for r in records if r.sensor_model == model]
+    units = sorted({r.unit for r in records})
+    if len(units) < min_units:
+        have = ", ".join(f"{m}: {n}" for m, n in sorted(units_per_model.items())) or "none"
+        raise AnytipError(
+            f"registry {registry.root} holds {len(units)} units of sensor model {model!r} "
+            f"(protocol {cfg.protocol!r}); this experiment needs at least {min_units} "
+            f"(units per model: {have})"
+        )
+    if cfg.max_units is not None and len(units) > cfg.max_units:
+        keep = set(np.random.default_rng(seed).choice(units, cfg.max_units, replace=False))
+        records = [r for r in records if r.unit in keep]
+    return model, records
+
+
+def load(ctx: Context, min_units: int = 1) -> FleetArrays:
+    model, records = select_runs(ctx.registry, ctx.spec.data, ctx.spec.seed, min_units)
+    arrays = load_arrays(ctx.registry, records)
+    ctx.provenance.update(
+        sensor_model=model, runs=[r.run_id for r in records], units=arrays.units,
+        registry=str(ctx.registry.root), registry_content_hash=ctx.registry.content_hash(),
+        selection_content_hash=ctx.registry.content_hash([r.run_id for r in records]),
+    )
+    return arrays
+
+
+TestMask = Callable[[np.ndarray, int], np.ndarray]
+
+
+def patch_test_mask(fraction: float, seed: int) -> TestMask:
+    """Held-out whole patches; each unit draws its own patches (seed, unit index)."""
+    return lambda patch, u: held_out_patches(patch, fraction, seed * 100_003 + u)
+
+
+def random_test_mask(fraction: float, seed: int) -> TestMask:
+    """The paper's random rows."""
+    return lambda patch, u: random_rows(len(patch), fraction, seed * 100_003 + u)
+
+
+@dataclass
+class UnitSplitRows:
+    """Per-unit models' data for one split: training tensors and test rows (numpy)."""
+
+    data: FleetBatchData
+    X_test: list[np.ndarray]
+    Y_test: list[np.ndarray]
+    test_rows: list[np.ndarray]  # indices into the FleetArrays rows
+
+
+def per_unit_split(arrays: FleetArrays, units: Sequence[str], test_mask: TestMask,
+                   val_fraction: float, seed: int, device: torch.device) -> UnitSplitRows:
+    """For each unit: test rows from `test_mask`, the rest split into train and validation."""
+    targets = arrays.targets
+    members, X_test, Y_test, test_rows = [], [], [], []
+    for u, unit in enumerate(units):
+        rows = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+        test = test_mask(arrays.patch[rows], u)
+        train_rows, held = rows[~test], rows[test]
+        rng = np.random.default_rng(seed * 7919 + u)
+        is_val = np.zeros(len(train_rows), bool)
+        is_val[rng.choice(len(train_rows), max(1, round(val_fraction * len(train_rows))), replace=False)] = True
+        members.append(UnitTensors(
+            torch.from_numpy(arrays.pressure[train_rows[~is_val]]), torch.from_numpy(targets[train_rows[~is_val]]),
+            torch.from_numpy(arrays.pressure[train_rows[is_val]]), torch.from_numpy(targets[train_rows[is_val]]),
+            unit,
+        ))
+        X_test.append(arrays.pressure[held])
+        Y_test.append(targets[held])
+        test_rows.append(held)
+    return UnitSplitRows(FleetBatchData.from_units(members, device), X_test, Y_test, test_rows)
+
+
+def predict_units(fit: FitResult, X: Sequence[np.ndarray], first_model: int = 0) -> list[np.ndarray]:
+    """Physical predictions of models first_model.. on their own rows: [(n_u, 5), ...]."""
+    out = []
+    for k, x in enumerate(X):
+        m = first_model + k
+        model = fit.model.model_slice(m)
+        xt = torch.from_numpy(x).to(fit.in_scaler.mean.device)[None]
+        pred = predict(model, fit.in_scaler.slice(m), fit.out_scaler.slice(m), xt)[0]
+        out.append(pred.cpu().numpy())
+    return out
+
+
+def scores(pred: np.ndarray, target: np.ndarray) -> dict[str, float]:
+    """RMSE of one unit's rows: force (over the 3 axes), angles (over 2), and per output."""
+    err2 = (pred.astype(np.float64) - target) ** 2
+    out = {f"{name}_rmse": float(np.sqrt(err2[:, k].mean())) for k, name in enumerate(OUTPUTS)}
+    out["force_rmse_n"] = float(np.sqrt(err2[:, :3].mean()))
+    out["angle_rmse_rad"] = float(np.sqrt(err2[:, 3:].mean()))
+    return out

@@ -1,0 +1,108 @@
+"""Figures for reports: parity plots, error over the contact region, error against force,
+training curves. Each function takes plain arrays and writes one PNG.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+OUTPUT_NAMES = ("Fx [N]", "Fy [N]", "Fz [N]", "theta [rad]", "phi [rad]")
+DPI = 120
+
+
+def _save(fig: plt.Figure, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    return path
+
+
+def parity(pred: np.ndarray, target: np.ndarray, path: Path, title: str,
+           max_points: int = 20000, seed: int = 0) -> Path:
+    """Predicted against true value for each of the 5 outputs; pred, target (N, 5)."""
+    idx = np.random.default_rng(seed).permutation(len(pred))[:max_points]
+    fig, axes = plt.subplots(1, 5, figsize=(17, 3.6))
+    for k, ax in enumerate(axes):
+        t, p = target[idx, k], pred[idx, k]
+        ax.scatter(t, p, s=1, alpha=0.25, rasterized=True)
+        lo, hi = float(min(t.min(), p.min())), float(max(t.max(), p.max()))
+        ax.plot([lo, hi], [lo, hi], "k--", lw=0.8)
+        rmse = float(np.sqrt(np.mean((target[:, k] - pred[:, k]) ** 2)))
+        ax.set(title=f"{OUTPUT_NAMES[k]}  RMSE {rmse:.3g}", xlabel="true", ylabel="predicted")
+    fig.suptitle(title)
+    return _save(fig, path)
+
+
+def region_heatmap(angles: np.ndarray, err2: np.ndarray, path: Path, title: str,
+                   cell_deg: float = 7.5) -> Path:
+    """RMSE over the contact region. angles (N, 2) rad; err2 (N,) squared error per row."""
+    deg = np.degrees(angles)
+    t_edges = np.arange(-45, 45 + cell_deg, cell_deg)
+    p_edges = np.arange(-135, 45 + cell_deg, cell_deg)
+    s, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges], weights=err2)
+    n, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rmse = np.sqrt(s / n)
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    im = ax.pcolormesh(p_edges, t_edges, rmse, shading="flat", cmap="viridis")
+    fig.colorbar(im, ax=ax, label="RMSE")
+    ax.set(xlabel="phi [deg]", ylabel="theta [deg]", title=title, aspect="equal")
+    return _save(fig, path)
+
+
+def error_vs_force(normal_force: np.ndarray, curves: Mapping[str, np.ndarray], path: Path,
+                   title: str, ylabel: str = "force RMSE [N]", n_bins: int = 10) -> Path:
+    """RMSE against |Fz| bins; `curves` maps a label to (N,) squared errors on the same rows."""
+    fz = np.abs(normal_force)
+    edges = np.linspace(0, max(float(fz.max()), 1e-6), n_bins + 1)
+    which = np.clip(np.digitize(fz, edges) - 1, 0, n_bins - 1)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for label, err2 in curves.items():
+        rmse = [np.sqrt(err2[which == b].mean()) if (which == b).any() else np.nan
+                for b in range(n_bins)]
+        ax.plot(centres, rmse, "o-", label=label)
+    ax.set(xlabel="|Fz| [N]", ylabel=ylabel, title=title)
+    ax.legend()
+    ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def training_curves(histories: Mapping[str, Sequence[tuple[float, float]]], path: Path,
+                    title: str, xlabel: str = "epoch", ylabel: str = "validation force RMSE [N]",
+                    logy: bool = True) -> Path:
+    """One line per label; each history a sequence of (x, y) points."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    for label, points in histories.items():
+        if len(points):
+            x, y = zip(*points, strict=True)
+            ax.plot(x, y, lw=1, label=label)
+    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
+    if logy:
+        ax.set_yscale("log")
+    if len(histories) <= 12:
+        ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    return _save(fig, path)
+
+
+def bars(labels: Sequence[str], groups: Mapping[str, Sequence[float]], path: Path, title: str,
+         ylabel: str) -> Path:
+    """Grouped bars: one group per label, one bar per key of `groups`."""
+    x = np.arange(len(labels))
+    width = 0.8 / max(1, len(groups))
+    fig, ax = plt.subplots(figsize=(max(6, 0.5 * len(labels) + 2), 4))
+    for k, (name, values) in enumerate(groups.items()):
+        ax.bar(x + k * width, values, width, label=name)
+    ax.set_xticks(x + width * (len(groups) - 1) / 2, labels, rotation=45, ha="right", fontsize=8)
+    ax.set(ylabel=ylabel, title=title)
+    ax.legend()
+    ax.grid(axis="y", alpha=0.3)
+    return _save(fig, path)

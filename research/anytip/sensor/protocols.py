@@ -1,0 +1,194 @@
+"""Calibration protocols: force and contact trajectories the rig plays, at a fixed rate.
+
+A protocol covers, for each orientation o of the unit on the rig, the 6 x 6 cells of
+15 deg in theta in [-45, 45] and phi in [o - 45, o + 45]. Cell edges lie on the fixed
+grid theta = -45 + 15 k deg, phi = -135 + 15 k deg; every label of a patch lies
+strictly inside its cell, so a loader recovers patches by binning label angles.
+Per patch the rig presses once per normal-force layer at a fresh point of the cell
+and draws an asterisk at that layer: shear out and back along `directions` directions,
+up to min(shear_max_n, friction * Fn). Segments are cosine-interpolated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from anytip.errors import AnytipError
+
+CELL_DEG = 15.0
+THETA_EDGES_DEG = -45.0 + CELL_DEG * np.arange(7)
+PHI_EDGES_DEG = -135.0 + CELL_DEG * np.arange(13)
+CELLS_PER_AXIS = 6
+
+
+class Protocol(BaseModel):
+    """A calibration protocol. Durations are seconds of robot time, forces newtons."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    name: str
+    orientations_deg: tuple[float, ...] = (0.0, -45.0, -90.0)
+    patches: int = Field(36, ge=1, le=36, description="patches per orientation")
+    layers_n: tuple[float, ...] = (6.25, 12.5, 18.75, 25.0)
+    directions: int = Field(8, ge=1)
+    friction: float = Field(0.8, gt=0)
+    shear_max_n: float = Field(15.0, ge=0)
+    ramp_s: float = Field(0.4, gt=0)
+    hold_s: float = Field(0.1, gt=0)
+    shear_s: float = Field(0.18, gt=0, description="each way, out or back")
+    gap_s: float = Field(0.15, gt=0, description="no contact between presses of a patch")
+    patch_rest_s: float = Field(1.0, gt=0, description="no contact before each patch")
+    margin_deg: float = Field(0.5, ge=0, lt=7.5, description="press points keep off cell edges")
+    sample_rate_hz: float = Field(200.0, gt=0)
+
+    @model_validator(mode="after")
+    def _on_grid(self) -> Protocol:
+        for o in self.orientations_deg:
+            lo = o - 45.0
+            if lo < PHI_EDGES_DEG[0] or lo + 90.0 > PHI_EDGES_DEG[-1] or (lo + 135.0) % CELL_DEG:
+                raise ValueError(
+                    f"orientation {o} deg puts phi cells off the 15-deg grid in [-135, 45]"
+                )
+        return self
+
+    def rows_per_press(self) -> int:
+        return int(self.segment_samples().sum())
+
+    def rows_per_orientation(self) -> int:
+        rest = self.samples(self.patch_rest_s)
+        return self.patches * (rest + len(self.layers_n) * self.rows_per_press())
+
+    @property
+    def duration_s(self) -> float:
+        """Robot time of the whole protocol, all orientations, in seconds."""
+        return len(self.orientations_deg) * self.rows_per_orientation() / self.sample_rate_hz
+
+    def samples(self, seconds: float) -> int:
+        return max(1, int(round(seconds * self.sample_rate_hz)))
+
+    def segment_samples(self) -> np.ndarray:
+        """Samples of each segment of one press: ramp, hold, (out, back) x directions, ramp, gap."""
+        s = self.samples
+        return np.array(
+            [s(self.ramp_s), s(self.hold_s)]
+            + [s(self.shear_s)] * (2 * self.directions)
+            + [s(self.ramp_s), s(self.gap_s)]
+        )
+
+
+PROTOCOLS: dict[str, Protocol] = {
+    "full": Protocol(name="full"),
+    "short": Protocol(name="short", patches=4, layers_n=(12.5, 25.0)),
+}
+
+
+def get_protocol(protocol: str | Protocol | dict) -> Protocol:
+    """A built-in protocol by name ('full', 'short'), or a Protocol / its dict as given."""
+    if isinstance(protocol, Protocol):
+        return protocol
+    if isinstance(protocol, dict):
+        return Protocol.model_validate(protocol)
+    if protocol not in PROTOCOLS:
+        raise AnytipError(
+            f"unknown protocol {protocol!r}; built-in protocols: {', '.join(PROTOCOLS)}"
+        )
+    return PROTOCOLS[protocol]
+
+
+@dataclass
+class Trajectory:
+    """What the rig commands over one run (N rows).
+
+    force (N, 3) N true contact-frame force; angles (N, 2) rad commanded contact
+    (theta, phi), which are the labels; in_contact (N,) bool; press (N,) int index of
+    the current press and patch (N,) int index of its patch (rest rows belong to the
+    press before, or to press 0 at the start of the run); cells (P, 2) int cell
+    indices (theta, phi) on the global grid, one row per patch.
+    """
+
+    force: np.ndarray
+    angles: np.ndarray
+    in_contact: np.ndarray
+    press: np.ndarray
+    patch: np.ndarray
+    cells: np.ndarray
+
+
+def patch_cells(protocol: Protocol, orientation_deg: float) -> np.ndarray:
+    """(P, 2) global cell indices (theta index 0..5, phi index 0..11) the rig visits.
+
+    All 36 in serpentine order, or a subset spread by a 2-D Kronecker sequence.
+    """
+    phi0 = int(round((orientation_deg - 45.0 + 135.0) / CELL_DEG))
+    grid = [(i, j if i % 2 == 0 else CELLS_PER_AXIS - 1 - j) for i in range(6) for j in range(6)]
+    if protocol.patches < len(grid):
+        g = 1.32471795724474602596  # plastic number: the R2 low-discrepancy sequence
+        k = np.arange(protocol.patches * 4)
+        ti = np.floor(6 * ((0.5 + k / g) % 1)).astype(int)
+        pj = np.floor(6 * ((0.5 + k / g**2) % 1)).astype(int)
+        seen = dict.fromkeys(zip(ti.tolist(), pj.tolist(), strict=True))
+        grid = list(seen)[: protocol.patches]
+    cells = np.array(grid, dtype=int)
+    cells[:, 1] += phi0
+    return cells
+
+
+def _press_points(cells: np.ndarray, n_layers: int, margin: float, rng: np.random.Generator):
+    """(P * L, 2) rad press angles: uniform inside each cell, `margin` deg off its edges."""
+    lo = np.stack([THETA_EDGES_DEG[cells[:, 0]], PHI_EDGES_DEG[cells[:, 1]]], -1)
+    lo = np.repeat(lo, n_layers, axis=0)
+    return np.deg2rad(lo + margin + rng.random(lo.shape) * (CELL_DEG - 2 * margin))
+
+
+def _waypoints(protocol: Protocol, n_presses: int, rng: np.random.Generator) -> np.ndarray:
+    """(Q, K + 1, 3) N contact-frame force at the segment ends of each of Q presses."""
+    layers = np.tile(np.asarray(protocol.layers_n, float), n_presses // len(protocol.layers_n))
+    fn = layers * rng.uniform(0.9, 1.0, layers.shape)
+    d = protocol.directions
+    angle = 2 * np.pi * np.arange(d) / d + rng.uniform(0, 2 * np.pi / d, (n_presses, 1))
+    shear = np.minimum(protocol.shear_max_n, protocol.friction * fn)[:, None]
+    shear = shear * rng.uniform(0.7, 1.0, (n_presses, d))
+    w = np.zeros((n_presses, 2 * d + 5, 3))
+    w[:, 1:-2, 2] = -fn[:, None]
+    w[:, 3:-2:2, 0] = shear * np.cos(angle)
+    w[:, 3:-2:2, 1] = shear * np.sin(angle)
+    return w
+
+
+def _interpolate(waypoints: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """(Q, R, 3) cosine interpolation between waypoints (Q, K + 1, 3); seg (K,) samples."""
+    which = np.repeat(np.arange(seg.size), seg)
+    start = np.concatenate([[0], np.cumsum(seg)[:-1]])
+    u = (np.arange(seg.sum()) - start[which]) / seg[which]
+    w = ((1.0 - np.cos(np.pi * u)) / 2.0)[None, :, None]
+    a, b = waypoints[:, which], waypoints[:, which + 1]
+    return a + w * (b - a)
+
+
+def build_trajectory(
+    protocol: Protocol, orientation_deg: float, rng: np.random.Generator
+) -> Trajectory:
+    """The rig's commanded trajectory for one orientation; row count is deterministic."""
+    cells = patch_cells(protocol, orientation_deg)
+    n_layers, n_patch = len(protocol.layers_n), cells.shape[0]
+    points = _press_points(cells, n_layers, protocol.margin_deg, rng)
+    force = _interpolate(_waypoints(protocol, n_patch * n_layers, rng), protocol.segment_samples())
+    rows = force.shape[1]
+    rest = protocol.samples(protocol.patch_rest_s)
+    per_patch = force.reshape(n_patch, n_layers * rows, 3)
+    force = np.concatenate([np.zeros((n_patch, rest, 3)), per_patch], axis=1).reshape(-1, 3)
+    press_local = np.concatenate([np.full(rest, -1), np.repeat(np.arange(n_layers), rows)])
+    press = (np.arange(n_patch)[:, None] * n_layers + press_local[None, :]).reshape(-1)
+    press = np.maximum(press, 0)
+    patch = press // n_layers
+    return Trajectory(
+        force=force,
+        angles=points[press],
+        in_contact=force[:, 2] < 0.0,
+        press=press,
+        patch=patch,
+        cells=cells,
+    )

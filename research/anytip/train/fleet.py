@@ -1,0 +1,180 @@
+"""Fit a whole fleet of per-unit MLPs as one batched model.
+
+Every step draws `batch_size` rows for every unit, runs one batched forward pass, and
+takes one Adam step over the stacked weights. The loss is the sum over units of each
+unit's mean loss, so each unit's gradient is exactly its own; with Adam's per-weight
+update and per-unit samplers, unit u's trained weights do not depend on any other unit.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import torch
+from rich.progress import Progress
+from torch import Tensor
+
+from anytip.models.io import save_models
+from anytip.models.mlp import BatchedMLP, MLPConfig
+from anytip.models.scaler import Scaler
+from anytip.train.data import FleetBatchData, UnitSampler
+from anytip.train.metrics import evaluate
+from anytip.train.recipe import FAST, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
+
+
+@dataclass
+class FitResult:
+    """A trained fleet, its scalers and its training curve.
+
+    history rows carry `elapsed_s`: training seconds, evaluation time excluded. Fleet rows
+    hold per-unit lists (val_loss, val_force_rmse N, val_angle_rmse rad, train_loss);
+    sequential rows hold one unit's numbers and its index under `unit`.
+    """
+
+    model: BatchedMLP
+    in_scaler: Scaler
+    out_scaler: Scaler
+    history: list[dict[str, Any]]
+    unit_ids: list[str]
+    recipe: TrainRecipe
+    seed: int
+    wall_s: float  # whole call, evaluation included
+    unit_train_s: list[float] | None = None  # sequential only: training seconds per unit
+    output_names: tuple[str, ...] = ("fx", "fy", "fz", "theta", "phi")
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def unit_history(self, u: int) -> list[dict[str, Any]]:
+        """Unit u's curve as rows of plain numbers."""
+        if self.history and "unit" in self.history[0]:
+            return [r for r in self.history if r["unit"] == u]
+        return [{k: (v[u] if isinstance(v, list) else v) for k, v in r.items()} | {"unit": u}
+                for r in self.history]
+
+    def save(self, path: str | Path) -> Path:
+        """Write model and scalers with the unit ids, output names, recipe and seed."""
+        meta = {"unit_ids": self.unit_ids, "output_names": list(self.output_names),
+                "recipe": self.recipe.model_dump(mode="json"), "seed": self.seed}
+        return save_models(path, self.model, self.in_scaler, self.out_scaler, meta)
+
+
+class BestSnapshot:
+    """Per-unit model selection and early stopping on validation loss.
+
+    Unit u keeps the weights of its lowest val loss so far; after `patience` evaluations
+    without a gain it stops: later weights of that unit are never kept. Training goes on
+    until every unit has stopped (stopped units still step, their results are ignored).
+    """
+
+    def __init__(self, model: BatchedMLP, patience: int | None):
+        self.patience = patience
+        self.params = [p.detach().clone() for p in model.parameters()]
+        device = self.params[0].device
+        self.best = torch.full((model.n_models,), float("inf"), dtype=torch.float64, device=device)
+        self.bad = torch.zeros(model.n_models, dtype=torch.int64, device=device)
+        self.stopped = torch.zeros(model.n_models, dtype=torch.bool, device=device)
+
+    @torch.no_grad()
+    def update(self, model: BatchedMLP, val_loss: Tensor) -> bool:
+        """Record one evaluation; returns True when every unit has stopped."""
+        better = (val_loss < self.best) & ~self.stopped
+        self.best = torch.where(better, val_loss, self.best)
+        for kept, p in zip(self.params, model.parameters(), strict=True):
+            kept[better] = p[better]
+        self.bad = torch.where(better, 0, self.bad + 1)
+        if self.patience is not None:
+            self.stopped |= self.bad >= self.patience
+        return bool(self.stopped.all())
+
+    @torch.no_grad()
+    def restore(self, model: BatchedMLP) -> None:
+        for kept, p in zip(self.params, model.parameters(), strict=True):
+            p.copy_(kept)
+
+
+def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: TrainRecipe = FAST,
+                seed: int = 0, device: torch.device | str | None = None,
+                progress: bool = False) -> FitResult:
+    """Fit one MLP per unit of `data`, all at once. Scalers are fit on training rows only."""
+    start = time.perf_counter()
+    config = config or MLPConfig()
+    device = torch.device(device) if device is not None else data.device
+    data = data.to(device)
+    U = data.n_units
+
+    in_scaler = Scaler.fit(data.X_train, data.n_train)
+    out_scaler = Scaler.fit(data.Y_train, data.n_train)
+    X, Y = in_scaler.transform(data.X_train), out_scaler.transform(data.Y_train)  # once, up front
+    rows_of = torch.arange(U, device=device)[:, None]  # (U, 1): pairs with (U, B) row indices
+
+    model = BatchedMLP(U, config, seed=seed).to(device)
+    opt = make_optimizer(model.parameters(), recipe)
+    sampler = UnitSampler(data.n_train, recipe.batch_size, seed, device)
+    steps_per_epoch = sampler.steps_per_epoch
+    total = recipe.epochs * steps_per_epoch
+    eval_at = eval_points(steps_per_epoch, recipe.evals_per_epoch)
+    snapshot = BestSnapshot(model, recipe.patience)
+
+    history: list[dict[str, Any]] = []
+    train_s, loss_sum, n_loss = 0.0, torch.zeros(U, device=device), 0
+    bar = _progress_bar(progress, total, f"fleet of {U} ({recipe.name})")
+    tick = time.perf_counter()
+    for step in range(total):
+        if step % steps_per_epoch == 0:
+            order = sampler.epoch()  # (steps_per_epoch, U, B)
+        lr = lr_at(step, total, recipe)
+        set_lr(opt, lr)
+        idx = order[step % steps_per_epoch]
+        loss_u = ((model(X[rows_of, idx]) - Y[rows_of, idx]) ** 2).mean(dim=(1, 2))  # (U,)
+        opt.zero_grad(set_to_none=True)
+        loss_u.sum().backward()
+        opt.step()
+        loss_sum += loss_u.detach()
+        n_loss += 1
+        if bar is not None and step % 100 == 0:
+            bar[0].update(bar[1], completed=step)
+
+        if step % steps_per_epoch + 1 not in eval_at and step + 1 < total:
+            continue
+        train_s += _lap(tick, device)
+        model.eval()
+        val = evaluate(model, in_scaler, out_scaler, data.X_val, data.Y_val, data.n_val)
+        model.train()
+        history.append({"epoch": (step + 1) / steps_per_epoch, "step": step + 1,
+                        "elapsed_s": train_s, "lr": lr, "train_loss": (loss_sum / n_loss).tolist(),
+                        "val_loss": val["loss"].tolist(), "val_force_rmse": val["force_rmse"].tolist(),
+                        "val_angle_rmse": val["angle_rmse"].tolist()})
+        loss_sum.zero_()
+        n_loss = 0
+        all_stopped = snapshot.update(model, val["loss"])
+        if bar is not None:
+            bar[0].update(bar[1], completed=step + 1,
+                          description=f"fleet of {U}: val force {val['force_rmse'].mean():.3f} N")
+        if all_stopped:
+            break
+        tick = time.perf_counter()
+    if bar is not None:
+        bar[0].stop()
+    if recipe.keep_best:
+        snapshot.restore(model)
+    return FitResult(model, in_scaler, out_scaler, history, list(data.unit_ids), recipe, seed,
+                     time.perf_counter() - start, output_names=data.output_names,
+                     extra={"steps": step + 1, "steps_per_epoch": steps_per_epoch})
+
+
+def _lap(tick: float, device: torch.device) -> float:
+    """Seconds since `tick`, after the device has finished its queued work."""
+    if device.type == "cuda":
+        torch.cuda.synchronize(device)
+    return time.perf_counter() - tick
+
+
+def _progress_bar(enabled: bool, total: int, description: str) -> tuple[Progress, Any] | None:
+    if not enabled:
+        return None
+    bar = Progress()
+    task = bar.add_task(description, total=total)
+    bar.start()
+    return bar, task

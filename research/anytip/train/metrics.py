@@ -1,0 +1,90 @@
+"""Accuracy in physical units, per unit.
+
+Targets are columns (Fx, Fy, Fz) in N and (theta, phi) in rad. All functions take
+pred, target (..., N, 5) and an optional mask (..., N) of real rows, and reduce over
+rows only, so a (U, N, 5) input gives one number per unit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import torch
+from torch import Tensor
+
+from anytip.models.scaler import Scaler
+from anytip.train.data import pad_rows
+
+FORCE = slice(0, 3)
+ANGLE = slice(3, 5)
+
+
+def _mse_per_output(pred: Tensor, target: Tensor, mask: Tensor | None) -> Tensor:
+    se = (pred - target).double() ** 2
+    if mask is None:
+        return se.mean(-2)
+    m = mask.unsqueeze(-1).double()
+    return (se * m).sum(-2) / m.sum(-2)
+
+
+def rmse_per_output(pred: Tensor, target: Tensor, mask: Tensor | None = None) -> Tensor:
+    """sqrt(mean over rows of squared error) for each output column: (..., N, d) -> (..., d)."""
+    return _mse_per_output(pred, target, mask).sqrt()
+
+
+def force_rmse(pred: Tensor, target: Tensor, mask: Tensor | None = None) -> Tensor:
+    """Force RMSE in N: sqrt(mean over rows of the mean over Fx, Fy, Fz of squared error).
+
+    Equals the root of the mean per-axis MSE; the RMSE of the error vector's length,
+    sqrt(mean |e|^2), is sqrt(3) times larger. (..., N, 5) -> (...).
+    """
+    return _mse_per_output(pred[..., FORCE], target[..., FORCE], mask).mean(-1).sqrt()
+
+
+def force_rmse_per_axis(pred: Tensor, target: Tensor, mask: Tensor | None = None) -> Tensor:
+    """RMSE of Fx, Fy, Fz separately, in N: (..., N, 5) -> (..., 3)."""
+    return rmse_per_output(pred[..., FORCE], target[..., FORCE], mask)
+
+
+def angle_rmse(pred: Tensor, target: Tensor, mask: Tensor | None = None) -> Tensor:
+    """Angle RMSE in rad: sqrt(mean over rows of the mean over theta, phi of squared error)."""
+    return _mse_per_output(pred[..., ANGLE], target[..., ANGLE], mask).mean(-1).sqrt()
+
+
+@torch.no_grad()
+def predict(model: Callable[[Tensor], Tensor], in_scaler: Scaler, out_scaler: Scaler, X: Tensor,
+            chunk_elems: int = 1 << 22) -> Tensor:
+    """Physical predictions (U, N, 5) for physical inputs X (U, N, 8), in row chunks.
+
+    Chunks hold about `chunk_elems` activations of the widest layer, which bounds memory.
+
+    `model` maps standardised (U, B, 8) to standardised (U, B, 5): a BatchedMLP, or an
+    nn.Sequential when U == 1.
+    """
+    U, N, _ = X.shape
+    config = getattr(model, "config", None)
+    width = max(config.sizes) if config is not None else 64
+    rows = max(1, chunk_elems // (U * width))
+    parts = [out_scaler.inverse(model(in_scaler.transform(X[:, i : i + rows])))
+             for i in range(0, N, rows)]
+    return torch.cat(parts, dim=1)
+
+
+def evaluate(model: Callable[[Tensor], Tensor], in_scaler: Scaler, out_scaler: Scaler,
+             X: Tensor | Sequence[Tensor], Y: Tensor | Sequence[Tensor],
+             n: Tensor | None = None) -> dict[str, Tensor]:
+    """Per-unit accuracy of every unit on its own rows.
+
+    X, Y: lists of per-unit (n_u, 8) / (n_u, 5) tensors, or padded (U, N, .) with counts n (U,).
+    Returns float64 tensors: force_rmse (U,) N, angle_rmse (U,) rad, rmse (U, 5) per output,
+    loss (U,) = MSE on standardised outputs (what training minimises).
+    """
+    if not isinstance(X, Tensor):
+        device = out_scaler.mean.device
+        X, n = pad_rows(X, device)
+        Y, _ = pad_rows(Y, device)
+    mask = None if n is None else torch.arange(X.shape[1], device=X.device) < n[:, None]
+    pred = predict(model, in_scaler, out_scaler, X)
+    loss = _mse_per_output(out_scaler.transform(pred), out_scaler.transform(Y), mask).mean(-1)
+    return {"force_rmse": force_rmse(pred, Y, mask), "angle_rmse": angle_rmse(pred, Y, mask),
+            "rmse": rmse_per_output(pred, Y, mask), "loss": loss}

@@ -1,0 +1,59 @@
+"""Experiment specs: composition, overrides, and errors that name file, key and allowed values."""
+
+from pathlib import Path
+
+import pytest
+
+from anytip.config import load_spec
+from anytip.errors import AnytipError
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def write(tmp_path: Path, text: str) -> Path:
+    (tmp_path / "configs").symlink_to(REPO / "configs")
+    path = tmp_path / "exp.yaml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("spec", sorted((REPO / "experiments").glob("*.yaml")), ids=lambda p: p.stem)
+def test_every_committed_spec_validates(spec):
+    assert load_spec(spec).pipeline
+
+
+def test_blocks_compose_and_override(tmp_path):
+    spec = load_spec(write(tmp_path, "pipeline: baseline\ntraining: {use: paper, epochs: 3}\n"),
+                     ["training.lr=0.01", "seeds=[1, 2]"])
+    assert (spec.training.name, spec.training.epochs, spec.training.batch_size) == ("paper", 3, 10)
+    assert spec.training.lr == 0.01 and spec.all_seeds == [1, 2]
+    assert spec.name == "exp"
+
+
+def test_unknown_key_names_file_key_and_allowed(tmp_path):
+    path = write(tmp_path, "pipeline: baseline\nsplits: {n_tset_units: 2}\n")
+    with pytest.raises(AnytipError) as e:
+        load_spec(path)
+    msg = str(e.value)
+    assert str(path) in msg and "splits.n_tset_units" in msg and "n_test_units" in msg
+
+
+def test_wrong_type_and_bad_value(tmp_path):
+    with pytest.raises(AnytipError, match=r"training.epochs.*got 'many'"):
+        load_spec(write(tmp_path, "pipeline: baseline\ntraining: {use: fast, epochs: many}\n"))
+    with pytest.raises(AnytipError, match=r"pipeline.*'baseline'.*got 'nope'"):
+        load_spec(tmp_path / "exp.yaml", ["pipeline=nope"])
+
+
+def test_unknown_block_lists_known(tmp_path):
+    with pytest.raises(AnytipError, match=r"no block 'quick'; allowed: fast, paper"):
+        load_spec(write(tmp_path, "pipeline: baseline\ntraining: quick\n"))
+
+
+def test_bad_yaml_and_bad_override(tmp_path):
+    path = write(tmp_path, "pipeline: [baseline\n")
+    with pytest.raises(AnytipError, match="not valid YAML"):
+        load_spec(path)
+    path.write_text("pipeline: baseline\n")
+    with pytest.raises(AnytipError, match="expected key=value"):
+        load_spec(path, ["epochs"])

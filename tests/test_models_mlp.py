@@ -1,0 +1,125 @@
+import json
+
+import pytest
+import torch
+from safetensors.torch import load_file, save_file
+from torch import nn
+
+from anytip.errors import AnytipError
+from anytip.models import (
+    BatchedMLP,
+    MLPConfig,
+    ModelFileError,
+    Scaler,
+    load_models,
+    plain_to_sequential,
+    save_models,
+)
+
+CONFIG = MLPConfig()
+
+
+def test_config_rejects_unknown_keys_and_bad_values():
+    with pytest.raises(ValueError):
+        MLPConfig(sizes=(8, 5), width=3)
+    with pytest.raises(ValueError):
+        MLPConfig(activation="sigmoid")
+    with pytest.raises(ValueError):
+        MLPConfig(sizes=(8,))
+    assert CONFIG.n_params == 9 * 12 + 13 * 64 + 65 * 64 + 65 * 5
+
+
+@pytest.mark.parametrize("activation", ["relu", "tanh", "gelu", "silu"])
+def test_batched_forward_equals_per_unit_sequential(activation):
+    config = MLPConfig(activation=activation, output_activation="tanh")
+    model = BatchedMLP(3, config, seed=1)
+    x = torch.randn(3, 50, 8)
+    out = model(x)
+    assert out.shape == (3, 50, 5)
+    for u in range(3):
+        net = model.to_sequential(u)
+        assert isinstance(net[0], nn.Linear)
+        torch.testing.assert_close(out[u], net(x[u]), atol=1e-6, rtol=0)
+        plain = model.to_plain(u)
+        assert [tuple(W.shape) for W, _ in plain] == [(8, 12), (12, 64), (64, 64), (64, 5)]
+        torch.testing.assert_close(plain_to_sequential(plain, config)(x[u]), net(x[u]))
+        torch.testing.assert_close(model.model_slice(u)(x[u : u + 1])[0], out[u], atol=1e-6, rtol=0)
+
+
+def test_init_is_per_unit_seeded_and_default_like():
+    a, b = BatchedMLP(3, CONFIG, seed=7), BatchedMLP(5, CONFIG, seed=7)
+    for Wa, Wb in zip(a.weights, b.weights, strict=True):
+        assert torch.equal(Wa, Wb[:3])  # unit u's init does not depend on the fleet size
+        assert Wa.abs().max() <= 1 / Wa.shape[1] ** 0.5
+    assert not torch.equal(a.weights[0][0], a.weights[0][1])
+    assert not torch.equal(a.weights[0], BatchedMLP(3, CONFIG, seed=8).weights[0])
+
+
+def test_from_plain_round_trip():
+    model = BatchedMLP(4, CONFIG, seed=3)
+    back = BatchedMLP.from_plain([model.to_plain(u) for u in range(4)], CONFIG)
+    for p, q in zip(model.parameters(), back.parameters(), strict=True):
+        assert torch.equal(p, q)
+
+
+def test_scaler_fits_only_the_given_rows_and_floors_std():
+    x = torch.randn(2, 100, 3) * torch.tensor([1e4, 5.0, 0.0]) + 7.0
+    n = torch.tensor([100, 40])
+    x[1, 40:] = 1e9  # padding beyond n must not count
+    s = Scaler.fit(x, n)
+    torch.testing.assert_close(s.mean[1, 0], x[1, :40].double().mean(0).float())
+    torch.testing.assert_close(s.std[0, 0, :2], x[0, :, :2].double().std(0, correction=0).float())
+    # the constant channel gets the floor: 1e-6 of the unit's largest std
+    torch.testing.assert_close(s.std[:, 0, 2], 1e-6 * s.std[:, 0, 0])
+    z = s.transform(x)
+    torch.testing.assert_close(s.inverse(z)[:, :40], x[:, :40])
+    assert s.slice(1).mean.shape == (1, 1, 3)
+
+
+def _scalers(U):
+    return (Scaler(torch.randn(U, 1, 8) * 1e3, torch.rand(U, 1, 8) * 1e4 + 1),
+            Scaler(torch.randn(U, 1, 5), torch.rand(U, 1, 5) + 0.1))
+
+
+def test_save_load_round_trip_is_exact(tmp_path):
+    model = BatchedMLP(3, CONFIG, seed=2)
+    ins, outs = _scalers(3)
+    meta = {"unit_ids": ["a", "b", "c"], "output_names": ["fx", "fy", "fz", "theta", "phi"]}
+    path = save_models(tmp_path / "fleet.safetensors", model, ins, outs, meta)
+    assert path.exists() and path.with_suffix(".json").exists()
+    header = json.loads(path.with_suffix(".json").read_text())
+    assert header["config"]["sizes"] == [8, 12, 64, 64, 5]
+    loaded = load_models(path)
+    for p, q in zip(model.parameters(), loaded.model.parameters(), strict=True):
+        assert torch.equal(p, q)
+    assert torch.equal(loaded.in_scaler.std, ins.std) and torch.equal(loaded.out_scaler.mean, outs.mean)
+    assert loaded.meta == meta and loaded.model.config == CONFIG
+    save_models(tmp_path / "dir", model, ins, outs)  # a directory gets model.safetensors
+    assert load_models(tmp_path / "dir").model.n_models == 3
+
+
+def test_load_with_wrong_shape_names_the_file(tmp_path):
+    model = BatchedMLP(2, CONFIG, seed=0)
+    path = save_models(tmp_path / "m.safetensors", model, *_scalers(2))
+    tensors = load_file(str(path))
+    tensors["weights.1"] = torch.zeros(2, 12, 32)
+    save_file(tensors, str(path))
+    with pytest.raises(ModelFileError, match=r"m\.safetensors.*weights\.1.*\(2, 12, 32\)"):
+        load_models(path)
+    del tensors["weights.1"]
+    save_file(tensors, str(path))
+    with pytest.raises(ModelFileError, match=r"m\.safetensors.*missing \['weights\.1'\]"):
+        load_models(path)
+
+
+def test_load_refuses_bad_metadata(tmp_path):
+    path = save_models(tmp_path / "m.safetensors", BatchedMLP(2, CONFIG), *_scalers(2))
+    meta = path.with_suffix(".json")
+    header = json.loads(meta.read_text())
+    meta.write_text(json.dumps(header | {"format_version": 99}))
+    with pytest.raises(AnytipError, match=r"m\.json.*format_version 99"):
+        load_models(path)
+    with pytest.raises(ModelFileError, match="not found"):
+        load_models(tmp_path / "nothing.safetensors")
+    with pytest.raises(ValueError, match="unit_ids"):
+        save_models(tmp_path / "x", BatchedMLP(2, CONFIG), *_scalers(2), meta={"unit_ids": ["a"]})

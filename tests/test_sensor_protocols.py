@@ -1,0 +1,59 @@
+"""Calibration protocols: labels stay in their 15-degree cells; forces in range and cone."""
+
+import numpy as np
+import pytest
+
+from anytip.sensor.protocols import PROTOCOLS, Protocol, build_trajectory, patch_cells
+
+
+def _bins(angles_rad):
+    deg = np.rad2deg(angles_rad.astype(np.float64))
+    return np.stack([np.floor((deg[:, 0] + 45) / 15), np.floor((deg[:, 1] + 135) / 15)], -1).astype(
+        int
+    )
+
+
+@pytest.mark.parametrize("orientation", [0.0, -45.0, -90.0])
+def test_full_protocol_labels_stay_in_their_cells(orientation):
+    traj = build_trajectory(PROTOCOLS["full"], orientation, np.random.default_rng(0))
+    assert traj.cells.shape == (36, 2) and len({tuple(c) for c in traj.cells}) == 36
+    # binned as the loader does, on float32 labels as stored
+    np.testing.assert_array_equal(_bins(traj.angles.astype(np.float32)), traj.cells[traj.patch])
+    phi = np.rad2deg(traj.angles[:, 1])
+    assert phi.min() > orientation - 45 and phi.max() < orientation + 45
+
+
+def test_full_protocol_size():
+    full = PROTOCOLS["full"]
+    rows = len(full.orientations_deg) * full.rows_per_orientation()
+    assert 300_000 <= rows <= 400_000
+    assert full.duration_s == pytest.approx(rows / 200.0)
+
+
+def test_short_protocol_is_short_and_spread():
+    short = PROTOCOLS["short"]
+    assert 60 <= short.duration_s <= 120
+    cells = np.concatenate([patch_cells(short, o) for o in short.orientations_deg])
+    assert len(np.unique(cells[:, 0])) >= 3 and len(np.unique(cells[:, 1])) >= 6
+
+
+def test_forces_within_range_and_friction_cone():
+    protocol = Protocol(name="t", patches=3, orientations_deg=(0.0,))
+    f = build_trajectory(protocol, 0.0, np.random.default_rng(1)).force
+    fn, shear = -f[:, 2], np.hypot(f[:, 0], f[:, 1])
+    assert fn.min() >= 0 and fn.max() <= 25.0 + 1e-9
+    assert np.all(shear <= np.minimum(15.0, 0.8 * fn) + 1e-9)
+    assert shear.max() > 10.0
+
+
+def test_rest_rows_are_out_of_contact_with_zero_force():
+    traj = build_trajectory(PROTOCOLS["short"], -45.0, np.random.default_rng(2))
+    rest = ~traj.in_contact
+    assert 0.05 < rest.mean() < 0.5
+    assert np.all(traj.force[rest] == 0.0)
+    assert np.all(traj.force[traj.in_contact, 2] < 0.0)
+
+
+def test_protocol_rejects_off_grid_orientation():
+    with pytest.raises(ValueError, match="grid"):
+        Protocol(name="bad", orientations_deg=(10.0,))

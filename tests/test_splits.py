@@ -1,0 +1,36 @@
+"""Splits: units in one role only, held-out patches whole, deterministic from the seed."""
+
+import numpy as np
+import pytest
+
+from anytip.data.splits import held_out_patches, random_rows, split_units
+from anytip.errors import AnytipError
+
+UNITS = [f"U{i:02d}" for i in range(12)]
+
+
+def test_split_units_disjoint_and_deterministic():
+    a = split_units(UNITS, seed=3, n_val=2, n_test=3)
+    assert a == split_units(list(reversed(UNITS)), seed=3, n_val=2, n_test=3)
+    assert a != split_units(UNITS, seed=4, n_val=2, n_test=3)
+    roles = [set(a.train), set(a.val), set(a.test)]
+    assert sum(len(r) for r in roles) == 12 and set().union(*roles) == set(UNITS)
+    assert (len(a.test), len(a.val)) == (3, 2)
+
+
+def test_split_units_too_few_says_so():
+    with pytest.raises(AnytipError, match="holds 3 units"):
+        split_units(UNITS[:3], seed=0, n_val=2, n_test=2)
+
+
+def test_held_out_patches_are_whole():
+    patch = np.repeat(np.arange(10), 50)
+    test = held_out_patches(patch, 0.3, seed=1)
+    assert set(np.unique(patch[test])).isdisjoint(np.unique(patch[~test]))
+    assert len(np.unique(patch[test])) == 3
+
+
+def test_random_rows_fraction():
+    mask = random_rows(1000, 0.1, seed=0)
+    assert mask.sum() == 100
+    np.testing.assert_array_equal(mask, random_rows(1000, 0.1, seed=0))
