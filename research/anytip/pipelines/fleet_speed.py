@@ -1,0 +1,127 @@
+"""Fleet trainer against the paper's way, in one run: time to the same held-out accuracy.
+
+Reference: each unit's MLP fitted alone with the `paper` recipe (batch 10, 10 epochs),
+one unit after another. Fleet: every unit's MLP fitted at once as one batched model with
+the spec's recipe. Both see the same rows (held-out patches excluded, validation rows
+for curves), start from the same weights and scalers. The target is the reference's
+final validation force RMSE per unit; each side's time is the training time until the
+unit-mean validation RMSE first comes within `tolerance` of it. Held-out-patch RMSE of
+both final models is reported beside it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from anytip.pipelines.common import Context, load, patch_test_mask, per_unit_split, predict_units, scores
+from anytip.report import figures
+from anytip.report.markdown import table
+from anytip.train.fleet import FitResult, train_fleet
+from anytip.train.recipe import PAPER
+from anytip.train.sequential import train_sequential
+
+DEFAULTS = {"tolerance": 0.05, "reference_evals_per_epoch": 10}
+
+
+def _curve_sequential(fit: FitResult, n_units: int) -> list[tuple[float, float]]:
+    """Unit-mean validation force RMSE against cumulative training seconds, units in turn.
+
+    While unit u trains, units before it count at their final value and units after it
+    at their first recorded value (they have not started).
+    """
+    per_unit = [fit.unit_history(u) for u in range(n_units)]
+    current = [h[0]["val_force_rmse"] for h in per_unit]
+    offset, points = 0.0, []
+    for u, hist in enumerate(per_unit):
+        for row in hist:
+            current[u] = row["val_force_rmse"]
+            points.append((offset + row["elapsed_s"], float(np.mean(current))))
+        offset += fit.unit_train_s[u]
+    return points
+
+
+def _first_within(points: list[tuple[float, float]], target: float, tol: float) -> float | None:
+    return next((t for t, v in points if v <= target * (1 + tol)), None)
+
+
+def run(ctx: Context) -> list[dict[str, Any]]:
+    spec, opts = ctx.spec, {**DEFAULTS, **spec_options(ctx)}
+    arrays = load(ctx)
+    units, seed = arrays.units, spec.seed
+    split = per_unit_split(arrays, units, patch_test_mask(spec.splits.patch_test_fraction, seed),
+                           spec.splits.val_fraction, seed, ctx.device)
+    ref = train_sequential(split.data, spec.model, PAPER, seed=seed, device=ctx.device,
+                           progress=ctx.progress, evals_per_epoch=opts["reference_evals_per_epoch"])
+    fleet = train_fleet(split.data, spec.model, spec.training, seed=seed, device=ctx.device,
+                        progress=ctx.progress)
+    ref_curve = _curve_sequential(ref, len(units))
+    fleet_curve = [(h["elapsed_s"], float(np.mean(h["val_force_rmse"]))) for h in fleet.history]
+    target = ref_curve[-1][1]
+    t_ref = _first_within(ref_curve, target, opts["tolerance"])
+    t_fleet = _first_within(fleet_curve, target, opts["tolerance"])
+    rows = []
+    for name, fit, recipe in (("per_unit_sequential", ref, PAPER), ("per_unit_fleet", fleet, spec.training)):
+        preds = predict_units(fit, split.X_test)
+        for u, unit in enumerate(units):
+            rows.append({"method": name, "unit": unit, "calib_samples": int(split.data.n_train[u]),
+                         "seed": seed, "split": "patches", "recipe": recipe.name,
+                         **scores(preds[u], split.Y_test[u])})
+    summary = {
+        "units": len(units), "target_val_force_rmse_n": target, "tolerance": opts["tolerance"],
+        "reference_time_to_target_s": t_ref, "fleet_time_to_target_s": t_fleet,
+        "reference_total_train_s": float(sum(ref.unit_train_s)),
+        "fleet_total_train_s": fleet_curve[-1][0],
+        "speedup_time_to_target": (t_ref / t_fleet) if t_ref and t_fleet else None,
+        "device": str(ctx.device), "fleet_recipe": spec.training.model_dump(mode="json"),
+    }
+    ctx.provenance["fleet_speed"] = summary
+    figures.training_curves({"one by one, paper recipe": ref_curve,
+                             f"fleet, {spec.training.name} recipe": fleet_curve},
+                            ctx.run_dir / "time_to_accuracy.png", "unit-mean validation force RMSE",
+                            xlabel="training time [s]")
+    (ctx.run_dir / "report.md").write_text(_report(ctx, rows, summary))
+    return rows
+
+
+def spec_options(ctx: Context) -> dict[str, Any]:
+    unknown = set(ctx.spec.options) - set(DEFAULTS)
+    if unknown:
+        from anytip.errors import AnytipError
+
+        raise AnytipError(f"options {sorted(unknown)} are not known to pipeline fleet_speed; "
+                          f"allowed: {sorted(DEFAULTS)}")
+    return dict(ctx.spec.options)
+
+
+def _report(ctx: Context, rows: list[dict[str, Any]], s: dict[str, Any]) -> str:
+    def mean(method: str, key: str) -> float:
+        return float(np.mean([r[key] for r in rows if r["method"] == method]))
+
+    fmt = lambda v: "not reached" if v is None else f"{v:.1f}"  # noqa: E731
+    speed = "n/a" if s["speedup_time_to_target"] is None else f"**{s['speedup_time_to_target']:.1f}x**"
+    body = [
+        ["one unit at a time, `paper` recipe", fmt(s["reference_time_to_target_s"]),
+         f"{s['reference_total_train_s']:.1f}", mean("per_unit_sequential", "force_rmse_n"),
+         mean("per_unit_sequential", "angle_rmse_rad")],
+        [f"all units at once, `{ctx.spec.training.name}` recipe", fmt(s["fleet_time_to_target_s"]),
+         f"{s['fleet_total_train_s']:.1f}", mean("per_unit_fleet", "force_rmse_n"),
+         mean("per_unit_fleet", "angle_rmse_rad")],
+    ]
+    machine = ctx.provenance.get("machine", {})
+    return f"""# {ctx.spec.name}: fleet trainer against one-by-one training
+
+{s['units']} units of `{ctx.provenance['sensor_model']}`, device `{s['device']}`
+({machine.get('cpus')} CPUs, torch {machine.get('torch')}, {machine.get('torch_threads')} threads,
+GPU: {machine.get('cuda')}).
+Target: the reference's final unit-mean validation force RMSE, {s['target_val_force_rmse_n']:.3f} N,
+within {s['tolerance']:.0%}. Times are training seconds (evaluation excluded).
+
+{table(['method', 'time to target [s]', 'total training [s]', 'held-out force RMSE [N]',
+        'held-out angle RMSE [rad]'], body)}
+
+Speed-up in time to the same accuracy: {speed}.
+
+![time to accuracy](time_to_accuracy.png)
+"""

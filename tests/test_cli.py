@@ -1,0 +1,75 @@
+"""The command line end to end: simulate, list, export, import elsewhere, verify, remove."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from anytip.cli import main
+from anytip.data.registry import Registry
+
+
+def run_cli(capsys, *args: str) -> tuple[int, str, str]:
+    code = main(list(args))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_data_verbs_round_trip(tmp_path, capsys):
+    reg, other, out = str(tmp_path / "reg"), str(tmp_path / "other"), tmp_path / "exported"
+    code, text, _ = run_cli(capsys, "data", "simulate", "--units", "2", "--seed", "4",
+                            "--protocols", "short", "--registry", reg)
+    assert code == 0 and "6 runs added" in text
+    code, text, _ = run_cli(capsys, "data", "simulate", "--units", "2", "--seed", "4",
+                            "--protocols", "short", "--registry", reg)
+    assert "0 runs added, 6 unchanged" in text
+    code, text, _ = run_cli(capsys, "data", "list", "--json", "--registry", reg)
+    rows = [json.loads(line) for line in text.splitlines()]
+    assert len(rows) == 6 and {r["unit"] for r in rows} == {"SIM4-000", "SIM4-001"}
+    assert run_cli(capsys, "data", "export", "SIM4-001", "--out", str(out), "--registry", reg)[0] == 0
+    assert len(list(out.glob("*.h5"))) == 3
+    code, text, _ = run_cli(capsys, "data", "import", str(out), "--registry", other)
+    assert code == 0 and "3 run(s) added" in text
+    src, dst = Registry(reg), Registry(other)
+    assert dst.content_hash() == src.content_hash([r.run_id for r in src.list_runs(unit="SIM4-001")])
+    assert run_cli(capsys, "data", "verify", "--registry", other)[0] == 0
+    code, text, _ = run_cli(capsys, "data", "remove", "SIM4-001", "--registry", reg)
+    assert code == 0 and "removed 3 runs" in text
+    assert len(Registry(reg).list_runs()) == 3
+
+
+def test_verify_fails_on_missing_payload(tmp_path, capsys):
+    reg = str(tmp_path / "reg")
+    run_cli(capsys, "data", "simulate", "--units", "1", "--protocols", "short", "--registry", reg)
+    registry = Registry(reg)
+    registry.payload_path(registry.list_runs()[0].run_id).unlink()
+    code, text, _ = run_cli(capsys, "data", "verify", "--registry", reg)
+    assert code == 1 and "payload missing" in text
+
+
+def test_errors_are_one_line_naming_the_file(tmp_path, capsys):
+    bad = tmp_path / "bad.h5"
+    bad.write_bytes(b"not hdf5 at all")
+    code, _, err = run_cli(capsys, "data", "import", str(bad), "--registry", str(tmp_path / "reg"))
+    assert code == 2 and str(bad) in err and "Traceback" not in err
+    spec = tmp_path / "exp.yaml"
+    spec.write_text("pipeline: baseline\nbogus: 1\n")
+    code, _, err = run_cli(capsys, "run", str(spec), "--registry", str(tmp_path / "reg"))
+    assert code == 2 and "bogus" in err and str(spec) in err
+
+
+def test_console_script_and_env_registry(tmp_path):
+    env = {"ANYTIP_REGISTRY": str(tmp_path / "envreg"), "PATH": "/usr/bin:/bin"}
+    exe = [sys.executable, "-m", "anytip.cli"]
+    done = subprocess.run([*exe, "data", "simulate", "--units", "1", "--protocols", "short"],
+                          env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "envreg" / "catalog.sqlite").is_file()
+
+
+@pytest.mark.parametrize("verb", ["simulate", "import", "export", "list", "verify", "remove"])
+def test_every_data_verb_has_help(verb, capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["data", verb, "--help"])
+    assert e.value.code == 0 and "--registry" in capsys.readouterr().out
