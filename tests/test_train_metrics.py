@@ -18,6 +18,7 @@ from anytip.train import (
     rmse_per_output,
     time_to_target,
 )
+from anytip.train.timing import select_units
 
 
 def test_force_and_angle_rmse_definitions():
@@ -80,3 +81,5 @@ def test_time_to_target():
     assert time_to_target(history, 1.0, tol=0.05, reduce="max") == 3.0
     assert time_to_target(history, 0.5) is None
     assert time_to_target([{"elapsed_s": 4.0, "val_force_rmse": 0.3}], 0.3) == 4.0
+    assert time_to_target(history, [1.0, 1.2]) == 2.0  # one target per unit: all must be there
+    assert time_to_target(select_units(history, [1]), [1.0]) == 1.0

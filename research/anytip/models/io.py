@@ -103,9 +103,9 @@ def _tensors(model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler) -> dict[s
 def _expected_shapes(config: MLPConfig, n: int) -> dict[str, tuple[int, ...]]:
     shapes: dict[str, tuple[int, ...]] = {}
     pairs = zip(config.sizes[:-1], config.sizes[1:], strict=True)
-    for l, (i, o) in enumerate(pairs):
-        shapes[f"weights.{l}"] = (n, i, o)
-        shapes[f"biases.{l}"] = (n, 1, o)
+    for k, (i, o) in enumerate(pairs):
+        shapes[f"weights.{k}"] = (n, i, o)
+        shapes[f"biases.{k}"] = (n, 1, o)
     for name, d in (("in_scaler", config.sizes[0]), ("out_scaler", config.sizes[-1])):
         shapes[f"{name}.mean"] = shapes[f"{name}.std"] = (n, 1, d)
     return shapes

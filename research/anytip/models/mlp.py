@@ -87,9 +87,9 @@ class BatchedMLP(nn.Module):
         """x (U, B, in) -> (U, B, out), in whatever units the model was trained on."""
         act = ACTIVATIONS[self.config.activation]
         last = len(self.weights) - 1
-        for l, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
+        for k, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
             x = torch.baddbmm(b, x, W)
-            if l < last:
+            if k < last:
                 x = act(x)
         if self.config.output_activation is not None:
             x = ACTIVATIONS[self.config.output_activation](x)
@@ -115,22 +115,22 @@ class BatchedMLP(nn.Module):
         device = models[0][0][0].device
         out.to(device)
         with torch.no_grad():
-            for l, (W, b) in enumerate(zip(out.weights, out.biases, strict=True)):
-                W.copy_(torch.stack([m[l][0] for m in models]))
-                b.copy_(torch.stack([m[l][1] for m in models]).unsqueeze(1))
+            for k, (W, b) in enumerate(zip(out.weights, out.biases, strict=True)):
+                W.copy_(torch.stack([m[k][0] for m in models]))
+                b.copy_(torch.stack([m[k][1] for m in models]).unsqueeze(1))
         return out
 
 
 def plain_to_sequential(plain: Plain, config: MLPConfig) -> nn.Sequential:
     """[(W (in, out), b (out,)), ...] -> nn.Sequential(Linear, act, ..., Linear[, out act])."""
     layers: list[nn.Module] = []
-    for l, (W, b) in enumerate(plain):
+    for k, (W, b) in enumerate(plain):
         lin = nn.Linear(W.shape[0], W.shape[1], device=W.device)
         with torch.no_grad():
             lin.weight.copy_(W.T)
             lin.bias.copy_(b)
         layers.append(lin)
-        if l < len(plain) - 1:
+        if k < len(plain) - 1:
             layers.append(ACTIVATION_MODULES[config.activation]())
     if config.output_activation is not None:
         layers.append(ACTIVATION_MODULES[config.output_activation]())

@@ -119,7 +119,7 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
 
     history: list[dict[str, Any]] = []
     train_s, loss_sum, n_loss = 0.0, torch.zeros(U, device=device), 0
-    bar = _progress_bar(progress, total, f"fleet of {U} ({recipe.name})")
+    bar = ProgressBar(progress, total, f"fleet of {U} ({recipe.name})")
     tick = time.perf_counter()
     for step in range(total):
         if step % steps_per_epoch == 0:
@@ -133,8 +133,7 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
         opt.step()
         loss_sum += loss_u.detach()
         n_loss += 1
-        if bar is not None and step % 100 == 0:
-            bar[0].update(bar[1], completed=step)
+        bar.update(step + 1)
 
         if step % steps_per_epoch + 1 not in eval_at and step + 1 < total:
             continue
@@ -149,14 +148,11 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
         loss_sum.zero_()
         n_loss = 0
         all_stopped = snapshot.update(model, val["loss"])
-        if bar is not None:
-            bar[0].update(bar[1], completed=step + 1,
-                          description=f"fleet of {U}: val force {val['force_rmse'].mean():.3f} N")
+        bar.update(step + 1, f"fleet of {U}: val force {val['force_rmse'].mean():.3f} N")
         if all_stopped:
             break
         tick = time.perf_counter()
-    if bar is not None:
-        bar[0].stop()
+    bar.close()
     if recipe.keep_best:
         snapshot.restore(model)
     return FitResult(model, in_scaler, out_scaler, history, list(data.unit_ids), recipe, seed,
@@ -171,10 +167,19 @@ def _lap(tick: float, device: torch.device) -> float:
     return time.perf_counter() - tick
 
 
-def _progress_bar(enabled: bool, total: int, description: str) -> tuple[Progress, Any] | None:
-    if not enabled:
-        return None
-    bar = Progress()
-    task = bar.add_task(description, total=total)
-    bar.start()
-    return bar, task
+class ProgressBar:
+    """A rich progress bar over training steps, or nothing when disabled."""
+
+    def __init__(self, enabled: bool, total: int, description: str):
+        self.bar = Progress() if enabled else None
+        if self.bar is not None:
+            self.task = self.bar.add_task(description, total=total)
+            self.bar.start()
+
+    def update(self, step: int, description: str | None = None) -> None:
+        if self.bar is not None and (description is not None or step % 100 == 0):
+            self.bar.update(self.task, completed=step, description=description)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()

@@ -17,7 +17,7 @@ from torch import nn
 from anytip.models.mlp import BatchedMLP, MLPConfig, sequential_to_plain, unit_seed
 from anytip.models.scaler import Scaler
 from anytip.train.data import FleetBatchData
-from anytip.train.fleet import FitResult, _lap, _progress_bar
+from anytip.train.fleet import FitResult, ProgressBar, _lap
 from anytip.train.metrics import evaluate
 from anytip.train.recipe import PAPER, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
 
@@ -69,7 +69,7 @@ def _fit_unit(data: FleetBatchData, u: int, config: MLPConfig, recipe: TrainReci
 
     rows: list[dict[str, Any]] = []
     train_s, loss_sum, n_loss = 0.0, torch.zeros((), device=device), 0
-    bar = _progress_bar(progress, total, f"unit {unit.unit_id} ({recipe.name})")
+    bar = ProgressBar(progress, total, f"unit {unit.unit_id} ({recipe.name})")
     tick = time.perf_counter()
     for step in range(total):
         if step % steps_per_epoch == 0:
@@ -99,13 +99,11 @@ def _fit_unit(data: FleetBatchData, u: int, config: MLPConfig, recipe: TrainReci
             best, bad, best_state = val_loss, 0, _copy_state(net)
         else:
             bad += 1
-        if bar is not None:
-            bar[0].update(bar[1], completed=step + 1)
+        bar.update(step + 1, f"unit {unit.unit_id}: val force {rows[-1]['val_force_rmse']:.3f} N")
         if recipe.patience is not None and bad >= recipe.patience:
             break
         tick = time.perf_counter()
-    if bar is not None:
-        bar[0].stop()
+    bar.close()
     if recipe.keep_best:
         net.load_state_dict(best_state)
     return net, rows, train_s
