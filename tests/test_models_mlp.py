@@ -63,7 +63,7 @@ def test_from_plain_round_trip():
 
 
 def test_scaler_fits_only_the_given_rows_and_floors_std():
-    x = torch.randn(2, 100, 3) * torch.tensor([1e4, 5.0, 0.0]) + 7.0
+    x = torch.randn(2, 100, 3, generator=torch.Generator().manual_seed(0)) * torch.tensor([1e4, 5.0, 0.0]) + 7.0
     n = torch.tensor([100, 40])
     x[1, 40:] = 1e9  # padding beyond n must not count
     s = Scaler.fit(x, n)
@@ -72,7 +72,8 @@ def test_scaler_fits_only_the_given_rows_and_floors_std():
     # the constant channel gets the floor: 1e-6 of the unit's largest std
     torch.testing.assert_close(s.std[:, 0, 2], 1e-6 * s.std[:, 0, 0])
     z = s.transform(x)
-    torch.testing.assert_close(s.inverse(z)[:, :40], x[:, :40])
+    # float32 round trip of values ~1e4: a few ulps
+    torch.testing.assert_close(s.inverse(z)[:, :40], x[:, :40], rtol=1e-5, atol=1e-3)
     assert s.slice(1).mean.shape == (1, 1, 3)
 
 
