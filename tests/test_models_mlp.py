@@ -63,7 +63,8 @@ def test_from_plain_round_trip():
 
 
 def test_scaler_fits_only_the_given_rows_and_floors_std():
-    x = torch.randn(2, 100, 3, generator=torch.Generator().manual_seed(0)) * torch.tensor([1e4, 5.0, 0.0]) + 7.0
+    g = torch.Generator().manual_seed(0)
+    x = torch.randn(2, 100, 3, generator=g) * torch.tensor([1e4, 5.0, 0.0]) + 7.0
     n = torch.tensor([100, 40])
     x[1, 40:] = 1e9  # padding beyond n must not count
     s = Scaler.fit(x, n)
