@@ -6,12 +6,16 @@ import shutil
 from pathlib import Path
 
 import pytest
+import torch
 
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.sensor.fleet import FleetConfig
 
 SMALL_UNITS = 8
+
+# Tiny models on a shared 2-core machine: one thread per test worker avoids oversubscription.
+torch.set_num_threads(1)
 
 
 @pytest.fixture(scope="session")
