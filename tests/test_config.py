@@ -57,3 +57,17 @@ def test_bad_yaml_and_bad_override(tmp_path):
     path.write_text("pipeline: baseline\n")
     with pytest.raises(AnytipError, match="expected key=value"):
         load_spec(path, ["epochs"])
+
+
+@pytest.mark.parametrize("name", ["paper", "fast"])
+def test_recipe_files_equal_the_code_defaults(name):
+    from anytip.config import read_yaml
+    from anytip.train.recipe import TrainRecipe, get_recipe
+
+    block = read_yaml(REPO / "configs" / "training" / f"{name}.yaml")
+    assert TrainRecipe.model_validate(block) == get_recipe(name)
+
+
+def test_threads_must_be_positive(tmp_path):
+    with pytest.raises(AnytipError, match="threads"):
+        load_spec(write(tmp_path, "pipeline: baseline\nthreads: 0\n"))

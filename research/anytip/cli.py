@@ -105,6 +105,20 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_calibrate(args: argparse.Namespace) -> int:
+    from anytip.calibrate import calibrate_unit
+
+    r = calibrate_unit(args.model, args.unit, _registry(args), args.out, args.budget_samples,
+                       args.budget_seconds, args.adapter, args.seed)
+    print(f"calibrated {r.unit}: {r.calib_samples} labeled samples ({r.calib_seconds:.1f} robot-s), "
+          f"{r.unlabeled_samples} unlabeled, prior {r.prior:g}; "
+          f"folded model in {r.path / 'model.safetensors'}")
+    if r.check is not None:
+        print(f"on the unit's other runs ({r.check['rows']} rows, not used to calibrate): force RMSE "
+              f"{r.check['force_rmse_n']:.3f} N, angle RMSE {r.check['angle_rmse_rad']:.4f} rad")
+    return 0
+
+
 def cmd_main_job(args: argparse.Namespace) -> int:
     """The README's main job: the quickstart experiment (simulates a fleet into an empty registry)."""
     ns = argparse.Namespace(spec=str(quickstart_spec()), registry=args.registry, out=None, set=[])
@@ -129,6 +143,21 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="override a spec key, e.g. --set training.epochs=3 (repeatable)")
     run.set_defaults(func=cmd_run)
+    cal = sub.add_parser("calibrate", help="fit a new unit's adapter and save its folded model")
+    _add_registry_opt(cal)
+    cal.add_argument("--model", required=True,
+                     help="a cross_sensor run directory, or a shared model .safetensors file")
+    cal.add_argument("--unit", required=True, help="the unit's id in the registry")
+    budget = cal.add_mutually_exclusive_group()
+    budget.add_argument("--budget-samples", type=int, default=None,
+                        help="labeled rows from the start of the calibration stream "
+                             "(default 1000; 0: label-free)")
+    budget.add_argument("--budget-seconds", type=float, default=None,
+                        help="labeled rows within this many robot-seconds of the stream")
+    cal.add_argument("--adapter", default=None, help="adapter kind of the run's shared models")
+    cal.add_argument("--seed", type=int, default=None, help="which seed's shared model of the run")
+    cal.add_argument("--out", required=True, help="directory for the folded per-unit model")
+    cal.set_defaults(func=cmd_calibrate)
     data = sub.add_parser("data", help="the registry of calibration runs")
     data_sub = data.add_subparsers(dest="verb", required=True)
 

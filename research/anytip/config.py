@@ -21,9 +21,10 @@ from anytip.errors import AnytipError
 from anytip.models.mlp import MLPConfig
 from anytip.sensor.fleet import FleetConfig
 from anytip.train.recipe import FAST, TrainRecipe
+from anytip.validation import format_validation_error
 
 BLOCK_DIRS = {"fleet": "fleets", "model": "models", "training": "training"}
-Pipeline = Literal["baseline", "fleet_speed", "realism"]
+Pipeline = Literal["baseline", "cross_sensor", "fleet_speed", "realism"]
 
 
 class Strict(BaseModel):
@@ -66,6 +67,8 @@ class ExperimentSpec(Strict):
     seed: int = 0
     seeds: list[int] | None = None  # several seeds: one result row per seed
     device: Literal["auto", "cpu", "cuda"] = "auto"
+    # torch CPU threads; tiny per-unit nets run fastest on one (None: torch's default)
+    threads: int | None = Field(default=1, ge=1)
     data: DataConfig = DataConfig()
     simulate_if_empty: SimulateIfEmpty | None = None
     fleet: FleetConfig = FleetConfig()
@@ -133,31 +136,6 @@ def apply_override(data: dict[str, Any], assignment: str) -> None:
         if not isinstance(node, dict):
             raise AnytipError(f"--set {assignment!r}: {part!r} is not a mapping")
     node[parts[-1]] = yaml.safe_load(raw)
-
-
-def _allowed_keys(model: type[BaseModel], loc: tuple[Any, ...]) -> list[str]:
-    """Field names of the model that owns the key at `loc` (for 'not allowed' errors)."""
-    for part in loc[:-1]:
-        field = model.model_fields.get(str(part))
-        ann = getattr(field, "annotation", None)
-        candidates = [ann, *getattr(ann, "__args__", ())]
-        nxt = next((c for c in candidates if isinstance(c, type) and issubclass(c, BaseModel)), None)
-        if nxt is None:
-            return []
-        model = nxt
-    return sorted(model.model_fields)
-
-
-def format_validation_error(err: ValidationError, source: str, model: type[BaseModel]) -> str:
-    lines = []
-    for e in err.errors():
-        key = ".".join(str(p) for p in e["loc"])
-        if e["type"] == "extra_forbidden":
-            allowed = _allowed_keys(model, e["loc"])
-            lines.append(f"key '{key}' is not allowed; allowed keys: {', '.join(allowed)}")
-        else:
-            lines.append(f"key '{key}': {e['msg']} (got {e.get('input')!r})")
-    return f"{source}: " + "; ".join(lines)
 
 
 def load_spec(path: str | Path, overrides: list[str] | None = None) -> ExperimentSpec:

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import torch
 
 from anytip import rundir
 from anytip.config import ExperimentSpec, load_spec
@@ -48,6 +49,8 @@ def run_experiment(spec_path: str | Path, registry: Registry, out: str | Path | 
     """Run one spec against `registry`; returns the run directory."""
     spec = load_spec(spec_path, overrides)
     device = resolve_device(spec.device)
+    if spec.threads is not None:
+        torch.set_num_threads(spec.threads)
     module = importlib.import_module(f"anytip.pipelines.{spec.pipeline}")
     fill_if_empty(spec, registry, progress)
     run_dir = rundir.new_run_dir(spec.name, out)

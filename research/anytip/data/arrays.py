@@ -31,7 +31,9 @@ class FleetArrays:
 
     pressure (N, C) float32 tared Pa; force (N, 3) float32 N; angles (N, 2) float32 rad;
     unit, run (N,) int32 indices into `units` and `runs`; patch (N,) int16 cell index
-    (see `patch_index`); tare (R, C) float64 Pa, the rest reading of each run.
+    (see `patch_index`); tare (R, C) float64 Pa, the rest reading of each run; time (N,)
+    float64 s since the first sample of the row's run (robot-seconds into the protocol).
+    Rows of a run keep their recorded order.
     """
 
     pressure: np.ndarray
@@ -43,6 +45,7 @@ class FleetArrays:
     tare: np.ndarray
     units: list[str]
     runs: list[RunRecord]
+    time: np.ndarray | None = None
 
     @property
     def n_rows(self) -> int:
@@ -58,6 +61,7 @@ class FleetArrays:
         return FleetArrays(
             self.pressure[mask], self.force[mask], self.angles[mask], self.unit[mask],
             self.run[mask], self.patch[mask], self.tare, self.units, self.runs,
+            None if self.time is None else self.time[mask],
         )
 
     def rows_of_units(self, unit_ids: Sequence[str]) -> np.ndarray:
@@ -101,12 +105,13 @@ def _read_payload(path: str) -> tuple[np.ndarray, ...]:
     try:
         with h5py.File(path, "r") as f:
             pressure = f["pressure"][()]
+            time = f["time"][()]
             force = f["force"][()]
             angles = f["angles"][()]
             contact = _contact_mask(f, force)
     except (OSError, KeyError) as e:
         raise RunFormatError(path, f"cannot read payload: {e}") from None
-    return pressure, force, angles, contact
+    return pressure, force, angles, contact, time - time[0]
 
 
 def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
@@ -117,11 +122,11 @@ def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
     if len(models) > 1:
         raise AnytipError(f"runs mix sensor models {sorted(models)}; load one model at a time")
     units = sorted({r.unit for r in runs})
-    parts: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "f", "a", "u", "r")}
+    parts: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "f", "a", "u", "r", "t")}
     tares = []
     for k, rec in enumerate(runs):
         path = str(registry.payload_path(rec.run_id))
-        pressure, force, angles, contact = _read_payload(path)
+        pressure, force, angles, contact, time = _read_payload(path)
         tare = rest_reading(pressure, contact, path)
         tares.append(tare)
         n = int(contact.sum())
@@ -130,9 +135,11 @@ def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
         parts["a"].append(angles[contact])
         parts["u"].append(np.full(n, units.index(rec.unit), np.int32))
         parts["r"].append(np.full(n, k, np.int32))
+        parts["t"].append(time[contact])
     angles = np.concatenate(parts["a"])
     return FleetArrays(
         pressure=np.concatenate(parts["p"]), force=np.concatenate(parts["f"]), angles=angles,
         unit=np.concatenate(parts["u"]), run=np.concatenate(parts["r"]),
         patch=patch_index(angles), tare=np.stack(tares), units=units, runs=list(runs),
+        time=np.concatenate(parts["t"]),
     )

@@ -25,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from anytip.data.runfile import CalibrationRun
 from anytip.errors import AnytipError
+from anytip.validation import describe_error, format_validation_error
 
 DEFAULT_COLUMN_MAP = Path(__file__).resolve().parents[3] / "configs" / "csv" / "rig34.yaml"
 SIDECAR_SUFFIXES = (".json", ".yaml", ".yml")
@@ -133,24 +134,6 @@ class Sidecar(_Strict):
         return t.isoformat().replace("+00:00", "Z")
 
 
-def _pydantic_problems(e: ValidationError, model: type[BaseModel]) -> str:
-    """One line per error: the dotted key, the problem, and the allowed keys for unknown ones."""
-    parts = []
-    for err in e.errors():
-        key = ".".join(str(p) for p in err["loc"]) or "(top level)"
-        msg = err["msg"]
-        if err["type"] == "extra_forbidden":
-            msg = f"unknown key; allowed: {', '.join(_fields_at(model, err['loc'][:-1]))}"
-        parts.append(f"key '{key}': {msg}")
-    return "; ".join(parts)
-
-
-def _fields_at(model: type[BaseModel], loc: tuple) -> list[str]:
-    for name in loc:
-        model = model.model_fields[name].annotation
-    return list(model.model_fields)
-
-
 def _load_mapping(path: Path) -> dict[str, Any]:
     try:
         text = path.read_text(encoding="utf-8")
@@ -170,7 +153,7 @@ def load_column_map(source: str | Path | ColumnMap | None = None) -> ColumnMap:
     try:
         return ColumnMap.model_validate(_load_mapping(path))
     except ValidationError as e:
-        raise AnytipError(f"{path}: bad column map: {_pydantic_problems(e, ColumnMap)}") from None
+        raise AnytipError(format_validation_error(e, str(path), ColumnMap, "bad column map")) from None
 
 
 def find_sidecar(csv_path: Path) -> Path | None:
@@ -192,7 +175,8 @@ def read_sidecar(csv_path: Path, overrides: Mapping[str, Any] | None = None) -> 
     try:
         return Sidecar.model_validate(data)
     except ValidationError as e:
-        raise CsvFormatError(where, f"bad run metadata: {_pydantic_problems(e, Sidecar)}") from None
+        problems = "; ".join(describe_error(x, Sidecar) for x in e.errors())
+        raise CsvFormatError(where, f"bad run metadata: {problems}") from None
 
 
 def read_csv_run(

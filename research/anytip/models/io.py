@@ -18,6 +18,7 @@ from safetensors.torch import load_file, save_file
 from torch import Tensor
 
 from anytip.errors import AnytipError
+from anytip.models.adapted import AdaptedMLP
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 
@@ -78,12 +79,7 @@ def load_models(path: str | Path, device: torch.device | str = "cpu") -> LoadedM
         n_models = int(header["n_models"])
     except Exception as e:  # noqa: BLE001 - any bad header is reported the same way
         raise ModelFileError(json_path, f"bad config or n_models: {e}") from e
-    if not tensors_path.exists():
-        raise ModelFileError(tensors_path, "file not found")
-    try:
-        tensors = load_file(str(tensors_path), device=str(device))
-    except (SafetensorError, OSError) as e:
-        raise ModelFileError(tensors_path, f"not a readable safetensors file: {e}") from e
+    tensors = _read_tensors(tensors_path, device)
     _check(tensors_path, tensors, _expected_shapes(config, n_models))
     model = BatchedMLP(n_models, config, seed=[0] * n_models).to(device)
     model.load_state_dict({k: tensors[k] for k in model.state_dict()})
@@ -122,16 +118,78 @@ def _check(path: Path, tensors: dict[str, Tensor], expected: dict[str, tuple[int
                                        f"the config expects {shape}")
 
 
-def _read_header(json_path: Path) -> dict[str, Any]:
+def _read_tensors(tensors_path: Path, device: torch.device | str) -> dict[str, Tensor]:
+    if not tensors_path.exists():
+        raise ModelFileError(tensors_path, "file not found")
+    try:
+        return load_file(str(tensors_path), device=str(device))
+    except (SafetensorError, OSError) as e:
+        raise ModelFileError(tensors_path, f"not a readable safetensors file: {e}") from e
+
+
+def _read_header(json_path: Path, fmt: str = FORMAT) -> dict[str, Any]:
     if not json_path.exists():
         raise ModelFileError(json_path, "metadata file not found")
     try:
         header = json.loads(json_path.read_text())
     except (json.JSONDecodeError, UnicodeDecodeError) as e:
         raise ModelFileError(json_path, f"not valid JSON: {e}") from e
-    if not isinstance(header, dict) or header.get("format") != FORMAT:
-        raise ModelFileError(json_path, f"not an {FORMAT} metadata file")
+    if not isinstance(header, dict) or header.get("format") != fmt:
+        found = header.get("format") if isinstance(header, dict) else None
+        raise ModelFileError(json_path, f"not an {fmt} metadata file (format {found!r})")
     if header.get("format_version") != FORMAT_VERSION:
         raise ModelFileError(json_path, f"format_version {header.get('format_version')!r} is not "
                                         f"supported (this code reads {FORMAT_VERSION})")
     return header
+
+
+SHARED_FORMAT = "anytip.adapted_mlp"
+
+
+@dataclass
+class LoadedShared:
+    """What `load_shared` returns: the shared model (with its training units' adapters),
+    the training units' input scalers, the output scaler and the saved metadata."""
+
+    model: AdaptedMLP
+    in_scaler: Scaler
+    out_scaler: Scaler
+    meta: dict[str, Any] = field(default_factory=dict)
+
+
+def save_shared(path: str | Path, model: AdaptedMLP, in_scaler: Scaler, out_scaler: Scaler,
+                meta: dict[str, Any] | None = None) -> Path:
+    """Write a shared model and its adapters like `save_models` (safetensors + JSON)."""
+    tensors_path, json_path = model_paths(path)
+    tensors_path.parent.mkdir(parents=True, exist_ok=True)
+    tensors = {k: v.detach().contiguous().cpu() for k, v in model.state_dict().items()}
+    for name, s in (("in_scaler", in_scaler), ("out_scaler", out_scaler)):
+        tensors[f"{name}.mean"] = s.mean.detach().contiguous().cpu()
+        tensors[f"{name}.std"] = s.std.detach().contiguous().cpu()
+    save_file(tensors, str(tensors_path))
+    header = {"format": SHARED_FORMAT, "format_version": FORMAT_VERSION,
+              "config": model.config.model_dump(mode="json"), "kind": model.kind,
+              "n_units": model.n_units, "meta": dict(meta or {})}
+    json_path.write_text(json.dumps(header, indent=2) + "\n")
+    return tensors_path
+
+
+def load_shared(path: str | Path, device: torch.device | str = "cpu") -> LoadedShared:
+    """Read what `save_shared` wrote; any mismatch raises ModelFileError naming the file."""
+    tensors_path, json_path = model_paths(path)
+    header = _read_header(json_path, SHARED_FORMAT)
+    try:
+        config, kind, n_units = MLPConfig(**header["config"]), str(header["kind"]), int(header["n_units"])
+        model = AdaptedMLP(n_units, config, kind)
+    except Exception as e:  # noqa: BLE001 - any bad header is reported the same way
+        raise ModelFileError(json_path, f"bad config, kind or n_units: {e}") from e
+    tensors = _read_tensors(tensors_path, device)
+    expected = {k: tuple(v.shape) for k, v in model.state_dict().items()}
+    d_in, d_out = config.sizes[0], config.sizes[-1]
+    expected |= {"in_scaler.mean": (n_units, 1, d_in), "in_scaler.std": (n_units, 1, d_in),
+                 "out_scaler.mean": (1, 1, d_out), "out_scaler.std": (1, 1, d_out)}
+    _check(tensors_path, tensors, expected)
+    model.to(device).load_state_dict({k: tensors[k] for k in model.state_dict()})
+    return LoadedShared(model, Scaler(tensors["in_scaler.mean"], tensors["in_scaler.std"]),
+                        Scaler(tensors["out_scaler.mean"], tensors["out_scaler.std"]),
+                        header.get("meta", {}))

@@ -11,7 +11,13 @@ from typing import Any
 import numpy as np
 
 from anytip.pipelines.common import (
-    Context, load, patch_test_mask, per_unit_split, predict_units, random_test_mask, scores,
+    Context,
+    load,
+    patch_test_mask,
+    per_unit_split,
+    predict_units,
+    random_test_mask,
+    scores,
 )
 from anytip.report.baseline import write_report
 from anytip.train.data import FleetBatchData

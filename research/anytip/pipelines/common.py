@@ -59,7 +59,7 @@ def select_runs(registry: Registry, cfg: DataConfig, seed: int,
     if cfg.protocol is not None:
         records = [r for r in records if r.protocol in (cfg.protocol, None)]
     units_per_model = Counter()
-    for model, unit in {(r.sensor_model, r.unit) for r in records}:
+    for model, _unit in {(r.sensor_model, r.unit) for r in records}:
         units_per_model[model] += 1
     if cfg.sensor_model is None:
         if not units_per_model:
@@ -127,11 +127,12 @@ def per_unit_split(arrays: FleetArrays, units: Sequence[str], test_mask: TestMas
         train_rows, held = rows[~test], rows[test]
         rng = np.random.default_rng(seed * 7919 + u)
         is_val = np.zeros(len(train_rows), bool)
-        is_val[rng.choice(len(train_rows), max(1, round(val_fraction * len(train_rows))), replace=False)] = True
+        n_val = max(1, round(val_fraction * len(train_rows)))
+        is_val[rng.choice(len(train_rows), n_val, replace=False)] = True
+        fit_rows, val_rows = train_rows[~is_val], train_rows[is_val]
         members.append(UnitTensors(
-            torch.from_numpy(arrays.pressure[train_rows[~is_val]]), torch.from_numpy(targets[train_rows[~is_val]]),
-            torch.from_numpy(arrays.pressure[train_rows[is_val]]), torch.from_numpy(targets[train_rows[is_val]]),
-            unit,
+            torch.from_numpy(arrays.pressure[fit_rows]), torch.from_numpy(targets[fit_rows]),
+            torch.from_numpy(arrays.pressure[val_rows]), torch.from_numpy(targets[val_rows]), unit,
         ))
         X_test.append(arrays.pressure[held])
         Y_test.append(targets[held])

@@ -28,7 +28,8 @@ def summary_table(rows: list[dict[str, Any]]) -> str:
     body = []
     for unit in [*units, "mean"]:
         if unit == "mean":
-            p = {m: float(np.mean([means[(u, "patches")][m] for u in units])) for m in means[(units[0], "patches")]}
+            keys = means[(units[0], "patches")]
+            p = {m: float(np.mean([means[(u, "patches")][m] for u in units])) for m in keys}
             r = {m: float(np.mean([means[(u, "random")][m] for u in units])) for m in p}
         else:
             p, r = means[(unit, "patches")], means[(unit, "random")]
@@ -68,8 +69,9 @@ def write_report(ctx, rows: list[dict[str, Any]], fig: dict[str, Any]) -> None:
 The paper's MLP {' -> '.join(map(str, spec.model.sizes))} ({spec.model.activation}) trained per unit
 with recipe `{spec.training.name}` on {len(prov['units'])} units of `{prov['sensor_model']}`
 (seeds {spec.all_seeds}). Scores are RMSE on test rows the model never trained on, in two
-splits: **held-out patches** (whole 15-degree patches of the protocol, {spec.splits.patch_test_fraction:.0%}
-of each unit's patches) and the paper's **random rows** ({spec.splits.random_test_fraction:.0%} of rows, beside training rows).
+splits: **held-out patches** (whole 15-degree patches of the protocol,
+{spec.splits.patch_test_fraction:.0%} of each unit's patches) and the paper's **random rows**
+({spec.splits.random_test_fraction:.0%} of rows, beside training rows).
 Force RMSE is over the three axes [N], angle RMSE over theta and phi [rad].
 
 ## Summary (held-out patches unless marked; mean over seeds)

@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from anytip.errors import AnytipError
 from anytip.sensor.geometry import SENSOR_MODEL
+from anytip.validation import format_validation_error
 
 _STRICT = ConfigDict(extra="forbid", frozen=True)
 
@@ -115,30 +116,6 @@ class FleetConfig(BaseModel):
     run: RunConditions = RunConditions()
 
 
-def _model_at(loc: tuple[Any, ...]) -> type[BaseModel]:
-    """The config model that owns the key at `loc` (a pydantic error location)."""
-    model: type[BaseModel] = FleetConfig
-    for part in loc[:-1]:
-        sub = model.model_fields.get(str(part))
-        if sub is None or not (
-            isinstance(sub.annotation, type) and issubclass(sub.annotation, BaseModel)
-        ):
-            break
-        model = sub.annotation
-    return model
-
-
-def _describe(path: str, err: dict[str, Any]) -> str:
-    loc = tuple(err["loc"])
-    key = ".".join(str(p) for p in loc)
-    if err["type"] == "extra_forbidden":
-        allowed = ", ".join(_model_at(loc).model_fields)
-        return f"{path}: key '{key}' is not allowed; allowed keys: {allowed}"
-    field = _model_at(loc).model_fields.get(str(loc[-1])) if loc else None
-    hint = f" ({field.description})" if field is not None and field.description else ""
-    return f"{path}: key '{key}'{hint}: {err['msg']}, got {err.get('input')!r}"
-
-
 def fleet_config_from_dict(data: Any, path: str = "<dict>") -> FleetConfig:
     """Validate a mapping into a FleetConfig; raise AnytipError naming `path` and the key."""
     if data is None:
@@ -150,7 +127,7 @@ def fleet_config_from_dict(data: Any, path: str = "<dict>") -> FleetConfig:
     try:
         return FleetConfig.model_validate(data)
     except ValidationError as e:
-        raise AnytipError("\n".join(_describe(path, err) for err in e.errors())) from None
+        raise AnytipError(format_validation_error(e, path, FleetConfig)) from None
 
 
 def load_fleet_config(path: str | Path) -> FleetConfig:

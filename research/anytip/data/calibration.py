@@ -1,0 +1,69 @@
+"""What a lab records first on a new unit: its calibration stream, and budgets cut from it.
+
+A unit's stream is its runs of the calibration protocol (e.g. `short`) in recorded order,
+contact rows only; a unit with no such run falls back to all its runs, in order, so a
+registry of measured full calibrations still works. A budget of N samples is the first
+N rows of the stream (never a random subset), and its cost in robot-seconds is the
+protocol time until the N-th row.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from anytip.data.arrays import FleetArrays
+from anytip.errors import AnytipError
+
+
+@dataclass(frozen=True)
+class CalibrationStream:
+    """rows (k,) indices into the FleetArrays, in time order; seconds (k,) robot-seconds
+    from the start of the stream to each row; runs: the run ids it reads."""
+
+    unit: str
+    rows: np.ndarray
+    seconds: np.ndarray
+    runs: tuple[str, ...]
+    protocol: str | None
+
+    def first(self, n: int) -> np.ndarray:
+        """Row indices of a budget of n labeled samples (all rows when n exceeds the stream)."""
+        return self.rows[:n]
+
+    def seconds_for(self, n: int) -> float:
+        """Robot-seconds a budget of n samples costs (0 for n == 0)."""
+        if n <= 0 or len(self.rows) == 0:
+            return 0.0
+        return float(self.seconds[min(n, len(self.rows)) - 1])
+
+
+def calibration_stream(arrays: FleetArrays, unit: str, protocol: str | None,
+                       exclude: np.ndarray | None = None) -> CalibrationStream:
+    """The unit's calibration stream, without rows where `exclude` (N,) bool is True.
+
+    Excluded rows (a held-out unit's test patches) still take robot time: they are
+    dropped, not skipped over in the clock.
+    """
+    if arrays.time is None:
+        raise AnytipError("calibration streams need row times; load the runs with load_arrays")
+    if unit not in arrays.units:
+        raise AnytipError(f"unit {unit!r} is not among the loaded units {arrays.units}")
+    mine = [k for k, r in enumerate(arrays.runs) if r.unit == unit]
+    chosen = [k for k in mine if arrays.runs[k].protocol == protocol] or mine
+    chosen.sort(key=lambda k: (arrays.runs[k].created, arrays.runs[k].run_id))
+    rows, seconds, offset = [], [], 0.0
+    for k in chosen:
+        r = np.flatnonzero(arrays.run == k)
+        if len(r) == 0:
+            continue
+        t = arrays.time[r]
+        keep = np.ones(len(r), bool) if exclude is None else ~exclude[r]
+        rows.append(r[keep])
+        seconds.append(offset + t[keep])
+        offset += float(t[-1])
+    used = protocol if any(arrays.runs[k].protocol == protocol for k in chosen) else None
+    return CalibrationStream(unit, np.concatenate(rows) if rows else np.zeros(0, np.int64),
+                             np.concatenate(seconds) if seconds else np.zeros(0),
+                             tuple(arrays.runs[k].run_id for k in chosen), used)

@@ -1,0 +1,367 @@
+"""Sensor-agnostic models on units they never trained on, against per-unit baselines.
+
+Per seed: units are dealt into training, validation and held-out roles. Each held-out
+(and validation) unit loses a fraction of its patches to testing: no method sees rows of
+those patches, in any run. Its calibration budget is the first N rows of its calibration
+stream (data/calibration.py). Methods, all scored on the same held-out patches:
+
+- per_unit: the reference, the paper's MLP fitted on the unit's full calibration;
+- scratch: the same MLP fitted only on the budget;
+- pooled: one MLP over the training units with one input scaling for all; tare only;
+- adapted:input_stats: a shared MLP whose per-unit input scaling comes from the unit's
+  unlabeled pressures (label-free, calib_samples 0);
+- adapted:<kind>: a shared MLP trained with per-unit adapters of that kind; a new unit's
+  adapter is fitted on the budget (the prior strength chosen on validation units), then
+  folded into a plain MLP of the deployed shape, which is what gets scored.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import torch
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from anytip.data.arrays import FleetArrays
+from anytip.data.calibration import CalibrationStream, calibration_stream
+from anytip.data.splits import UnitSplit, held_out_patches, split_units
+from anytip.errors import AnytipError
+from anytip.models.adapted import parse_kind
+from anytip.models.io import save_shared
+from anytip.models.mlp import BatchedMLP
+from anytip.models.scaler import Scaler
+from anytip.pipelines.common import Context, load, scores
+from anytip.report.cross_sensor import write_report
+from anytip.train.adapt import (
+    AdapterRecipe,
+    SharedFit,
+    fit_adapters,
+    input_stats,
+    pooled_scaler,
+    train_shared,
+)
+from anytip.train.data import FleetBatchData, UnitTensors, pad_rows
+from anytip.train.fleet import train_fleet
+from anytip.train.metrics import predict
+from anytip.train.recipe import TrainRecipe
+from anytip.validation import format_validation_error
+
+SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1e-4, batch_size=256,
+                      epochs=100, schedule="cosine", final_lr_frac=0.01, keep_best=False)
+
+
+class Options(BaseModel):
+    """`options:` of a cross_sensor spec."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    budgets: list[int] = Field(default=[0, 50, 200, 1000, 5000], min_length=1)
+    adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
+    priors: list[float] = Field(default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
+    calibration_protocol: str | None = "short"
+    adapter_steps: int = Field(default=400, ge=1)
+    adapter_lr: float = Field(default=1e-2, gt=0)
+    scratch: TrainRecipe = SCRATCH
+    train_unit_counts: list[int] = [4, 8, 16]
+    sweep_adapter: str = "input_affine+film"
+    sweep_budget: int = Field(default=1000, ge=0)
+    sweep_seeds: int = Field(default=1, ge=0)  # the first k seeds also run the unit-count sweep
+
+
+def parse_options(ctx: Context) -> Options:
+    raw = dict(ctx.spec.options)
+    if isinstance(raw.get("scratch"), dict):  # a partial recipe overrides the default's keys
+        raw["scratch"] = {**SCRATCH.model_dump(), **raw["scratch"]}
+    try:
+        opts = Options.model_validate(raw)
+    except ValidationError as e:
+        source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
+        raise AnytipError(format_validation_error(e, source, Options)) from None
+    for kind in [*opts.adapters, opts.sweep_adapter]:
+        parse_kind(kind)
+    if any(b < 0 for b in opts.budgets):
+        raise AnytipError(f"options.budgets: budgets are sample counts >= 0, got {opts.budgets}")
+    return opts
+
+
+@dataclass
+class EvalUnit:
+    """A validation or held-out unit: its test rows and its calibration stream."""
+
+    unit: str
+    test_rows: np.ndarray
+    stream: CalibrationStream
+
+
+@dataclass
+class SeedData:
+    split: UnitSplit
+    train: FleetBatchData  # training units' rows, 10% random rows for model selection
+    train_stats: Scaler  # (U_train, 1, 8) label-free input statistics
+    evals: dict[str, EvalUnit]  # validation and held-out units
+
+
+def run(ctx: Context) -> list[dict[str, Any]]:
+    opts = parse_options(ctx)
+    arrays = load(ctx, min_units=8)
+    rows: list[dict[str, Any]] = []
+    for k, seed in enumerate(ctx.spec.all_seeds):
+        rows += run_seed(ctx, arrays, opts, seed, sweep=k < opts.sweep_seeds)
+    write_report(ctx, rows, opts)
+    return rows
+
+
+def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
+             sweep: bool) -> list[dict[str, Any]]:
+    spec = ctx.spec
+    sd = prepare(ctx, arrays, opts, seed)
+    base = {"seed": seed, "split": "patches", "n_train_units": len(sd.split.train)}
+    rows = [dict(base, **r) for r in per_unit_rows(ctx, arrays, sd, opts, seed)]
+    rows += [dict(base, **r) for r in scratch_rows(ctx, arrays, sd, opts, seed)]
+    pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), spec.model,
+                          "none", spec.training, seed, ctx.device, ctx.progress)
+    rows += [dict(base, **r) for r in pooled_rows(pooled, arrays, sd)]
+    priors_chosen: dict[str, dict[int, float]] = {}
+    for kind in ["none", *opts.adapters]:
+        shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
+                              ctx.device, ctx.progress)
+        kind_rows, chosen = adapted_rows(ctx, arrays, sd, opts, shared, seed, opts.budgets)
+        rows += [dict(base, **r) for r in kind_rows]
+        priors_chosen[kind] = chosen
+        meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"))
+        path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
+        save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
+    ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
+        "units": sd.split.to_json(), "priors_chosen": priors_chosen,
+        "test_patches": {u: np.unique(arrays.patch[e.test_rows]).tolist() for u, e in sd.evals.items()},
+        "calibration_runs": {u: list(e.stream.runs) for u, e in sd.evals.items()},
+    }
+    if sweep:
+        rows += unit_count_rows(ctx, arrays, sd, opts, seed, priors_chosen.get(opts.sweep_adapter, {}))
+    return rows
+
+
+def pooled_rows(pooled: SharedFit, arrays: FleetArrays, sd: SeedData) -> list[dict[str, Any]]:
+    """One network and one input scaling for every unit: the held-out units get tare only."""
+    units = list(sd.split.test)
+    folded = pooled.model.fold([0] * len(units))
+    preds = predict_rows(folded, _repeat(pooled.in_scaler, len(units)), pooled.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u in units])
+    return [{"method": "pooled", "unit": u, "calib_samples": 0, "calib_seconds": 0.0,
+             **scores(p, arrays.targets[sd.evals[u].test_rows])}
+            for u, p in zip(units, preds, strict=True)]
+
+
+def _repeat(s: Scaler, n: int) -> Scaler:
+    return Scaler(s.mean.expand(n, -1, -1).contiguous(), s.std.expand(n, -1, -1).contiguous())
+
+
+def _slug(kind: str) -> str:
+    return kind.replace("+", "-")
+
+
+def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> SeedData:
+    """Unit roles, test patches of validation and held-out units, training tensors."""
+    s = ctx.spec.splits
+    split = split_units(arrays.units, seed, max(s.n_val_units, 1), max(s.n_test_units, 1),
+                        s.n_train_units)
+    main = main_rows(arrays, opts.calibration_protocol)
+    evals = {}
+    for k, unit in enumerate([*split.val, *split.test]):
+        mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+        own = mine[main[mine]]
+        if len(own) == 0:
+            raise AnytipError(f"unit {unit} has no runs besides its calibration protocol "
+                              f"{opts.calibration_protocol!r}; nothing to test it on")
+        test_cells = np.unique(arrays.patch[own][held_out_patches(arrays.patch[own], s.patch_test_fraction,
+                                                                  seed * 100_003 + k)])
+        exclude = np.zeros(arrays.n_rows, bool)
+        exclude[mine] = np.isin(arrays.patch[mine], test_cells)
+        evals[unit] = EvalUnit(unit, own[exclude[own]],
+                               calibration_stream(arrays, unit, opts.calibration_protocol, exclude))
+    members, stats = [], []
+    for u, unit in enumerate(split.train):
+        mine = np.flatnonzero((arrays.unit == arrays.units.index(unit)) & main)
+        rng = np.random.default_rng(seed * 7919 + u)
+        is_val = np.zeros(len(mine), bool)
+        is_val[rng.choice(len(mine), max(1, round(s.val_fraction * len(mine))), replace=False)] = True
+        members.append(_tensors(arrays, mine[~is_val], mine[is_val], unit))
+        stream = calibration_stream(arrays, unit, opts.calibration_protocol)
+        stats.append(torch.from_numpy(arrays.pressure[stream.rows]))
+    train = FleetBatchData.from_units(members, ctx.device)
+    return SeedData(split, train, input_stats(stats, ctx.device), evals)
+
+
+def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarray:
+    """(N,) bool: rows of runs other than the calibration protocol's (what units are tested on)."""
+    calib_runs = [k for k, r in enumerate(arrays.runs)
+                  if calibration_protocol is not None and r.protocol == calibration_protocol]
+    return ~np.isin(arrays.run, calib_runs)
+
+
+def _tensors(arrays: FleetArrays, fit_rows: np.ndarray, val_rows: np.ndarray, unit: str) -> UnitTensors:
+    t = arrays.targets
+    return UnitTensors(torch.from_numpy(arrays.pressure[fit_rows]), torch.from_numpy(t[fit_rows]),
+                       torch.from_numpy(arrays.pressure[val_rows]), torch.from_numpy(t[val_rows]), unit)
+
+
+def predict_rows(model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler, arrays: FleetArrays,
+                 rows: list[np.ndarray]) -> list[np.ndarray]:
+    """Model m's physical predictions on arrays rows[m]: [(n_m, 5), ...]."""
+    device = in_scaler.mean.device
+    X, n = pad_rows([arrays.pressure[r] for r in rows], device)
+    pred = predict(model.to(device), in_scaler, out_scaler.to(device), X).cpu().numpy()
+    return [pred[m, : int(n[m])] for m in range(len(rows))]
+
+
+def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
+                  seed: int) -> list[dict[str, Any]]:
+    """The reference: each held-out unit's MLP on its full calibration minus its test patches."""
+    units, members = list(sd.split.test), []
+    main = main_rows(arrays, opts.calibration_protocol)
+    for u, unit in enumerate(units):
+        mine = np.flatnonzero((arrays.unit == arrays.units.index(unit)) & main)
+        train_rows = np.setdiff1d(mine, sd.evals[unit].test_rows)
+        rng = np.random.default_rng(seed * 7919 + 1000 + u)
+        is_val = np.zeros(len(train_rows), bool)
+        n_val = max(1, round(ctx.spec.splits.val_fraction * len(train_rows)))
+        is_val[rng.choice(len(train_rows), n_val, replace=False)] = True
+        members.append(_tensors(arrays, train_rows[~is_val], train_rows[is_val], unit))
+    data = FleetBatchData.from_units(members, ctx.device)
+    fit = train_fleet(data, ctx.spec.model, ctx.spec.training, seed=seed, device=ctx.device,
+                      progress=ctx.progress)
+    fit.save(ctx.run_dir / "models" / f"per_unit_seed{seed}")
+    preds = predict_rows(fit.model, fit.in_scaler, fit.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u in units])
+    return [{"method": "per_unit", "unit": u, "calib_samples": int(data.n_train[k] + data.n_val[k]),
+             "calib_seconds": None, **scores(preds[k], arrays.targets[sd.evals[u].test_rows])}
+            for k, u in enumerate(units)]
+
+
+def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
+                 seed: int) -> list[dict[str, Any]]:
+    """The paper's MLP trained on the budget alone (no held-out rows; no model selection)."""
+    jobs = [(u, b) for u in sd.split.test for b in opts.budgets if b > 0]
+    if not jobs:
+        return []
+    members = []
+    for u, b in jobs:
+        r = sd.evals[u].stream.first(b)
+        members.append(_tensors(arrays, r, r, f"{u}@{b}"))
+    data = FleetBatchData.from_units(members, ctx.device)
+    fit = train_fleet(data, ctx.spec.model, opts.scratch, seed=seed, device=ctx.device,
+                      progress=ctx.progress)
+    preds = predict_rows(fit.model, fit.in_scaler, fit.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u, _ in jobs])
+    return [{"method": "scratch", "unit": u, "calib_samples": int(data.n_train[k]),
+             "calib_seconds": sd.evals[u].stream.seconds_for(b),
+             **scores(preds[k], arrays.targets[sd.evals[u].test_rows])}
+            for k, (u, b) in enumerate(jobs)]
+
+
+def calibrate_many(shared: SharedFit, arrays: FleetArrays, streams: list[CalibrationStream],
+                   budgets: list[int], priors: list[float], recipe: AdapterRecipe,
+                   seed: int) -> tuple[BatchedMLP, Scaler]:
+    """Fit and fold one adapter per (stream, budget, prior) job; returns the folded MLPs and
+    their input scalers (each unit's label-free statistics from its whole stream)."""
+    device = shared.model.weights[0].device
+    stats = input_stats([torch.from_numpy(arrays.pressure[s.rows]) for s in streams], device)
+    X, Y = [], []
+    for s, b in zip(streams, budgets, strict=True):
+        r = s.first(b) if b > 0 else s.rows[:1]
+        X.append(arrays.pressure[r])
+        Y.append(arrays.targets[r])
+    Xp, n = pad_rows(X, device)
+    Yp, _ = pad_rows(Y, device)
+    n = torch.where(torch.tensor(budgets, device=device) > 0, n, 0)
+    adapted = fit_adapters(shared, Xp, Yp, n, stats, torch.tensor(priors), recipe, seed)
+    return adapted.fold(), stats
+
+
+def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
+                 seed: int, budgets: list[int], fixed_priors: dict[int, float] | None = None,
+                 ) -> tuple[list[dict[str, Any]], dict[int, float]]:
+    """Rows of one shared model on the held-out units at every budget, and the prior chosen
+    per budget on the validation units (given `fixed_priors`, those are used instead)."""
+    kind = shared.model.kind
+    method = "adapted:input_stats" if kind == "none" else f"adapted:{kind}"
+    fits = bool(shared.model.adapter_parameters())
+    if fixed_priors is not None:
+        priors_of = {b: [fixed_priors[b]] for b in budgets if b > 0}
+    else:
+        priors_of = {b: list(opts.priors) for b in budgets if b > 0}
+    targets = list(sd.split.test) + ([] if fixed_priors is not None else list(sd.split.val))
+    jobs = [(u, b, p) for u in targets for b in budgets
+            for p in (priors_of.get(b, [0.0]) if b > 0 else [0.0]) if fits or b == 0]
+    recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
+    folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream for u, _, _ in jobs],
+                                   [b for _, b, _ in jobs], [p for _, _, p in jobs], recipe, seed)
+    preds = predict_rows(folded, stats, shared.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u, _, _ in jobs])
+    chosen = dict(fixed_priors or {})
+    if fixed_priors is None:
+        chosen = choose_priors(jobs, preds, sd, arrays, set(sd.split.val), shared.out_scaler)
+    rows = []
+    for (u, b, p), pred in zip(jobs, preds, strict=True):
+        if u not in sd.split.test or (b > 0 and p != chosen.get(b, p)):
+            continue
+        stream = sd.evals[u].stream
+        rows.append({"method": method, "unit": u, "calib_samples": min(b, len(stream.rows)),
+                     "calib_seconds": stream.seconds_for(b), "unlabeled_samples": len(stream.rows),
+                     "prior": p if b > 0 else None, **scores(pred, arrays.targets[sd.evals[u].test_rows])})
+    return rows, chosen
+
+
+def choose_priors(jobs: list[tuple[str, int, float]], preds: list[np.ndarray], sd: SeedData,
+                  arrays: FleetArrays, val_units: set[str], out_scaler: Scaler) -> dict[int, float]:
+    """Per budget, the prior with the lowest mean standardised MSE on the validation units."""
+    std = out_scaler.std.reshape(-1).cpu().numpy()
+    loss: dict[tuple[int, float], list[float]] = {}
+    for (u, b, p), pred in zip(jobs, preds, strict=True):
+        if u in val_units and b > 0:
+            err = (pred - arrays.targets[sd.evals[u].test_rows]) / std
+            loss.setdefault((b, p), []).append(float((err**2).mean()))
+    chosen: dict[int, float] = {}
+    for (b, p), v in sorted(loss.items()):
+        if b not in chosen or np.mean(v) < np.mean(loss[(b, chosen[b])]):
+            chosen[b] = p
+    return chosen
+
+
+def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
+                    priors: dict[int, float]) -> list[dict[str, Any]]:
+    """The sweep adapter's shared model trained on fewer units: zero-shot and one budget."""
+    rows = []
+    order = list(np.random.default_rng(seed).permutation(len(sd.split.train)))
+    budgets = sorted({0, opts.sweep_budget})
+    for k in opts.train_unit_counts:
+        if k >= len(sd.split.train):
+            continue
+        keep = sorted(order[:k])
+        sub = sd.train.subset(keep)
+        stats = Scaler(sd.train_stats.mean[keep], sd.train_stats.std[keep])
+        shared = train_shared(sub, stats, ctx.spec.model, opts.sweep_adapter, ctx.spec.training, seed,
+                              ctx.device, ctx.progress)
+        fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b > 0}
+        kind_rows, _ = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed)
+        rows += [dict(r, seed=seed, split="patches", n_train_units=k) for r in kind_rows]
+    return rows
+
+
+def default_prior(opts: Options) -> float:
+    """The middle of the prior grid: used where no validation choice exists."""
+    return sorted(opts.priors)[len(opts.priors) // 2]
+
+
+def shared_meta(shared: SharedFit, opts: Options, chosen: dict[int, float], seed: int,
+                sensor_model: str | None) -> dict[str, Any]:
+    """What `anytip calibrate` needs to fit a new unit's adapter like the benchmark did."""
+    return {"unit_ids": shared.unit_ids, "seed": seed, "sensor_model": sensor_model,
+            "recipe": shared.recipe.model_dump(mode="json"),
+            "priors_by_budget": {str(b): p for b, p in sorted(chosen.items())},
+            "default_prior": default_prior(opts),
+            "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
+            "calibration_protocol": opts.calibration_protocol,
+            "output_names": ["fx", "fy", "fz", "theta", "phi"]}

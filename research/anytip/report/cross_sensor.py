@@ -1,0 +1,190 @@
+"""The cross-sensor report: accuracy on held-out units against calibration budget, as ratios
+to their per-unit models, and against the number of training units."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import TYPE_CHECKING, Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from anytip.report.markdown import table  # noqa: E402
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from anytip.pipelines.common import Context
+
+METRICS = (("force_rmse_n", "force RMSE [N]"), ("angle_rmse_rad", "angle RMSE [rad]"))
+
+
+def main_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Rows of the full training set (the unit-count sweep's smaller sets left out)."""
+    full = max(r["n_train_units"] for r in rows)
+    return [r for r in rows if r["n_train_units"] == full]
+
+
+def ratios(rows: list[dict[str, Any]], key: str) -> dict[tuple[str, int], list[float]]:
+    """(method, budget) -> per (unit, seed) ratios of `key` to that unit's per_unit value."""
+    ref = {(r["unit"], r["seed"]): r[key] for r in rows if r["method"] == "per_unit"}
+    out: dict[tuple[str, int], list[float]] = defaultdict(list)
+    for r in rows:
+        if r["method"] != "per_unit" and (r["unit"], r["seed"]) in ref:
+            out[(r["method"], r["calib_samples"])].append(r[key] / ref[(r["unit"], r["seed"])])
+    return out
+
+
+def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """One line per (method, budget): means over units and seeds and ratios to per_unit."""
+    rf, ra = ratios(rows, "force_rmse_n"), ratios(rows, "angle_rmse_rad")
+    groups: dict[tuple[str, int], list[dict[str, Any]]] = defaultdict(list)
+    for r in rows:
+        groups[(r["method"], r["calib_samples"] if r["method"] != "per_unit" else -1)].append(r)
+    out = []
+    for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
+        secs = [r["calib_seconds"] for r in rs if r.get("calib_seconds") is not None]
+        out.append({
+            "method": method, "budget": budget, "n": len(rs),
+            "seconds": float(np.mean(secs)) if secs else None,
+            "force": float(np.mean([r["force_rmse_n"] for r in rs])),
+            "angle": float(np.mean([r["angle_rmse_rad"] for r in rs])),
+            "force_ratio": float(np.mean(rf[(method, budget)])) if rf.get((method, budget)) else 1.0,
+            "angle_ratio": float(np.mean(ra[(method, budget)])) if ra.get((method, budget)) else 1.0,
+        })
+    return out
+
+
+def targets(lines: list[dict[str, Any]]) -> list[list[Any]]:
+    """The issue's targets, each with the best method that meets its budget condition."""
+    def best(cond) -> dict[str, Any] | None:
+        cands = [s for s in lines if s["method"] != "per_unit" and cond(s)]
+        return min(cands, key=lambda s: max(s["force_ratio"], s["angle_ratio"]), default=None)
+
+    checks = [
+        ("zero-shot (0 labeled samples)", "<= 2.0x", 2.0, best(lambda s: s["budget"] == 0)),
+        ("<= 1000 labeled samples", "<= 1.10x", 1.10, best(lambda s: 0 < s["budget"] <= 1000)),
+        ("5000 labeled samples", "< 1.0x", 1.0, best(lambda s: s["budget"] >= 5000)),
+    ]
+    out = []
+    for name, goal, limit, s in checks:
+        if s is None:
+            out.append([name, goal, "n/a", "", "", ""])
+            continue
+        met = max(s["force_ratio"], s["angle_ratio"]) <= limit if limit != 1.0 else \
+            max(s["force_ratio"], s["angle_ratio"]) < 1.0
+        out.append([name, goal, f"`{s['method']}` @ {s['budget']}", f"{s['force_ratio']:.2f}x",
+                    f"{s['angle_ratio']:.2f}x", "met" if met else "**not met**"])
+    return out
+
+
+def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
+    """Force and angle RMSE against labeled samples, per method: median over units and seeds,
+    band from the 10th to the 90th percentile; per_unit as a horizontal band."""
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    methods = sorted({r["method"] for r in rows} - {"per_unit"})
+    budgets = sorted({r["calib_samples"] for r in rows if r["method"] != "per_unit"})
+    pos = {b: (i if b > 0 else 0) for i, b in enumerate(budgets)}
+    secs = {b: np.mean([r["calib_seconds"] for r in rows if r["calib_samples"] == b
+                        and r.get("calib_seconds") is not None] or [0.0]) for b in budgets}
+    for ax, (key, label) in zip(axes, METRICS, strict=True):
+        ref = [r[key] for r in rows if r["method"] == "per_unit"]
+        if ref:
+            lo, med, hi = np.percentile(ref, [10, 50, 90])
+            ax.axhspan(lo, hi, color="k", alpha=0.08)
+            ax.axhline(med, color="k", ls="--", lw=1.2, label="per_unit (full calibration)")
+        for m in methods:
+            pts = sorted({r["calib_samples"] for r in rows if r["method"] == m})
+            vals = [[r[key] for r in rows if r["method"] == m and r["calib_samples"] == b] for b in pts]
+            x = [pos[b] for b in pts]
+            p = np.array([np.percentile(v, [10, 50, 90]) for v in vals])
+            ax.plot(x, p[:, 1], marker="o", label=m)
+            ax.fill_between(x, p[:, 0], p[:, 2], alpha=0.12)
+        ax.set_xticks([pos[b] for b in budgets],
+                      [f"{b}\n{secs[b]:.1f} s" if b > 0 else "0" for b in budgets])
+        ax.set(xlabel="labeled calibration samples (robot-seconds)", ylabel=label, yscale="log")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("held-out units: error against calibration budget (median, 10-90% band)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Path | None:
+    """Force RMSE ratio to per_unit against the number of training units, one line per budget."""
+    ref = {(r["unit"], r["seed"]): r["force_rmse_n"] for r in rows if r["method"] == "per_unit"}
+    sel = [r for r in rows if r["method"] == method and (r["unit"], r["seed"]) in ref]
+    counts = sorted({r["n_train_units"] for r in sel})
+    seeds = {r["seed"] for r in rows if r["n_train_units"] < max(counts, default=0)}
+    if len(counts) < 2:
+        return None
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for b in sorted({r["calib_samples"] for r in sel if r["n_train_units"] < max(counts)}):
+        ys = []
+        for k in counts:
+            v = [r["force_rmse_n"] / ref[(r["unit"], r["seed"])] for r in sel
+                 if r["n_train_units"] == k and r["calib_samples"] == b and r["seed"] in seeds]
+            ys.append(np.percentile(v, [10, 50, 90]) if v else [np.nan] * 3)
+        ys = np.array(ys)
+        ax.plot(counts, ys[:, 1], marker="o", label=f"{b} labeled samples")
+        ax.fill_between(counts, ys[:, 0], ys[:, 2], alpha=0.15)
+    ax.axhline(1.0, color="k", ls="--", lw=1, label="per_unit")
+    ax.set(xscale="log", xlabel="training units", ylabel="force RMSE / per_unit",
+           title=f"{method}: how many units to calibrate fully")
+    ax.set_xticks(counts, [str(c) for c in counts])
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def write_report(ctx: Context, rows: list[dict[str, Any]], opts: Any) -> Path:
+    main = main_rows(rows)
+    lines = summary(main)
+    budget_figure(main, ctx.run_dir / "rmse_vs_budget.png")
+    units_fig = unit_count_figure(rows, f"adapted:{opts.sweep_adapter}",
+                                  ctx.run_dir / "rmse_vs_train_units.png")
+    body = [[s["method"], "full" if s["budget"] < 0 else s["budget"],
+             "" if s["seconds"] is None else f"{s['seconds']:.1f}", s["force"], f"{s['force_ratio']:.2f}x",
+             s["angle"], f"{s['angle_ratio']:.2f}x", s["n"]] for s in lines]
+    seeds = sorted({r["seed"] for r in rows})
+    cs = ctx.provenance.get("cross_sensor", {})
+    first = cs.get(f"seed{seeds[0]}", {}).get("units", {})
+    path = ctx.run_dir / "report.md"
+    path.write_text(f"""# {ctx.spec.name}: one model for many units
+
+{ctx.spec.description.strip()}
+
+{len(ctx.provenance.get('units', []))} units of `{ctx.provenance.get('sensor_model')}`; per seed
+{len(first.get('train', []))} training, {len(first.get('val', []))} validation and
+{len(first.get('test', []))} held-out units (seeds {seeds}). Every method is scored on the
+same held-out patches ({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's patches)
+that no method saw in any run. A budget is the first N contact rows of the unit's
+`{opts.calibration_protocol}` calibration stream (test patches removed); seconds are robot
+time into that stream. `adapted:*` models are scored after folding into the plain
+{' -> '.join(map(str, ctx.spec.model.sizes))} MLP; the adapter prior is chosen per budget on the
+validation units. Label-free rows (budget 0) use the unit's unlabeled stream for input statistics.
+
+## Targets (ratios to the held-out units' own per-unit models)
+
+{table(['target', 'goal', 'best method', 'force ratio', 'angle ratio', ''], targets(lines))}
+
+## All methods (mean over held-out units and seeds)
+
+{table(['method', 'labeled samples', 'robot-s', 'force RMSE [N]', 'force / per_unit',
+        'angle RMSE [rad]', 'angle / per_unit', 'rows'], body)}
+
+![error against calibration budget](rmse_vs_budget.png)
+""" + ("" if units_fig is None else """
+## How many units to calibrate fully
+
+![error against training units](rmse_vs_train_units.png)
+"""))
+    return path

@@ -1,0 +1,166 @@
+"""Fit a shared network across units, and fit new units' adapters from a few samples.
+
+`train_shared`: shared weights and the training units' adapters, jointly, every unit's
+rows in every step (loss = mean over units of each unit's MSE on standardised outputs).
+`fit_adapters`: the shared weights frozen, one adapter per (unit, budget, prior) model,
+all fitted at once; a prior pulls each adapter toward the identity with a weight that
+shrinks as the unit's calibration grows (lambda * |adapter - identity|^2 / n).
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import torch
+from torch import Tensor
+
+from anytip.models.adapted import AdaptedMLP
+from anytip.models.io import LoadedShared
+from anytip.models.mlp import MLPConfig
+from anytip.models.scaler import Scaler
+from anytip.train.data import FleetBatchData, UnitSampler
+from anytip.train.fleet import ProgressBar, _lap
+from anytip.train.metrics import evaluate
+from anytip.train.recipe import FAST, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
+
+
+@dataclass
+class SharedFit:
+    """A shared network with the training units' adapters and scalers.
+
+    in_scaler (U, 1, d_in): each training unit's input statistics (label-free);
+    out_scaler (1, 1, d_out): one output standardisation for every unit.
+    """
+
+    model: AdaptedMLP
+    in_scaler: Scaler
+    out_scaler: Scaler
+    unit_ids: list[str]
+    recipe: TrainRecipe
+    seed: int
+    history: list[dict[str, Any]] = field(default_factory=list)
+    wall_s: float = 0.0
+
+
+def pooled_scaler(x: Tensor, n: Tensor) -> Scaler:
+    """One scaler (1, 1, d) over the real rows of every unit of padded x (U, N, d)."""
+    rows = torch.cat([x[u, : int(n[u])] for u in range(x.shape[0])])[None]
+    return Scaler.fit(rows)
+
+
+def input_stats(pressures: list[Tensor], device: torch.device | str = "cpu") -> Scaler:
+    """Per-unit input scaler (U, 1, d) from each unit's unlabeled pressures [(n_u, d), ...]."""
+    return Scaler(torch.stack([p.double().mean(0, keepdim=True) for p in pressures]).float().to(device),
+                  torch.stack([_std_floor(p) for p in pressures]).float().to(device))
+
+
+def _std_floor(p: Tensor) -> Tensor:
+    std = p.double().std(0, unbiased=False, keepdim=True)
+    return torch.maximum(std, (1e-6 * std.max()).clamp_min(1e-12))
+
+
+def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | None = None,
+                 kind: str = "none", recipe: TrainRecipe = FAST, seed: int = 0,
+                 device: torch.device | str | None = None, progress: bool = False) -> SharedFit:
+    """Fit the shared weights and each training unit's adapter together.
+
+    data: the training units' rows (physical units); in_scaler: their input statistics,
+    (U, 1, d_in) per unit or (1, 1, d_in) pooled. Model selection (recipe.keep_best) uses
+    the mean validation loss over units.
+    """
+    start = time.perf_counter()
+    device = torch.device(device) if device is not None else data.device
+    data, in_scaler = data.to(device), in_scaler.to(device)
+    U = data.n_units
+    out_scaler = pooled_scaler(data.Y_train, data.n_train)
+    X, Y = in_scaler.transform(data.X_train), out_scaler.transform(data.Y_train)
+    rows_of = torch.arange(U, device=device)[:, None]
+    model = AdaptedMLP(U, config or MLPConfig(), kind, seed).to(device)
+    opt = make_optimizer(model.parameters(), recipe)
+    sampler = UnitSampler(data.n_train, recipe.batch_size, seed, device)
+    total = recipe.epochs * sampler.steps_per_epoch
+    eval_at = eval_points(sampler.steps_per_epoch, recipe.evals_per_epoch)
+    best, best_loss, history, train_s = None, float("inf"), [], 0.0
+    bar = ProgressBar(progress, total, f"shared over {U} units ({kind})")
+    tick = time.perf_counter()
+    for step in range(total):
+        if step % sampler.steps_per_epoch == 0:
+            order = sampler.epoch()
+        set_lr(opt, lr_at(step, total, recipe))
+        idx = order[step % sampler.steps_per_epoch]
+        loss = ((model(X[rows_of, idx]) - Y[rows_of, idx]) ** 2).mean()
+        opt.zero_grad(set_to_none=True)
+        loss.backward()
+        opt.step()
+        bar.update(step + 1)
+        if step % sampler.steps_per_epoch + 1 not in eval_at and step + 1 < total:
+            continue
+        train_s += _lap(tick, device)
+        val = evaluate(model.eval(), in_scaler, out_scaler, data.X_val, data.Y_val, data.n_val)
+        model.train()
+        history.append({"epoch": (step + 1) / sampler.steps_per_epoch, "step": step + 1,
+                        "elapsed_s": train_s, "val_loss": val["loss"].tolist(),
+                        "val_force_rmse": val["force_rmse"].tolist(),
+                        "val_angle_rmse": val["angle_rmse"].tolist()})
+        bar.update(step + 1, f"shared ({kind}): val force {val['force_rmse'].mean():.3f} N")
+        if float(val["loss"].mean()) < best_loss:
+            best_loss, best = float(val["loss"].mean()), copy.deepcopy(model.state_dict())
+        tick = time.perf_counter()
+    bar.close()
+    if recipe.keep_best and best is not None:
+        model.load_state_dict(best)
+    return SharedFit(model, in_scaler, out_scaler, list(data.unit_ids), recipe, seed, history,
+                     time.perf_counter() - start)
+
+
+@dataclass(frozen=True)
+class AdapterRecipe:
+    """How a new unit's adapter is fitted: Adam steps on its calibration rows."""
+
+    steps: int = 400
+    lr: float = 1e-2
+    batch_size: int = 256
+
+
+def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tensor, in_scaler: Scaler,
+                 prior: Tensor, recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0) -> AdaptedMLP:
+    """Adapters for M new models, the shared weights frozen.
+
+    X (M, N, d_in), Y (M, N, d_out) physical calibration rows, the first n[m] real;
+    in_scaler (M, 1, d_in) each model's label-free input statistics; prior (M,) lambda.
+    Returns a copy of the shared model holding the M fitted adapters. n[m] == 0 leaves
+    model m at the identity adapter.
+    """
+    device = shared.model.weights[0].device
+    model = copy.deepcopy(shared.model)
+    model.reset_adapter(X.shape[0])
+    model.to(device)
+    for p in model.shared_parameters():
+        p.requires_grad_(False)
+    fit = n > 0
+    if not model.adapter_parameters() or not bool(fit.any()):
+        return model
+    Xs, Ys = in_scaler.to(device).transform(X.to(device)), shared.out_scaler.transform(Y.to(device))
+    n_safe = n.clamp_min(1).to(device)
+    sampler = UnitSampler(n_safe, min(recipe.batch_size, int(n.max())), seed, device)
+    rows_of = torch.arange(X.shape[0], device=device)[:, None]
+    weight = fit.to(device).float()
+    prior = prior.to(device).float() / n_safe.float()
+    opt = torch.optim.Adam(model.adapter_parameters(), lr=recipe.lr)
+    constant = TrainRecipe(name="adapter", lr=recipe.lr, schedule="cosine", final_lr_frac=0.05)
+    for step in range(recipe.steps):
+        if step % sampler.steps_per_epoch == 0:
+            order = sampler.epoch()
+        set_lr(opt, lr_at(step, recipe.steps, constant))
+        idx = order[step % sampler.steps_per_epoch]
+        mse = ((model(Xs[rows_of, idx]) - Ys[rows_of, idx]) ** 2).mean(dim=(1, 2))
+        loss = (weight * (mse + prior * model.deviation())).sum()
+        opt.zero_grad(set_to_none=True)
+        loss.backward()
+        opt.step()
+    for p in model.shared_parameters():
+        p.requires_grad_(True)
+    return model

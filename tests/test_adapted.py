@@ -1,0 +1,99 @@
+"""Shared network with per-unit adapters: identity start, exact folding, few-shot fitting."""
+
+import pytest
+import torch
+
+from anytip.errors import AnytipError
+from anytip.models.adapted import PARTS, AdaptedMLP, parse_kind
+from anytip.models.mlp import MLPConfig
+from anytip.models.scaler import Scaler
+from anytip.train.adapt import AdapterRecipe, SharedFit, fit_adapters, input_stats, train_shared
+from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.recipe import TrainRecipe
+
+KINDS = ["none", "input_affine", "input_diag", "embedding", "film", "input_affine+embedding+film",
+         "input_diag+film"]
+
+
+def randomise(model: AdaptedMLP, seed: int = 0) -> AdaptedMLP:
+    g = torch.Generator().manual_seed(seed)
+    with torch.no_grad():
+        for p in model.adapter.values():
+            p.add_(0.3 * torch.randn(p.shape, generator=g))
+    return model
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("activation", ["relu", "tanh"])
+def test_fold_equals_adapted_model(kind, activation):
+    config = MLPConfig(activation=activation)
+    model = randomise(AdaptedMLP(4, config, kind, seed=3))
+    x = torch.randn(4, 200, 8) * 2
+    folded = model.fold()
+    assert folded.config == config and folded.n_models == 4
+    torch.testing.assert_close(folded(x), model(x), atol=1e-5, rtol=1e-5)
+
+
+def test_fold_of_chosen_units():
+    model = randomise(AdaptedMLP(5, MLPConfig(), "input_affine+film"))
+    x = torch.randn(5, 30, 8)
+    torch.testing.assert_close(model.fold([3, 1])(x[[3, 1]]), model(x)[[3, 1]], atol=1e-5, rtol=1e-5)
+
+
+def test_identity_adapter_changes_nothing():
+    bare = AdaptedMLP(3, MLPConfig(), "none", seed=1)
+    adapted = AdaptedMLP(3, MLPConfig(), "input_affine+embedding+film", seed=1)
+    x = torch.randn(3, 10, 8)
+    torch.testing.assert_close(adapted(x), bare(x))
+    assert float(adapted.deviation().detach().abs().max()) == 0.0
+    assert float(randomise(adapted).deviation().detach().min()) > 0
+
+
+def test_adapter_sizes():
+    sizes = {k: AdaptedMLP(1, MLPConfig(), k).n_adapter_params() for k in PARTS}
+    assert sizes == {"input_affine": 72, "input_diag": 16, "embedding": 12, "film": 2 * (12 + 64 + 64)}
+
+
+@pytest.mark.parametrize("kind", ["film+nope", "input_affine+input_diag"])
+def test_bad_kind_is_refused(kind):
+    with pytest.raises(AnytipError, match="adapter kind"):
+        parse_kind(kind)
+
+
+def fleet(n_units: int, rows: int, seed: int) -> tuple[list[torch.Tensor], list[torch.Tensor]]:
+    """Units that see one nonlinear function through a different gain per channel."""
+    g = torch.Generator().manual_seed(seed)
+    W = torch.randn(4, 3, generator=g)
+    Xs, Ys = [], []
+    for _ in range(n_units):
+        gain = torch.exp(0.5 * torch.randn(4, generator=g))
+        z = torch.randn(rows, 4, generator=g)
+        Xs.append(z * gain)
+        Ys.append(torch.tanh(z @ W))
+    return Xs, Ys
+
+
+def test_adapters_fit_a_new_unit_better_than_the_bare_shared_net():
+    torch.manual_seed(0)
+    Xs, Ys = fleet(7, 1500, seed=5)
+    data = FleetBatchData.from_units(
+        [UnitTensors(x[:1200], y[:1200], x[1200:], y[1200:], f"u{i}") for i, (x, y) in
+         enumerate(zip(Xs[:6], Ys[:6], strict=True))], output_names=("a", "b", "c"))
+    config = MLPConfig(sizes=(4, 16, 16, 3), activation="tanh")
+    recipe = TrainRecipe(name="t", lr=1e-2, batch_size=64, epochs=6, schedule="onecycle",
+                         warmup_frac=0.1)
+    shared = train_shared(data, Scaler.identity(6, 4), config, "input_diag", recipe, seed=0)
+    assert isinstance(shared, SharedFit) and len(shared.history) == 6
+    x_new, y_new = Xs[6], Ys[6]
+    n = torch.tensor([0, 200])
+    X = torch.stack([x_new[:200], x_new[:200]])
+    Y = torch.stack([y_new[:200], y_new[:200]])
+    stats = input_stats([x_new[:200], x_new[:200]])
+    adapted = fit_adapters(shared, X, Y, n, Scaler.identity(2, 4), torch.tensor([1.0, 1.0]),
+                           AdapterRecipe(steps=300, lr=3e-2), seed=0)
+    assert stats.mean.shape == (2, 1, 4)
+    with torch.no_grad():
+        test = x_new[200:][None].expand(2, -1, -1)
+        err = ((shared.out_scaler.inverse(adapted(test)) - y_new[200:]) ** 2).mean(dim=(1, 2))
+    assert float(adapted.deviation().detach()[0]) == 0.0  # no rows, no change
+    assert float(err[1]) < 0.5 * float(err[0]), err

@@ -1,0 +1,140 @@
+"""The cross-sensor pipeline and `anytip calibrate` on a tiny fleet: roles, no leakage,
+folded models, the deployment workflow end to end."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+
+from anytip.calibrate import calibrate_unit, find_shared
+from anytip.cli import main
+from anytip.config import load_spec
+from anytip.data.arrays import load_arrays
+from anytip.data.registry import Registry
+from anytip.data.simulated import simulate_into
+from anytip.errors import AnytipError
+from anytip.models.io import load_models, load_shared
+from anytip.pipelines.common import Context
+from anytip.pipelines.cross_sensor import main_rows, parse_options, prepare
+from anytip.runner import run_experiment
+from anytip.sensor.fleet import FleetConfig
+from anytip.sensor.protocols import Protocol
+from anytip.train.metrics import predict
+
+REPO = Path(__file__).resolve().parents[1]
+SPEC = REPO / "experiments" / "cross_sensor.yaml"
+# A calibration protocol a few seconds long, beside the short protocol the units are tested on.
+QUICK = Protocol(name="quick", patches=3, layers_n=(12.5,), orientations_deg=(0.0,))
+TINY = ["seeds=[0]", "training.epochs=1", "training.batch_size=128", "options.budgets=[0,50,400]",
+        "options.adapters=[input_diag,input_affine+film]", "options.priors=[1,100]",
+        "options.calibration_protocol=quick", "options.train_unit_counts=[2]",
+        "options.adapter_steps=60", "options.scratch.epochs=5", "splits.n_val_units=1",
+        "splits.n_test_units=2"]
+
+
+@pytest.fixture(scope="module")
+def two_protocol_registry(tmp_path_factory) -> Registry:
+    registry = Registry(tmp_path_factory.mktemp("cross"))
+    simulate_into(registry, FleetConfig(), 8, seed=11, protocols=("short", QUICK))
+    return registry
+
+
+@pytest.fixture(scope="module")
+def cross_run(two_protocol_registry, tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("run") / "cross"
+    return run_experiment(SPEC, two_protocol_registry, out=out, overrides=TINY, progress=False)
+
+
+def test_held_out_units_and_patches_never_reach_training(two_protocol_registry, tmp_path):
+    spec = load_spec(SPEC, TINY)
+    ctx = Context(spec, two_protocol_registry, tmp_path, torch.device("cpu"), False)
+    opts = parse_options(ctx)
+    arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs())
+    sd = prepare(ctx, arrays, opts, seed=0)
+    assert set(sd.split.train).isdisjoint([*sd.split.val, *sd.split.test])
+    assert sd.train.unit_ids == list(sd.split.train)
+    train_rows = {r.tobytes() for u in range(sd.train.n_units) for X in (sd.train.unit(u).X_train,
+                  sd.train.unit(u).X_val) for r in X.numpy()}
+    main = main_rows(arrays, "quick")
+    for unit, ev in sd.evals.items():
+        own = arrays.unit == arrays.units.index(unit)
+        assert own[ev.test_rows].all() and main[ev.test_rows].all()
+        test_cells = set(arrays.patch[ev.test_rows])
+        assert test_cells.isdisjoint(arrays.patch[ev.stream.rows])  # calibration never sees them
+        assert not main[ev.stream.rows].any()  # the stream is the quick protocol's rows
+        assert np.all(np.diff(ev.stream.seconds) >= 0)
+        assert not train_rows & {r.tobytes() for r in arrays.pressure[own]}
+
+
+def test_run_rows_follow_the_contract(cross_run):
+    rows = json.loads((cross_run / "metrics.json").read_text())["results"]
+    prov = json.loads((cross_run / "provenance.json").read_text())
+    test_units = set(prov["cross_sensor"]["seed0"]["units"]["test"])
+    methods = {r["method"] for r in rows}
+    assert {"per_unit", "scratch", "pooled", "adapted:input_stats", "adapted:input_diag",
+            "adapted:input_affine+film"} <= methods
+    for r in rows:
+        assert r["unit"] in test_units and np.isfinite(r["force_rmse_n"]) and r["seed"] == 0
+        for key in ("method", "unit", "calib_samples", "seed", "force_rmse_n", "angle_rmse_rad"):
+            assert key in r
+    zero = {r["method"] for r in rows if r["calib_samples"] == 0}
+    assert {"pooled", "adapted:input_stats"} <= zero
+    budgets = {r["calib_samples"] for r in rows if r["method"] == "adapted:input_diag"}
+    assert budgets == {0, 50, 400}
+    assert {r["n_train_units"] for r in rows} == {2, 5}  # the unit-count sweep and the full set
+    report = (cross_run / "report.md").read_text()
+    assert "Targets" in report and (cross_run / "rmse_vs_budget.png").is_file()
+
+
+def test_saved_shared_model_folds_like_it_predicts(cross_run):
+    shared = load_shared(find_shared(cross_run, "input_affine+film"))
+    model = shared.model
+    x = torch.randn(model.n_units, 50, 8)
+    torch.testing.assert_close(model.fold()(x), model(x), atol=1e-5, rtol=1e-5)
+    assert shared.meta["calibration_protocol"] == "quick" and shared.meta["priors_by_budget"]
+
+
+def test_calibrate_writes_a_folded_per_unit_model(cross_run, two_protocol_registry, tmp_path, capsys):
+    prov = json.loads((cross_run / "provenance.json").read_text())
+    unit = prov["cross_sensor"]["seed0"]["units"]["test"][0]
+    code = main(["calibrate", "--model", str(cross_run), "--unit", unit, "--budget-samples", "300",
+                 "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cal")])
+    assert code == 0
+    out = capsys.readouterr().out
+    assert f"calibrated {unit}: 300 labeled samples" in out and "other runs" in out
+    loaded = load_models(tmp_path / "cal" / "model")
+    assert loaded.model.n_models == 1 and loaded.meta["unit_ids"] == [unit]
+    assert loaded.model.config.sizes == (8, 12, 64, 64, 5)
+    assert loaded.meta["adapter"] == "input_affine+film" and loaded.meta["calib_samples"] == 300
+    arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs(unit=unit))
+    pred = predict(loaded.model, loaded.in_scaler, loaded.out_scaler, torch.from_numpy(arrays.pressure)[None])
+    assert torch.isfinite(pred).all()
+    check = loaded.meta["check_on_other_runs"]
+    assert check["rows"] > 0 and check["force_rmse_n"] < 20
+
+
+def test_calibrate_label_free_and_by_seconds(cross_run, two_protocol_registry, tmp_path):
+    unit = two_protocol_registry.list_runs()[0].unit
+    zero = calibrate_unit(cross_run, unit, two_protocol_registry, tmp_path / "zero", budget_samples=0)
+    assert zero.calib_samples == 0 and zero.unlabeled_samples > 0
+    timed = calibrate_unit(cross_run, unit, two_protocol_registry, tmp_path / "t", budget_seconds=3.0)
+    assert 0 < timed.calib_samples and timed.calib_seconds <= 3.0
+
+
+def test_calibrate_errors_name_what_is_wrong(cross_run, two_protocol_registry, tmp_path):
+    with pytest.raises(AnytipError, match="no runs of unit 'NOPE-1'"):
+        calibrate_unit(cross_run, "NOPE-1", two_protocol_registry, tmp_path)
+    with pytest.raises(AnytipError, match="no shared model for adapter 'film'"):
+        find_shared(cross_run, "film")
+    with pytest.raises(AnytipError, match="no config.yaml"):
+        find_shared(tmp_path)
+    with pytest.raises(AnytipError, match="not both"):
+        calibrate_unit(cross_run, "x", two_protocol_registry, tmp_path, budget_samples=5, budget_seconds=1.0)
+
+
+def test_unknown_option_is_refused(two_protocol_registry, tmp_path):
+    with pytest.raises(AnytipError, match="options.*'budget' is not allowed.*budgets"):
+        run_experiment(SPEC, two_protocol_registry, out=tmp_path, overrides=[*TINY, "options.budget=3"],
+                       progress=False)
