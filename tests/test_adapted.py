@@ -12,7 +12,7 @@ from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.recipe import TrainRecipe
 
 KINDS = ["none", "input_affine", "input_diag", "embedding", "film", "input_affine+embedding+film",
-         "input_diag+film"]
+         "input_diag+film", "delta", "input_affine+film+delta"]
 
 
 def randomise(model: AdaptedMLP, seed: int = 0) -> AdaptedMLP:
@@ -51,7 +51,8 @@ def test_identity_adapter_changes_nothing():
 
 def test_adapter_sizes():
     sizes = {k: AdaptedMLP(1, MLPConfig(), k).n_adapter_params() for k in PARTS}
-    assert sizes == {"input_affine": 72, "input_diag": 16, "embedding": 12, "film": 2 * (12 + 64 + 64)}
+    assert sizes == {"input_affine": 72, "input_diag": 16, "embedding": 12,
+                     "film": 2 * (12 + 64 + 64), "delta": MLPConfig().n_params}
 
 
 @pytest.mark.parametrize("kind", ["film+nope", "input_affine+input_diag"])

@@ -23,9 +23,9 @@ from anytip.data.arrays import load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
-from anytip.models.io import LoadedShared, load_shared, save_models
+from anytip.models.io import load_shared, save_models
 from anytip.models.scaler import Scaler
-from anytip.train.adapt import AdapterRecipe, fit_adapters, input_stats
+from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.metrics import predict
 
 
@@ -107,9 +107,12 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"))
     n = budget_rows(stream, budget_samples, budget_seconds)
     prior = prior_for(meta, n)
-    stats = input_stats([torch.from_numpy(arrays.pressure[stream.rows])])
-    folded = _fit_and_fold(shared, arrays.pressure[stream.first(max(n, 1))],
-                           arrays.targets[stream.first(max(n, 1))], n, stats, prior, meta)
+    labeled = stream.first(n)
+    unlabeled = [torch.from_numpy(arrays.pressure[stream.rows])]
+    X, Y = [torch.from_numpy(arrays.pressure[labeled])], [torch.from_numpy(arrays.targets[labeled])]
+    recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
+    folded, stats = calibrate_and_fold(shared, unlabeled, X, Y, [n], [prior], recipe,
+                                       seed=int(meta.get("seed", 0)))
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
     check = _score(folded, stats, out_scaler, arrays.pressure[other], arrays.targets[other]) \
@@ -124,15 +127,6 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     (Path(out) / "calibration.json").write_text(json.dumps(
         {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()}, indent=2) + "\n")
     return result
-
-
-def _fit_and_fold(shared: LoadedShared, X: np.ndarray, Y: np.ndarray, n: int, stats: Scaler,
-                  prior: float, meta: dict[str, Any]):
-    recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
-    adapted = fit_adapters(shared, torch.from_numpy(X)[None], torch.from_numpy(Y)[None],
-                           torch.tensor([n]), stats, torch.tensor([prior]), recipe,
-                           seed=int(meta.get("seed", 0)))
-    return adapted.fold()
 
 
 def _score(model, in_scaler: Scaler, out_scaler: Scaler, X: np.ndarray, Y: np.ndarray) -> dict[str, float]:

@@ -35,7 +35,12 @@ class DataConfig(Strict):
     """Which runs of the registry an experiment reads."""
 
     sensor_model: str | None = None  # None: the model with the most units
-    protocol: str | None = "full"  # catalog protocol of the training/test runs; None: all runs
+    # catalog protocol(s) of the runs to read (plus measured runs that record none); None: all
+    protocol: str | list[str] | None = "full"
+
+    @property
+    def protocols(self) -> list[str] | None:
+        return [self.protocol] if isinstance(self.protocol, str) else self.protocol
     max_units: int | None = Field(default=None, ge=1)  # cap on units used, chosen by seed
 
 

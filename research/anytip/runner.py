@@ -63,6 +63,6 @@ def run_experiment(spec_path: str | Path, registry: Registry, out: str | Path | 
     ctx.provenance["wall_s"] = round(time.perf_counter() - start, 2)
     rundir.write_metrics(run_dir, rows, spec=spec.name, pipeline=spec.pipeline)
     rundir.write_json(run_dir / "provenance.json", ctx.provenance)
-    print(summarise(rows))
+    print(getattr(module, "summarise", summarise)(rows))
     print(f"run directory: {run_dir}  (report: {run_dir / 'report.md'})")
     return run_dir

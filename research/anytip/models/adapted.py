@@ -6,7 +6,9 @@ only its adapter. An adapter kind is a '+'-joined set of parts:
 - `input_affine`: x' = x @ A_m + c_m, A (d_in, d_in) starting at the identity;
 - `input_diag`:   x' = x * a_m + c_m, the diagonal version (2 d_in numbers);
 - `embedding`:    a per-unit first-layer bias e_m (a learned unit code of width h_1);
-- `film`:         every hidden layer's pre-activation z -> z * gamma_m + beta_m (LHUC).
+- `film`:         every hidden layer's pre-activation z -> z * gamma_m + beta_m (LHUC);
+- `delta`:        a per-unit change of every weight and bias (fine-tuning, held as an
+                  offset from the shared weights so a prior can pull it to zero).
 
 `none` is the bare shared network. Every part acts before a nonlinearity, so the adapted
 network of unit m is exactly a plain MLP of the same shape: `fold` computes it.
@@ -25,7 +27,7 @@ from torch import Tensor, nn
 from anytip.errors import AnytipError
 from anytip.models.mlp import ACTIVATIONS, BatchedMLP, MLPConfig, unit_seed
 
-PARTS = ("input_affine", "input_diag", "embedding", "film")
+PARTS = ("input_affine", "input_diag", "embedding", "film", "delta")
 
 
 def parse_kind(kind: str) -> frozenset[str]:
@@ -77,6 +79,11 @@ class AdaptedMLP(nn.Module):
             for k, h in enumerate(hidden):
                 t[f"gamma{k}"] = torch.ones(n_units, 1, h)
                 t[f"beta{k}"] = torch.zeros(n_units, 1, h)
+        if "delta" in self.parts:
+            sizes = self.config.sizes
+            for k, (i, o) in enumerate(zip(sizes[:-1], sizes[1:], strict=True)):
+                t[f"dW{k}"] = torch.zeros(n_units, i, o)
+                t[f"db{k}"] = torch.zeros(n_units, 1, o)
         device = self.weights[0].device if len(self.weights) else None
         return {k: nn.Parameter(v.to(device)) for k, v in t.items()}
 
@@ -110,7 +117,10 @@ class AdaptedMLP(nn.Module):
         x = self._input(x)
         last = len(self.weights) - 1
         for k, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
-            x = x @ W + b
+            if f"dW{k}" in self.adapter:
+                x = torch.baddbmm(b + self.adapter[f"db{k}"], x, W + self.adapter[f"dW{k}"])
+            else:
+                x = x @ W + b
             if k == 0 and "embed" in self.adapter:
                 x = x + self.adapter["embed"]
             if k < last:
@@ -149,6 +159,8 @@ class AdaptedMLP(nn.Module):
         plain = []
         for k, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
             W, b = W.detach().clone(), b.detach().clone()
+            if f"dW{k}" in a:
+                W, b = W + a[f"dW{k}"][m], b + a[f"db{k}"][m, 0]
             if k == 0:
                 W, b = A @ W, c @ W + b
                 if "embed" in a:

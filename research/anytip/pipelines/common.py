@@ -56,8 +56,8 @@ def select_runs(registry: Registry, cfg: DataConfig, seed: int,
     if not records:
         raise AnytipError(f"registry {registry.root} is empty; add runs with "
                           "`anytip data simulate` or `anytip data import`")
-    if cfg.protocol is not None:
-        records = [r for r in records if r.protocol in (cfg.protocol, None)]
+    if cfg.protocols is not None:
+        records = [r for r in records if r.protocol is None or r.protocol in cfg.protocols]
     units_per_model = Counter()
     for model, _unit in {(r.sensor_model, r.unit) for r in records}:
         units_per_model[model] += 1

@@ -33,11 +33,12 @@ from anytip.models.io import save_shared
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, scores
-from anytip.report.cross_sensor import write_report
+from anytip.report.cross_sensor import main_rows as full_set_rows
+from anytip.report.cross_sensor import summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
     SharedFit,
-    fit_adapters,
+    calibrate_and_fold,
     input_stats,
     pooled_scaler,
     train_shared,
@@ -63,6 +64,7 @@ class Options(BaseModel):
     calibration_protocol: str | None = "short"
     adapter_steps: int = Field(default=400, ge=1)
     adapter_lr: float = Field(default=1e-2, gt=0)
+    adapter_decay: float = Field(default=0.01, ge=0)  # pulls training units' adapters to identity
     scratch: TrainRecipe = SCRATCH
     train_unit_counts: list[int] = [4, 8, 16]
     sweep_adapter: str = "input_affine+film"
@@ -113,6 +115,16 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     return rows
 
 
+def summarise(rows: list[dict[str, Any]]) -> str:
+    """One screen: mean RMSE and ratio to per_unit per (method, labeled samples)."""
+    lines = [f"{'method':<38}{'samples':>8}{'force [N]':>11}{'ratio':>8}{'angle [rad]':>13}{'ratio':>8}"]
+    for s in summary(full_set_rows(rows)):
+        budget = "full" if s["budget"] < 0 else str(s["budget"])
+        lines.append(f"{s['method']:<38}{budget:>8}{s['force']:>11.3f}{s['force_ratio']:>7.2f}x"
+                     f"{s['angle']:>13.4f}{s['angle_ratio']:>7.2f}x")
+    return "\n".join(lines)
+
+
 def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
              sweep: bool) -> list[dict[str, Any]]:
     spec = ctx.spec
@@ -126,7 +138,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     priors_chosen: dict[str, dict[int, float]] = {}
     for kind in ["none", *opts.adapters]:
         shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
-                              ctx.device, ctx.progress)
+                              ctx.device, ctx.progress, opts.adapter_decay)
         kind_rows, chosen = adapted_rows(ctx, arrays, sd, opts, shared, seed, opts.budgets)
         rows += [dict(base, **r) for r in kind_rows]
         priors_chosen[kind] = chosen
@@ -263,31 +275,25 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
 
 def calibrate_many(shared: SharedFit, arrays: FleetArrays, streams: list[CalibrationStream],
                    budgets: list[int], priors: list[float], recipe: AdapterRecipe,
-                   seed: int) -> tuple[BatchedMLP, Scaler]:
-    """Fit and fold one adapter per (stream, budget, prior) job; returns the folded MLPs and
-    their input scalers (each unit's label-free statistics from its whole stream)."""
-    device = shared.model.weights[0].device
-    stats = input_stats([torch.from_numpy(arrays.pressure[s.rows]) for s in streams], device)
-    X, Y = [], []
-    for s, b in zip(streams, budgets, strict=True):
-        r = s.first(b) if b > 0 else s.rows[:1]
-        X.append(arrays.pressure[r])
-        Y.append(arrays.targets[r])
-    Xp, n = pad_rows(X, device)
-    Yp, _ = pad_rows(Y, device)
-    n = torch.where(torch.tensor(budgets, device=device) > 0, n, 0)
-    adapted = fit_adapters(shared, Xp, Yp, n, stats, torch.tensor(priors), recipe, seed)
-    return adapted.fold(), stats
+                   seed: int, fit_kind: str | None = None) -> tuple[BatchedMLP, Scaler]:
+    """Fit and fold one adapter per (stream, budget, prior) job; each unit's input statistics
+    come from its whole stream's pressures (no labels)."""
+    rows = [s.first(b) for s, b in zip(streams, budgets, strict=True)]
+    unlabeled = [torch.from_numpy(arrays.pressure[s.rows]) for s in streams]
+    X = [torch.from_numpy(arrays.pressure[r]) for r in rows]
+    Y = [torch.from_numpy(arrays.targets[r]) for r in rows]
+    return calibrate_and_fold(shared, unlabeled, X, Y, [len(r) for r in rows], priors, recipe, seed,
+                              fit_kind)
 
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
                  seed: int, budgets: list[int], fixed_priors: dict[int, float] | None = None,
-                 ) -> tuple[list[dict[str, Any]], dict[int, float]]:
+                 fit_kind: str | None = None) -> tuple[list[dict[str, Any]], dict[int, float]]:
     """Rows of one shared model on the held-out units at every budget, and the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead)."""
-    kind = shared.model.kind
+    kind = fit_kind or shared.model.kind
     method = "adapted:input_stats" if kind == "none" else f"adapted:{kind}"
-    fits = bool(shared.model.adapter_parameters())
+    fits = kind != "none"
     if fixed_priors is not None:
         priors_of = {b: [fixed_priors[b]] for b in budgets if b > 0}
     else:
@@ -297,7 +303,8 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
             for p in (priors_of.get(b, [0.0]) if b > 0 else [0.0]) if fits or b == 0]
     recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
     folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream for u, _, _ in jobs],
-                                   [b for _, b, _ in jobs], [p for _, _, p in jobs], recipe, seed)
+                                   [b for _, b, _ in jobs], [p for _, _, p in jobs], recipe, seed,
+                                   fit_kind)
     preds = predict_rows(folded, stats, shared.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     chosen = dict(fixed_priors or {})
@@ -343,7 +350,7 @@ def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
         sub = sd.train.subset(keep)
         stats = Scaler(sd.train_stats.mean[keep], sd.train_stats.std[keep])
         shared = train_shared(sub, stats, ctx.spec.model, opts.sweep_adapter, ctx.spec.training, seed,
-                              ctx.device, ctx.progress)
+                              ctx.device, ctx.progress, opts.adapter_decay)
         fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b > 0}
         kind_rows, _ = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed)
         rows += [dict(r, seed=seed, split="patches", n_train_units=k) for r in kind_rows]

@@ -12,6 +12,7 @@ up to min(shear_max_n, friction * Fn). Segments are cosine-interpolated.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -43,6 +44,9 @@ class Protocol(BaseModel):
     patch_rest_s: float = Field(1.0, gt=0, description="no contact before each patch")
     margin_deg: float = Field(0.5, ge=0, lt=7.5, description="press points keep off cell edges")
     sample_rate_hz: float = Field(200.0, gt=0)
+    order: Literal["serpentine", "spread"] = Field(
+        "serpentine", description="patch order: neighbours in turn, or spread over the region "
+        "from the first press on (a subset of patches is always spread)")
 
     @model_validator(mode="after")
     def _on_grid(self) -> Protocol:
@@ -53,6 +57,14 @@ class Protocol(BaseModel):
                     f"orientation {o} deg puts phi cells off the 15-deg grid in [-135, 45]"
                 )
         return self
+
+    def to_json(self) -> dict:
+        """The protocol as stored in a run. `order` is left out at its default, so runs made
+        before it existed keep their content (and their registry hash)."""
+        data = self.model_dump(mode="json")
+        if data["order"] == "serpentine":
+            del data["order"]
+        return data
 
     def rows_per_press(self) -> int:
         return int(self.segment_samples().sum())
@@ -82,11 +94,15 @@ class Protocol(BaseModel):
 PROTOCOLS: dict[str, Protocol] = {
     "full": Protocol(name="full"),
     "short": Protocol(name="short", patches=4, layers_n=(12.5, 25.0)),
+    # A new unit's quick calibration: one press with a small shear cross per patch, patches
+    # spread over the region, so the first seconds already cover it.
+    "quick": Protocol(name="quick", layers_n=(15.0,), directions=2, ramp_s=0.25, hold_s=0.05,
+                      shear_s=0.12, gap_s=0.1, patch_rest_s=0.25, order="spread"),
 }
 
 
 def get_protocol(protocol: str | Protocol | dict) -> Protocol:
-    """A built-in protocol by name ('full', 'short'), or a Protocol / its dict as given."""
+    """A built-in protocol by name ('full', 'short', 'quick'), or a Protocol / its dict as given."""
     if isinstance(protocol, Protocol):
         return protocol
     if isinstance(protocol, dict):
@@ -124,9 +140,9 @@ def patch_cells(protocol: Protocol, orientation_deg: float) -> np.ndarray:
     """
     phi0 = int(round((orientation_deg - 45.0 + 135.0) / CELL_DEG))
     grid = [(i, j if i % 2 == 0 else CELLS_PER_AXIS - 1 - j) for i in range(6) for j in range(6)]
-    if protocol.patches < len(grid):
+    if protocol.patches < len(grid) or protocol.order == "spread":
         g = 1.32471795724474602596  # plastic number: the R2 low-discrepancy sequence
-        k = np.arange(protocol.patches * 4)
+        k = np.arange(max(protocol.patches * 4, 400))
         ti = np.floor(6 * ((0.5 + k / g) % 1)).astype(int)
         pj = np.floor(6 * ((0.5 + k / g**2) % 1)).astype(int)
         seen = dict.fromkeys(zip(ti.tolist(), pj.tolist(), strict=True))

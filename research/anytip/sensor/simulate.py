@@ -107,7 +107,7 @@ def simulate_run(
         "created": created,
         "orientation_deg": float(orientation_deg),
         "seed": entropy,
-        "protocol": protocol.model_dump(mode="json"),
+        "protocol": protocol.to_json(),
         "conditions": conditions.model_dump(mode="json"),
         "unit": unit.model_dump(mode="json"),
     }

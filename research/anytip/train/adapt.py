@@ -19,9 +19,9 @@ from torch import Tensor
 
 from anytip.models.adapted import AdaptedMLP
 from anytip.models.io import LoadedShared
-from anytip.models.mlp import MLPConfig
+from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
-from anytip.train.data import FleetBatchData, UnitSampler
+from anytip.train.data import FleetBatchData, UnitSampler, pad_rows
 from anytip.train.fleet import ProgressBar, _lap
 from anytip.train.metrics import evaluate
 from anytip.train.recipe import FAST, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
@@ -64,12 +64,15 @@ def _std_floor(p: Tensor) -> Tensor:
 
 def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | None = None,
                  kind: str = "none", recipe: TrainRecipe = FAST, seed: int = 0,
-                 device: torch.device | str | None = None, progress: bool = False) -> SharedFit:
+                 device: torch.device | str | None = None, progress: bool = False,
+                 adapter_decay: float = 0.0) -> SharedFit:
     """Fit the shared weights and each training unit's adapter together.
 
     data: the training units' rows (physical units); in_scaler: their input statistics,
-    (U, 1, d_in) per unit or (1, 1, d_in) pooled. Model selection (recipe.keep_best) uses
-    the mean validation loss over units.
+    (U, 1, d_in) per unit or (1, 1, d_in) pooled. `adapter_decay` adds
+    adapter_decay * mean over units of |adapter - identity|^2 to the loss, so the identity
+    adapter stays a typical unit (the zero-shot starting point of a new unit). Model
+    selection (recipe.keep_best) uses the mean validation loss over units.
     """
     start = time.perf_counter()
     device = torch.device(device) if device is not None else data.device
@@ -92,6 +95,8 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
         set_lr(opt, lr_at(step, total, recipe))
         idx = order[step % sampler.steps_per_epoch]
         loss = ((model(X[rows_of, idx]) - Y[rows_of, idx]) ** 2).mean()
+        if adapter_decay > 0:
+            loss = loss + adapter_decay * model.deviation().mean()
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()
@@ -126,16 +131,22 @@ class AdapterRecipe:
 
 
 def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tensor, in_scaler: Scaler,
-                 prior: Tensor, recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0) -> AdaptedMLP:
+                 prior: Tensor, recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0,
+                 kind: str | None = None) -> AdaptedMLP:
     """Adapters for M new models, the shared weights frozen.
 
     X (M, N, d_in), Y (M, N, d_out) physical calibration rows, the first n[m] real;
     in_scaler (M, 1, d_in) each model's label-free input statistics; prior (M,) lambda.
-    Returns a copy of the shared model holding the M fitted adapters. n[m] == 0 leaves
-    model m at the identity adapter.
+    `kind` fits another adapter kind than the shared model was trained with (e.g. with
+    `+delta` added); new units start at the identity either way. Returns a model with the
+    shared weights and the M fitted adapters. n[m] == 0 leaves model m at the identity.
     """
     device = shared.model.weights[0].device
     model = copy.deepcopy(shared.model)
+    if kind is not None and kind != model.kind:
+        fresh = AdaptedMLP(1, model.config, kind)
+        fresh.weights, fresh.biases = model.weights, model.biases
+        model = fresh
     model.reset_adapter(X.shape[0])
     model.to(device)
     for p in model.shared_parameters():
@@ -164,3 +175,19 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
     for p in model.shared_parameters():
         p.requires_grad_(True)
     return model
+
+
+def calibrate_and_fold(shared: SharedFit | LoadedShared, unlabeled: list[Tensor], X: list[Tensor],
+                       Y: list[Tensor], n: list[int], priors: list[float],
+                       recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0,
+                       kind: str | None = None) -> tuple[BatchedMLP, Scaler]:
+    """New units' deployable models: M jobs, each a unit's unlabeled pressures (n_u, d_in),
+    its labeled rows X (k, d_in), Y (k, d_out) of which the first n[m] are used (0: label-free),
+    and a prior. Returns the M folded MLPs and their input scalers (M, 1, d_in)."""
+    device = shared.model.weights[0].device
+    stats = input_stats(unlabeled, device)
+    Xp, _ = pad_rows([x if len(x) else x.new_zeros(1, x.shape[1]) for x in X], device)
+    Yp, _ = pad_rows([y if len(y) else y.new_zeros(1, y.shape[1]) for y in Y], device)
+    counts = torch.tensor(n, device=device)
+    adapted = fit_adapters(shared, Xp, Yp, counts, stats, torch.tensor(priors), recipe, seed, kind)
+    return adapted.fold(), stats
