@@ -123,3 +123,17 @@ def force_to_contact(force_base: np.ndarray, theta: np.ndarray, phi: np.ndarray)
     """(N, 3) N: force given in the base frame -> contact frame."""
     rot = contact_rotation(theta, phi)
     return np.einsum("nji,nj->ni", rot, np.atleast_2d(force_base))
+
+
+def contact_frame_inverse(theta: np.ndarray, phi: np.ndarray, r: float = RADIUS_M) -> np.ndarray:
+    """(N, 4, 4) T_contact,base = T_base,contact^-1 = Trans(0, 0, -r) Rot_x(-theta) Rot_y(-phi).
+
+    Maps base-frame homogeneous points (m) into the contact frame: the contact point goes to
+    the origin, the dome centre to (0, 0, -r). theta, phi rad, broadcast to (N,).
+    """
+    rot_t = contact_rotation(theta, phi).transpose(0, 2, 1)
+    out = np.zeros((rot_t.shape[0], 4, 4))
+    out[:, :3, :3] = rot_t
+    out[:, 2, 3] = -r  # -R^T (R e_z r) = -r e_z
+    out[:, 3, 3] = 1.0
+    return out
