@@ -111,7 +111,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     r = calibrate_unit(args.model, args.unit, _registry(args), args.out, args.budget_samples,
                        args.budget_seconds, args.adapter, args.seed)
     print(f"calibrated {r.unit}: {r.calib_samples} labeled samples ({r.calib_seconds:.1f} robot-s), "
-          f"{r.unlabeled_samples} unlabeled, prior {r.prior:g}; "
+          f"{r.unlabeled_samples} unlabeled{f', prior {r.prior:g}' if r.calib_samples else ''}; "
           f"folded model in {r.path / 'model.safetensors'}")
     if r.check is not None:
         print(f"on the unit's other runs ({r.check['rows']} rows, not used to calibrate): force RMSE "

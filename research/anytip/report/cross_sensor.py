@@ -136,6 +136,7 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Pa
     ax.axhline(1.0, color="k", ls="--", lw=1, label="per_unit")
     ax.set(xscale="log", xlabel="training units", ylabel="force RMSE / per_unit",
            title=f"{method}: how many units to calibrate fully")
+    ax.minorticks_off()
     ax.set_xticks(counts, [str(c) for c in counts])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
