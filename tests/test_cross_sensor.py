@@ -138,3 +138,14 @@ def test_unknown_option_is_refused(two_protocol_registry, tmp_path):
     with pytest.raises(AnytipError, match="options.*'budget' is not allowed.*budgets"):
         run_experiment(SPEC, two_protocol_registry, out=tmp_path, overrides=[*TINY, "options.budget=3"],
                        progress=False)
+
+
+def test_runs_on_a_registry_of_short_runs_only(small_registry, tmp_path):
+    """Units with only calibration-protocol runs are tested on held-out patches of those runs;
+    their calibration budgets never touch them."""
+    overrides = [o for o in TINY if not o.startswith("options.calibration_protocol")]
+    overrides += ["options.sweep_seeds=0", "options.adapters=[input_diag]"]
+    run = run_experiment(SPEC, small_registry, out=tmp_path / "run", overrides=overrides, progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    assert {"per_unit", "pooled", "adapted:input_stats", "adapted:input_diag"} <= {r["method"] for r in rows}
+    assert all(np.isfinite(r["force_rmse_n"]) for r in rows)

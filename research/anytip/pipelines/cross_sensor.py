@@ -183,10 +183,7 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> Seed
     evals = {}
     for k, unit in enumerate([*split.val, *split.test]):
         mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
-        own = mine[main[mine]]
-        if len(own) == 0:
-            raise AnytipError(f"unit {unit} has no runs besides its calibration protocol "
-                              f"{opts.calibration_protocol!r}; nothing to test it on")
+        own = unit_main_rows(arrays, unit, main)
         test_cells = np.unique(arrays.patch[own][held_out_patches(arrays.patch[own], s.patch_test_fraction,
                                                                   seed * 100_003 + k)])
         exclude = np.zeros(arrays.n_rows, bool)
@@ -195,7 +192,7 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> Seed
                                calibration_stream(arrays, unit, opts.calibration_protocol, exclude))
     members, stats = [], []
     for u, unit in enumerate(split.train):
-        mine = np.flatnonzero((arrays.unit == arrays.units.index(unit)) & main)
+        mine = unit_main_rows(arrays, unit, main)
         rng = np.random.default_rng(seed * 7919 + u)
         is_val = np.zeros(len(mine), bool)
         is_val[rng.choice(len(mine), max(1, round(s.val_fraction * len(mine))), replace=False)] = True
@@ -211,6 +208,14 @@ def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarr
     calib_runs = [k for k, r in enumerate(arrays.runs)
                   if calibration_protocol is not None and r.protocol == calibration_protocol]
     return ~np.isin(arrays.run, calib_runs)
+
+
+def unit_main_rows(arrays: FleetArrays, unit: str, main: np.ndarray) -> np.ndarray:
+    """Row indices a unit is trained and tested on: its main rows, or all its rows when it
+    has only calibration-protocol runs (test patches then come out of those runs)."""
+    mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+    own = mine[main[mine]]
+    return own if len(own) else mine
 
 
 def _tensors(arrays: FleetArrays, fit_rows: np.ndarray, val_rows: np.ndarray, unit: str) -> UnitTensors:
@@ -234,7 +239,7 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     units, members = list(sd.split.test), []
     main = main_rows(arrays, opts.calibration_protocol)
     for u, unit in enumerate(units):
-        mine = np.flatnonzero((arrays.unit == arrays.units.index(unit)) & main)
+        mine = unit_main_rows(arrays, unit, main)
         train_rows = np.setdiff1d(mine, sd.evals[unit].test_rows)
         rng = np.random.default_rng(seed * 7919 + 1000 + u)
         is_val = np.zeros(len(train_rows), bool)
