@@ -119,6 +119,26 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_export_model(args: argparse.Namespace) -> int:
+    """`anytip export MODEL --format F --out DIR`: export one unit and verify it."""
+    from anytip.data.registry import Registry, default_registry_path
+    from anytip.deploy.export import FORMATS, export_model
+
+    root = Path(args.registry) if args.registry else default_registry_path()
+    registry = Registry(root, create=False) if root.is_dir() else None
+    formats = [f for f in FORMATS if f != "model"] if args.format == "all" else [args.format]
+    failed = 0
+    for fmt in formats:
+        out = Path(args.out) / fmt if len(formats) > 1 else Path(args.out)
+        r = export_model(args.model, fmt, out, unit=args.unit, registry=registry, rows=args.rows,
+                         embedded_checks=not args.no_embedded)
+        failed += not r["passed"]
+        print(f"{fmt}: unit {r['unit']} -> {out} ({', '.join(r['files'])}); verification "
+              f"{'passed' if r['passed'] else 'FAILED'} on {r['reference']['source']} rows, "
+              f"report {out / 'verification.json'}")
+    return 1 if failed else 0
+
+
 def cmd_main_job(args: argparse.Namespace) -> int:
     """The README's main job: the quickstart experiment (simulates a fleet into an empty registry)."""
     ns = argparse.Namespace(spec=str(quickstart_spec()), registry=args.registry, out=None, set=[])
@@ -158,6 +178,18 @@ def build_parser() -> argparse.ArgumentParser:
     cal.add_argument("--seed", type=int, default=None, help="which seed's shared model of the run")
     cal.add_argument("--out", required=True, help="directory for the folded per-unit model")
     cal.set_defaults(func=cmd_calibrate)
+    exp = sub.add_parser("export",
+                         help="export one unit of a model (ONNX, C, int8 C, firmware struct), verified")
+    _add_registry_opt(exp)
+    exp.add_argument("model", help="model .safetensors or directory, or a firmware nets JSON to import")
+    exp.add_argument("--format", required=True, choices=["onnx", "c", "c-int8", "firmware", "model", "all"],
+                     help="what to write ('model': an anytip model file, e.g. of an imported firmware net)")
+    exp.add_argument("--out", required=True, help="output directory (one sub-directory per format for 'all')")
+    exp.add_argument("--unit", default=None, help="which unit of the model file (default: the first)")
+    exp.add_argument("--rows", type=int, default=20000, help="reference rows to verify on")
+    exp.add_argument("--no-embedded", action="store_true",
+                     help="skip the Cortex-M4F cross-compile and emulator measurements")
+    exp.set_defaults(func=cmd_export_model)
     data = sub.add_parser("data", help="the registry of calibration runs")
     data_sub = data.add_subparsers(dest="verb", required=True)
 

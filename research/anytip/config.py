@@ -24,7 +24,8 @@ from anytip.train.recipe import FAST, TrainRecipe
 from anytip.validation import format_validation_error
 
 BLOCK_DIRS = {"fleet": "fleets", "model": "models", "training": "training"}
-Pipeline = Literal["baseline", "cross_sensor", "fleet_speed", "impulse_ratio", "realism"]
+Pipeline = Literal["baseline", "cross_sensor", "deploy", "fleet_speed", "impulse_ratio", "realism",
+                   "uncertainty"]
 
 
 class Strict(BaseModel):

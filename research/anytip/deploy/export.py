@@ -1,0 +1,230 @@
+"""`anytip export`: one unit of a model file to onnx, c, c-int8, firmware (or an anytip model file,
+for firmware nets read from JSON), each with a JSON verification report `verification.json`.
+
+Every check compares against the trained model evaluated in float64 on reference rows (registry
+rows of the unit, or synthetic inputs, see `anytip.deploy.reference`). Float exports pass when the
+max abs difference, divided by each output's scale (the model's output std), is <= 1e-5.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from anytip.deploy import embedded, firmware
+from anytip.deploy.c_export import buffer_width, write_c
+from anytip.deploy.c_int8 import write_c_int8
+from anytip.deploy.native import run_c
+from anytip.deploy.net import DeployNet, deploy_net, model_predict, unit_index
+from anytip.deploy.onnx_export import run_onnx, write_onnx
+from anytip.deploy.quantize import quantize, simulate
+from anytip.deploy.reference import Reference, registry_reference, synthetic_reference
+from anytip.errors import AnytipError
+from anytip.models.io import LoadedModels, load_models, save_models
+
+FORMATS = ("onnx", "c", "c-int8", "firmware", "model")
+REL_TOL = 1e-5
+INT8_RMSE_TARGET = 0.02  # int8 RMSE increase over float, as a fraction of the float RMSE
+EMU_ROWS = 3  # rows run through the emulator (each counts one inference)
+
+
+def load_any(path: str | Path) -> LoadedModels:
+    """An anytip model file, or a firmware nets JSON (deployed_nets.json layout) imported on the fly."""
+    path = Path(path)
+    if path.suffix == ".json" and _is_firmware_json(path):
+        return firmware.import_firmware(firmware.read_firmware_json(path))
+    return load_models(path)
+
+
+def _is_firmware_json(path: Path) -> bool:
+    try:
+        doc = json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError):
+        return False
+    return isinstance(doc, dict) and isinstance(doc.get("units"), dict)
+
+
+def errors(y: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> dict[str, Any]:
+    """max abs difference per output (physical units) and its max ratio to the output scale."""
+    d = np.abs(np.asarray(y, np.float64) - ref).max(0)
+    rel = float((d / scale).max())
+    return {"max_abs_err": d.tolist(), "max_rel_err": rel, "tolerance_rel": REL_TOL, "passed": rel <= REL_TOL}
+
+
+def rmse(y: np.ndarray, t: np.ndarray) -> dict[str, float]:
+    e = (y - t) ** 2
+    return {"force_rmse_n": float(np.sqrt(e[:, :3].mean())),
+            "angle_rmse_rad": float(np.sqrt(e[:, 3:].mean()))}
+
+
+def int8_accuracy(y_q: np.ndarray, y_f: np.ndarray, ref: Reference, ev: np.ndarray) -> dict[str, Any]:
+    """RMSE of float and int8 against the targets (or int8 against float when there are none)."""
+    if ref.targets is None:
+        out = {"against": "float model (no targets)", "int8_vs_float": rmse(y_q, y_f)}
+        return out | {"passed": True, "note": "no targets: the RMSE increase is not defined"}
+    f, q = rmse(y_f, ref.targets[ev]), rmse(y_q, ref.targets[ev])
+    inc = {k: (q[k] - f[k]) / f[k] for k in f}
+    return {"against": "targets", "float": f, "int8": q, "rmse_increase": inc,
+            "target_increase": INT8_RMSE_TARGET, "passed": max(inc.values()) <= INT8_RMSE_TARGET}
+
+
+def scores(y: np.ndarray, ref: Reference, rows: np.ndarray | None = None) -> dict[str, float] | None:
+    """Force and angle RMSE against the reference targets on `rows` (default: the scored rows)."""
+    if ref.targets is None:
+        return None
+    rows = ref.eval_rows if rows is None else rows
+    return rmse(np.asarray(y)[rows], ref.targets[rows])
+
+
+def measure(source: Path, net: DeployNet, x: np.ndarray, expect: np.ndarray, work: Path,
+            includes: tuple[str, ...] = (), strict: bool = True) -> dict[str, Any]:
+    """Cortex-M4F section sizes, emulated instructions per inference and the emulator's outputs."""
+    why = embedded.toolchain_missing()
+    if why:
+        return {"skipped": why}
+    out: dict[str, Any] = embedded.cross_compile(source, work / "cortex-m4", includes, strict)
+    why = embedded.emulator_missing()
+    if why:
+        return out | {"emulator_skipped": why}
+    counts, ys = zip(*(embedded.count_instructions(source, r, net.n_outputs, includes, strict)
+                       for r in x[:EMU_ROWS]), strict=True)
+    out |= {"instructions": int(max(counts)), "macs": net.macs,
+            "instructions_per_mac": float(max(counts)) / net.macs,
+            "emulated_vs_host": errors(np.array(ys), expect[:EMU_ROWS], net.out_scale)}
+    return out
+
+
+@dataclass
+class Prepared:
+    """One unit of a model, folded, with its reference rows and the trained model's outputs on them."""
+
+    model: str
+    loaded: LoadedModels
+    index: int
+    net: DeployNet
+    ref: Reference
+    y_model: np.ndarray  # (B, 5) the trained model in float64 on ref.x
+
+
+def prepare(model: str | Path, unit: str | None = None, registry=None, rows: int = 20000) -> Prepared:
+    """Load `model` (or import a firmware JSON), pick `unit`, fold it and choose reference rows."""
+    loaded = load_any(model)
+    index = unit_index(loaded, unit, model)
+    net = deploy_net(loaded, index, model)
+    ref = (registry_reference(registry, net.unit, rows) if registry is not None else None) \
+        or synthetic_reference(net, min(rows, 4000))
+    return Prepared(str(model), loaded, index, net, ref, model_predict(loaded, index, ref.x))
+
+
+def export_model(model: str | Path, fmt: str, out_dir: str | Path, unit: str | None = None,
+                 registry=None, rows: int = 20000, embedded_checks: bool = True) -> dict[str, Any]:
+    """Export one unit in `fmt` into out_dir and write out_dir/verification.json; returns the report."""
+    if fmt not in FORMATS:
+        raise AnytipError(f"--format {fmt!r} is not one of {', '.join(FORMATS)}")
+    return export_prepared(prepare(model, unit, registry, rows), fmt, out_dir, embedded_checks)
+
+
+def export_prepared(p: Prepared, fmt: str, out_dir: str | Path,
+                    embedded_checks: bool = True) -> dict[str, Any]:
+    """`export_model` on an already prepared unit."""
+    if fmt not in FORMATS:
+        raise AnytipError(f"--format {fmt!r} is not one of {', '.join(FORMATS)}")
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    net = p.net
+    report: dict[str, Any] = {"format": fmt, "model": p.model, "unit": net.unit,
+                              "output_names": net.output_names, "output_scale": net.out_scale.tolist(),
+                              "params": net.n_params, "macs": net.macs, "reference": p.ref.describe()}
+    report |= EXPORTERS[fmt](p.loaded, p.index, net, p.ref, p.y_model, out_dir, embedded_checks)
+    report["passed"] = _all_passed(report)
+    (out_dir / "verification.json").write_text(json.dumps(report, indent=2) + "\n")
+    return report
+
+
+def _all_passed(report: dict[str, Any]) -> bool:
+    flags = []
+
+    def walk(d: Any) -> None:
+        if isinstance(d, dict):
+            for k, v in d.items():
+                if k == "passed" and isinstance(v, bool):
+                    flags.append(v)
+                else:
+                    walk(v)
+    walk({k: v for k, v in report.items() if k != "passed"})
+    return all(flags) and bool(flags)
+
+
+def _onnx(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    path = write_onnx(net, out_dir)
+    y = run_onnx(path, ref.x)
+    return {"files": [path.name], "onnxruntime": errors(y, y_model, net.out_scale), "scores": scores(y, ref)}
+
+
+def _c(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    h, c = write_c(net, out_dir)
+    y_c = run_c(c, ref.x, net.n_outputs)
+    rep = {"files": [h.name, c.name], "gcc_host": errors(y_c, y_model, net.out_scale),
+           "activation_buffer_floats": 2 * buffer_width(net), "scores": scores(y_c, ref)}
+    if emb:
+        rep["cortex_m4"] = measure(c, net, ref.x, y_c, out_dir / "build")
+    return rep
+
+
+def _c_int8(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    err_scale = None
+    if ref.targets is not None:  # the float model's RMSE per output on the calibration rows
+        err_scale = np.sqrt(((y_model[ref.cal] - ref.targets[ref.cal]) ** 2).mean(0))
+    q = quantize(net, ref.x[ref.cal], err_scale)
+    h, c = write_c_int8(q, net, out_dir)
+    ev = ref.eval_rows
+    y_c = run_c(c, ref.x[ev], net.n_outputs)
+    y_sim = simulate(q, ref.x[ev])
+    rep = {"files": [h.name, c.name], "quantization": "per-channel symmetric int8 weights (GPTQ rounding, "
+           "bias correction, greedy rounding search), int16 activations, int32 accumulation",
+           "gcc_host_vs_numpy_int8": errors(y_c, y_sim, net.out_scale),
+           "int8_vs_float_max_abs_err": np.abs(y_c - y_model[ev]).max(0).tolist(),
+           "accuracy": int8_accuracy(y_c, y_model[ev], ref, ev),
+           "scores": None if ref.targets is None else rmse(y_c, ref.targets[ev])}
+    if emb:
+        rep["cortex_m4"] = measure(c, net, ref.x[ev], y_c, out_dir / "build")
+    return rep
+
+
+def _firmware(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    nets = {net.unit: firmware.to_firmware(loaded, index, net, ref.x, targets=ref.targets)}
+    path = firmware.write_firmware_json(out_dir / "firmware.json", nets, firmware.DESCRIPTION)
+    c_path = firmware.write_firmware_c(out_dir / "anytip_firmware_net.c", nets[net.unit], net.unit)
+    back = firmware.read_firmware_json(path)[net.unit]
+    y_fw = firmware.to_rad(firmware.firmware_forward(back, ref.x))
+    clipped = firmware.clipped_outputs(back, ref.x)
+    return {"files": [path.name, c_path.name], "firmware_direct": errors(y_fw, y_model, net.out_scale),
+            "scores": scores(y_fw, ref),
+            "output_relu": {"clipped_outputs_on_reference": clipped,
+                            "passed": clipped == 0 or net.output_relu,
+                            "minims": back["minims"][:firmware.N_OUT].tolist(),
+                            "maxims": back["maxims"][:firmware.N_OUT].tolist()}}
+
+
+def _model(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    one = LoadedModels(loaded.model.model_slice(index), loaded.in_scaler.slice(index),
+                       loaded.out_scaler.slice(index), _slice_meta(loaded.meta, index))
+    path = save_models(out_dir / "model.safetensors", one.model, one.in_scaler, one.out_scaler, one.meta)
+    back = load_models(path)
+    return {"files": [path.name, path.with_suffix(".json").name],
+            "reloaded": errors(model_predict(back, 0, ref.x), y_model, net.out_scale)}
+
+
+def _slice_meta(meta: dict[str, Any], index: int) -> dict[str, Any]:
+    out = dict(meta)
+    out["unit_ids"] = [meta["unit_ids"][index]] if meta.get("unit_ids") else None
+    if "firmware" in meta and out["unit_ids"]:
+        out["firmware"] = {u: meta["firmware"][u] for u in out["unit_ids"] if u in meta["firmware"]}
+    return {k: v for k, v in out.items() if v is not None}
+
+
+EXPORTERS = {"onnx": _onnx, "c": _c, "c-int8": _c_int8, "firmware": _firmware, "model": _model}

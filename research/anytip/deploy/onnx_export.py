@@ -1,0 +1,69 @@
+"""ONNX export: one self-contained file (weights inline), opset 18, dynamic batch.
+
+Input `pressure` (batch, 8) float32 tared Pa; output `contact` (batch, 5) float32 in N and rad.
+The scalers are folded into the graph's first and last layers (see `anytip.deploy.net`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import onnx
+from onnx import TensorProto, helper, numpy_helper
+
+from anytip.deploy.net import DeployNet
+
+OPSET = 18
+IR_VERSION = 9  # readable by every onnxruntime that runs opset 18
+INPUT, OUTPUT = "pressure", "contact"
+
+
+def build_onnx(net: DeployNet) -> onnx.ModelProto:
+    """The network as an ONNX graph: Gemm layers (float32), Relu between, output offset."""
+    nodes, inits = [], []
+    h = INPUT
+    last = len(net.layers) - 1
+    for k, (W, b) in enumerate(net.layers):
+        inits += [numpy_helper.from_array(W.astype(np.float32), f"W{k}"),
+                  numpy_helper.from_array(b.astype(np.float32), f"b{k}")]
+        out = f"z{k}"
+        nodes.append(helper.make_node("Gemm", [h, f"W{k}", f"b{k}"], [out], name=f"dense{k}"))
+        if k < last or net.output_relu:
+            nodes.append(helper.make_node("Relu", [out], [f"h{k}"], name=f"relu{k}"))
+            out = f"h{k}"
+        h = out
+    if net.output_relu:
+        inits.append(numpy_helper.from_array(net.out_offset.astype(np.float32), "out_offset"))
+        nodes.append(helper.make_node("Add", [h, "out_offset"], [OUTPUT], name="offset"))
+    else:
+        nodes.append(helper.make_node("Identity", [h], [OUTPUT], name="output"))
+    graph = helper.make_graph(
+        nodes, "anytip_contact",
+        [helper.make_tensor_value_info(INPUT, TensorProto.FLOAT, ["batch", net.n_inputs])],
+        [helper.make_tensor_value_info(OUTPUT, TensorProto.FLOAT, ["batch", net.n_outputs])],
+        inits)
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", OPSET)],
+                              producer_name="anytip", ir_version=IR_VERSION)
+    model.doc_string = (f"anytip contact model, unit {net.unit}: tared pressures (Pa) -> "
+                        f"{', '.join(net.output_names) or 'outputs'} (N, rad)")
+    onnx.checker.check_model(model, full_check=True)
+    return model
+
+
+def write_onnx(net: DeployNet, out_dir: str | Path, name: str = "anytip") -> Path:
+    """Write `<out_dir>/<name>.onnx` (no external data)."""
+    path = Path(out_dir) / f"{name}.onnx"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    onnx.save_model(build_onnx(net), str(path), save_as_external_data=False)
+    return path
+
+
+def run_onnx(path: str | Path, x: np.ndarray) -> np.ndarray:
+    """Evaluate an exported file with onnxruntime (CPU): x (B, 8) Pa -> (B, 5)."""
+    import onnxruntime as ort
+
+    opts = ort.SessionOptions()
+    opts.intra_op_num_threads = opts.inter_op_num_threads = 1
+    sess = ort.InferenceSession(str(path), opts, providers=["CPUExecutionProvider"])
+    return sess.run([OUTPUT], {INPUT: np.asarray(x, np.float32)})[0].astype(np.float64)

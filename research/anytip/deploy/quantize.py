@@ -1,0 +1,203 @@
+"""Post-training quantization for the int8 C export.
+
+Activations are int16 with a static per-channel scale s_a = 1.1 max |a| / 32767 calibrated on
+reference rows; the inputs are centred first (q = round((p - in_mean) / s_a), p in Pa), and every
+layer's ReLU output feeds the next. Weights are per-output-channel symmetric int8 of the effective
+weights diag(s_a) W, rounded with GPTQ's error feedback (Frantar et al., 2023) on the calibration
+activations on the best of a few clipped grids per channel (scale refitted by least squares), and
+each float bias is corrected by the mean output error the quantization leaves.
+The rounding of the smaller layers (first, last, second) is then refined greedily against the
+float network's outputs on the calibration rows.
+A layer accumulates acc[o] = sum_i q_w[i, o] q_a[i] in int32 and rescales once per channel in
+float32: y[o] = acc[o] * mult[o] + bias[o], then ReLU, then round to int16 for the next layer
+(the last layer's mult and bias give physical units). `simulate` mirrors the C code.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from anytip.deploy.net import DeployNet
+from anytip.errors import AnytipError
+
+W_MAX, A_MAX = 127, 32767
+HEADROOM = 1.1
+# (layer, passes, rows): first, last, second, the layers with the fewest weights
+REFINE = ((0, 3, 2000), (-1, 2, 2000), (1, 2, 1000))
+DAMP = 0.01  # GPTQ's damping, a fraction of the mean diagonal of X^T X
+CLIP_ALPHAS = (1.0, 0.95, 0.9, 0.85, 0.8, 0.75, 0.7)  # int8 grids tried: scale = alpha max |w| / 127
+
+
+@dataclass
+class QuantLayer:
+    """q_w (in, out) int8; mult, bias (out,) float32; relu after the layer."""
+
+    q_w: np.ndarray
+    mult: np.ndarray
+    bias: np.ndarray
+    relu: bool
+
+
+@dataclass
+class QuantNet:
+    """in_mean (in,) Pa and in_inv_scale (in,) 1/Pa (float32) quantize the inputs; out_offset (out,)."""
+
+    in_mean: np.ndarray
+    in_inv_scale: np.ndarray
+    layers: list[QuantLayer]
+    out_offset: np.ndarray
+
+    @property
+    def n_weights(self) -> int:
+        return int(sum(L.q_w.size for L in self.layers))
+
+
+def _round_clip(v: np.ndarray, limit: int = A_MAX) -> np.ndarray:
+    """Round half away from zero and saturate, as the C code does."""
+    r = np.where(v >= 0, np.floor(v + np.float32(0.5)), np.ceil(v - np.float32(0.5)))
+    return np.clip(r, -limit, limit)
+
+
+def _scale(a: np.ndarray) -> np.ndarray:
+    """Per-channel int16 scale of activations a (B, d)."""
+    return np.maximum(np.abs(a).max(0) * HEADROOM, 1e-12) / A_MAX
+
+
+def gptq(W: np.ndarray, X: np.ndarray, s_w: np.ndarray) -> np.ndarray:
+    """Integer weights (in, out) for W (in, out) with per-output scales s_w, inputs X (B, in).
+
+    Rounds input rows in order and spreads each row's rounding error over the rows still to come,
+    weighted by the inverse Hessian of ||X W - X Q||^2 (GPTQ)."""
+    H = X.T @ X
+    H += DAMP * np.mean(np.diag(H)) * np.eye(len(H)) + 1e-12 * np.eye(len(H))
+    U = np.linalg.cholesky(np.linalg.inv(H)).T  # upper Cholesky factor of H^-1
+    W, Q = W.copy(), np.zeros_like(W)
+    for i in range(W.shape[0]):
+        Q[i] = np.clip(np.rint(W[i] / s_w), -W_MAX, W_MAX)
+        err = (W[i] - Q[i] * s_w) / U[i, i]
+        W[i + 1:] -= np.outer(U[i, i + 1:], err)
+    return Q
+
+
+def _best_grid(Wt: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per output channel, the int8 grid (scale = alpha max |w| / 127, alpha in CLIP_ALPHAS) whose
+    GPTQ rounding, with the scale then refitted by least squares, best reproduces X @ Wt."""
+    Z = X @ Wt
+    best_err = np.full(Wt.shape[1], np.inf)
+    best_q, best_s = np.zeros_like(Wt), np.ones(Wt.shape[1])
+    for alpha in CLIP_ALPHAS:
+        s_w = alpha * np.maximum(np.abs(Wt).max(0), 1e-30) / W_MAX
+        Q = gptq(Wt, X, s_w)
+        XQ = X @ Q
+        s_fit = np.where((XQ * XQ).sum(0) > 0, (XQ * Z).sum(0) / np.maximum((XQ * XQ).sum(0), 1e-30), s_w)
+        err = ((XQ * s_fit - Z) ** 2).sum(0)
+        better = err < best_err
+        best_err[better], best_q[:, better], best_s[better] = err[better], Q[:, better], s_fit[better]
+    return best_q, best_s
+
+
+def quantize(net: DeployNet, x_cal: np.ndarray, error_scale: np.ndarray | None = None) -> QuantNet:
+    """Quantize a folded network; x_cal (B, in) Pa sets activation scales and rounding.
+
+    error_scale (out,): the rounding search weighs output k's error by 1 / error_scale[k]^2
+    (default: the output scale; `anytip export` passes the float model's RMSE per output when the
+    reference rows have targets, so that each output's relative RMSE increase counts alike)."""
+    n_in_max = max(W.shape[0] for W, _ in net.layers)
+    if n_in_max * W_MAX * A_MAX >= 2**31:
+        raise AnytipError(f"a layer with {n_in_max} inputs could overflow the int32 accumulator")
+    x = np.asarray(x_cal, np.float64)
+    in_mean = x.mean(0)
+    W0, b0 = net.layers[0]
+    first = [(W0, b0 + in_mean @ W0)] + net.layers[1:]  # layer 0 sees centred pressures
+    h_f = x - in_mean  # the float network's activations
+    s_a = _scale(h_f)
+    q_a = _round_clip(h_f / s_a)  # the quantized network's activations (integers)
+    layers, last = [], len(first) - 1
+    for k, (W, b) in enumerate(first):
+        Wt = W * s_a[:, None]  # acts on integer activations
+        Q, s_w = _best_grid(Wt, q_a)
+        z_f, z_q = h_f @ W + b, q_a @ (Q * s_w) + b
+        b = b + (z_f - z_q).mean(0)  # bias correction
+        relu = k < last or net.output_relu
+        h_f = np.maximum(z_f, 0) if relu else z_f
+        s_next = _scale(h_f) if k < last else np.ones(W.shape[1])
+        layers.append(QuantLayer(Q.astype(np.int8), np.float32(s_w / s_next), np.float32(b / s_next), relu))
+        if k < last:
+            q_a = _round_clip(np.maximum(q_a @ Q * (s_w / s_next) + b / s_next, 0))
+            s_a = s_next
+    q = QuantNet(np.float32(in_mean), np.float32(1.0 / _scale(x - in_mean)), layers,
+                 np.float32(net.out_offset))
+    for k, passes, rows in REFINE:
+        if -len(layers) <= k < len(layers):
+            refine_rounding(q, net, x, layer=k, passes=passes, rows=rows, error_scale=error_scale)
+    return q
+
+
+def _int_matmul(a: np.ndarray, q_w: np.ndarray) -> np.ndarray:
+    """Exact integer a @ q_w through float64 BLAS (every partial sum stays far below 2^53)."""
+    return a.astype(np.float64) @ q_w.astype(np.float64)
+
+
+def _quantize_input(q: QuantNet, x: np.ndarray) -> np.ndarray:
+    return _round_clip((np.float32(x) - q.in_mean) * q.in_inv_scale).astype(np.int64)
+
+
+def _run_from(q: QuantNet, k: int, a: np.ndarray) -> np.ndarray:
+    """Layers k.. of the int8 network on integer activations a (B, in_k): -> (B, out) physical."""
+    last = len(q.layers) - 1
+    for j in range(k, last + 1):
+        L = q.layers[j]
+        y = np.float32(_int_matmul(a, L.q_w)) * L.mult + L.bias
+        if L.relu:
+            y = np.maximum(y, np.float32(0))
+        if j < last:
+            a = _round_clip(y).astype(np.int64)
+    return (y + q.out_offset).astype(np.float64)
+
+
+def _inputs_of(q: QuantNet, k: int, x: np.ndarray) -> np.ndarray:
+    """Integer activations entering layer k."""
+    a = _quantize_input(q, x)
+    for L in q.layers[:k]:
+        y = np.float32(_int_matmul(a, L.q_w)) * L.mult + L.bias
+        a = _round_clip(np.maximum(y, np.float32(0)) if L.relu else y).astype(np.int64)
+    return a
+
+
+def simulate(q: QuantNet, x: np.ndarray) -> np.ndarray:
+    """The int8 network in numpy (exact integer accumulation, float32 rescale): (B, in) Pa -> (B, out)."""
+    return _run_from(q, 0, _quantize_input(q, x))
+
+
+def refine_rounding(q: QuantNet, net: DeployNet, x_cal: np.ndarray, layer: int = 0, passes: int = 2,
+                    rows: int = 1500, error_scale: np.ndarray | None = None) -> float:
+    """Greedy adaptive rounding of one layer: move each int8 weight of `layer` by +-1 where that
+    lowers the mean squared output error against the float network (in output-scale units) on
+    calibration rows. The first layer, with only eight inputs per channel, is where rounding costs
+    most. Returns the final loss."""
+    x = np.asarray(x_cal, np.float64)
+    x = x[:: max(1, len(x) // rows)][:rows]  # spread over the calibration rows (they may be in time order)
+    target = net.forward(x)
+    scale = net.out_scale if error_scale is None else np.maximum(np.asarray(error_scale, np.float64), 1e-12)
+    layer = layer % len(q.layers)
+    a = _inputs_of(q, layer, x)
+    L = q.layers[layer]
+
+    def loss() -> float:
+        return float((((_run_from(q, layer, a) - target) / scale) ** 2).mean())
+
+    best = loss()
+    for _ in range(passes):
+        for idx in np.ndindex(L.q_w.shape):
+            orig = int(L.q_w[idx])
+            for v in (orig - 1, orig + 1):
+                if abs(v) > W_MAX:
+                    continue
+                L.q_w[idx] = v
+                new = loss()
+                if new < best:
+                    best, orig = new, v
+            L.q_w[idx] = orig
+    return best
