@@ -110,13 +110,15 @@ class Prepared:
     y_model: np.ndarray  # (B, 5) the trained model in float64 on ref.x
 
 
-def prepare(model: str | Path, unit: str | None = None, registry=None, rows: int = 20000) -> Prepared:
-    """Load `model` (or import a firmware JSON), pick `unit`, fold it and choose reference rows."""
+def prepare(model: str | Path, unit: str | None = None, registry=None, rows: int = 20000,
+            patches: list[int] | None = None, protocols: list[str] | None = None) -> Prepared:
+    """Load `model` (or import a firmware JSON), pick `unit`, fold it and choose reference rows
+    (the unit's registry rows, restricted to `protocols` and held-out `patches` when given)."""
     loaded = load_any(model)
     index = unit_index(loaded, unit, model)
     net = deploy_net(loaded, index, model)
-    ref = (registry_reference(registry, net.unit, rows) if registry is not None else None) \
-        or synthetic_reference(net, min(rows, 4000))
+    ref = (registry_reference(registry, net.unit, rows, patches=patches, protocols=protocols)
+           if registry is not None else None) or synthetic_reference(net, min(rows, 4000))
     return Prepared(str(model), loaded, index, net, ref, model_predict(loaded, index, ref.x))
 
 

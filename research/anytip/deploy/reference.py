@@ -40,22 +40,35 @@ def synthetic_reference(net: DeployNet, rows: int = 4000, seed: int = 0) -> Refe
                      "(mean + std * N(0, 1)); errors are against the model, not against targets")
 
 
-def registry_reference(registry, unit: str, rows: int = 20000, seed: int = 0) -> Reference | None:
+def registry_reference(registry, unit: str, rows: int = 20000, seed: int = 0,
+                       patches: list[int] | None = None,
+                       protocols: list[str] | None = None) -> Reference | None:
     """Up to `rows` rows of the unit's runs, in contact (|F| > 0.5 N); half calibrate int8 rounding,
-    the other half are scored. None when the registry has no run of the unit."""
+    the other half are scored. `protocols` keeps runs of those protocols; `patches` keeps rows of
+    those patch cells (a held-out unit's test patches: rows no model trained on). None when the
+    registry has no run of the unit."""
     from anytip.data.arrays import CONTACT_FORCE_N, load_arrays
 
     runs = registry.list_runs(unit=unit)
+    if protocols is not None:
+        runs = [r for r in runs if r.protocol in protocols]
     if not runs:
         return None
     arr = load_arrays(registry, runs)
     keep = np.linalg.norm(arr.force, axis=1) > CONTACT_FORCE_N
+    if patches is not None:
+        keep &= np.isin(arr.patch, patches)
+        if not keep.any():
+            return None
     idx = np.flatnonzero(keep)
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.choice(idx, size=min(rows, len(idx)), replace=False))
     cal = np.zeros(len(idx), bool)
     cal[rng.permutation(len(idx))[: len(idx) // 2]] = True
+    which = (f"its held-out patches {list(patches)}" if patches is not None
+             else "all its rows, so they may include rows the model was trained on")
     return Reference(arr.pressure[idx].astype(np.float64), arr.targets[idx].astype(np.float64), cal,
-                     "registry", f"{len(idx)} in-contact rows of unit {unit}'s registry runs (all of "
-                     "its runs, so they may include rows the model was trained on); half calibrate "
-                     "the int8 rounding, the other half are scored", [r.run_id for r in runs])
+                     "registry" if patches is None else "registry, held-out patches",
+                     f"{len(idx)} in-contact rows of unit {unit}'s runs "
+                     f"{sorted({r.protocol for r in runs}, key=str)} ({which}); half calibrate the int8 "
+                     "rounding, the other half are scored", [r.run_id for r in runs])

@@ -4,12 +4,14 @@ measured on a Cortex-M4F, beside the same models exported by emlearn and emx-onn
 Each `models` entry names a per-unit model file and a unit; each `calibrate` entry first runs
 `anytip calibrate` (a shared cross-sensor model, a new unit, a label budget) and exports the folded
 model it saves. Every format and peer gives one result row with its flash, RAM, executed
-instructions, max error against the trained model and RMSE on the unit's registry rows.
+instructions, max error against the trained model and RMSE on the unit's reference rows (its
+held-out patches when `held_out` names the cross_sensor run that recorded them).
 """
 
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -40,8 +42,18 @@ class CalibrateEntry(BaseModel):
     budget_samples: int = 1000
 
 
+class HeldOut(BaseModel):
+    """Score on a unit's held-out patches as a cross_sensor run recorded them."""
+
+    model_config = ConfigDict(extra="forbid")
+    run: str  # a cross_sensor run directory
+    seed: int
+    protocols: list[str] = ["full"]  # runs whose rows are scored (not the calibration protocol)
+
+
 class Options(BaseModel):
     model_config = ConfigDict(extra="forbid")
+    held_out: HeldOut | None = None
     models: list[ModelEntry] = []
     calibrate: list[CalibrateEntry] = []
     formats: list[str] = list(FORMATS)
@@ -81,6 +93,19 @@ def _models(ctx: Context, opts: Options) -> list[tuple[str, str, str | None, int
     return out
 
 
+def _held_out(opts: Options, unit: str | None) -> tuple[list[int] | None, list[str] | None]:
+    """(patches, protocols) of the unit's held-out rows, or (None, None) for all its rows."""
+    h = opts.held_out
+    if h is None or unit is None:
+        return None, None
+    path = Path(h.run) / "provenance.json"
+    try:
+        patches = json.loads(path.read_text())["cross_sensor"][f"seed{h.seed}"]["test_patches"][unit]
+    except (OSError, ValueError, KeyError) as e:
+        raise AnytipError(f"{path}: no held-out patches of unit {unit!r} for seed {h.seed} ({e!r})") from None
+    return list(patches), list(h.protocols)
+
+
 def _row(name: str, method: str, p: Prepared, samples: int, seed: int, rep: dict[str, Any]) -> dict[str, Any]:
     check = next((rep[k] for k in ("onnxruntime", "gcc_host", "firmware_direct") if k in rep), None)
     if "int8_vs_float_max_abs_err" in rep:  # int8: its distance from the float model, for information
@@ -103,7 +128,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     opts = parse_options(ctx)
     rows: list[dict[str, Any]] = []
     for name, path, unit, samples in _models(ctx, opts):
-        p = prepare(path, unit, ctx.registry, opts.rows)
+        p = prepare(path, unit, ctx.registry, opts.rows, *_held_out(opts, unit))
         out = ctx.run_dir / "exports" / name
         for fmt in opts.formats:
             rep = export_prepared(p, fmt, out / fmt)
@@ -135,8 +160,9 @@ def report(rows: list[dict[str, Any]], skipped: list[str]) -> str:
              "(Cortex-M4 CPU model). Max rel. err: max abs difference from the trained model "
              "(float64) over the reference rows, divided by the output's scale; float exports and "
              "peers are marked verified at <= 1e-5 (int8: verified when its C equals its numpy "
-             "model and the RMSE increase over float is within 2%). RMSE on the unit's scored "
-             "registry rows.", ""]
+             "model and the RMSE increase over float is within 2%). RMSE on the scored reference "
+             "rows: 'held-out patches' are rows of patches the model never trained on (options."
+             "held_out); plain 'registry' rows may include training rows.", ""]
     for name in dict.fromkeys(r["model"] for r in rows):
         rs = [r for r in rows if r["model"] == name]
         parts += [f"## {name} (unit {rs[0]['unit']}, {rs[0]['macs']} MACs, reference rows: "
