@@ -104,7 +104,7 @@ def test_calibrate_writes_a_folded_per_unit_model(cross_run, two_protocol_regist
     assert code == 0
     out = capsys.readouterr().out
     assert f"calibrated {unit}: 300 labeled samples" in out and "other runs" in out
-    loaded = load_models(tmp_path / "cal" / "model")
+    loaded = load_models(tmp_path / "cal")
     assert loaded.model.n_models == 1 and loaded.meta["unit_ids"] == [unit]
     assert loaded.model.config.sizes == (8, 12, 64, 64, 5)
     assert loaded.meta["adapter"] == "input_affine+film" and loaded.meta["calib_samples"] == 300

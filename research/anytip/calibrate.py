@@ -118,7 +118,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     check = _score(folded, stats, out_scaler, arrays.pressure[other], arrays.targets[other]) \
         if other.any() else None
     result = Calibrated(Path(out), unit, n, stream.seconds_for(n), len(stream.rows), prior, check)
-    save_models(Path(out) / "model", folded, stats, out_scaler, {
+    save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
         "adapter": shared.model.kind, "calib_samples": n, "calib_seconds": result.calib_seconds,
         "unlabeled_samples": result.unlabeled_samples, "prior": prior,
