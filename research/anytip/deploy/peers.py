@@ -26,11 +26,22 @@ from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels
 
 
+def _import_emlearn():
+    """emlearn, imported without its side effect: it sets numpy to raise on every floating-point
+    warning (underflow included) for the whole process."""
+    saved = np.geterr()
+    try:
+        import emlearn
+    finally:
+        np.seterr(**saved)
+    return emlearn
+
+
 def peer_missing(name: str) -> str | None:
     """Why a peer cannot run here, or None."""
     if name == "emlearn":
         try:
-            import emlearn  # noqa: F401
+            _import_emlearn()
         except ImportError:
             return "emlearn is not installed (pip install emlearn; it is in the dev extras)"
         return None
@@ -53,7 +64,7 @@ def _standardised(loaded: LoadedModels, index: int) -> list[tuple[np.ndarray, np
 def write_emlearn(loaded: LoadedModels, index: int, net: DeployNet,
                   out_dir: str | Path) -> tuple[Path, tuple]:
     """emlearn's C for the unit plus the wrapper; returns (source, include dirs)."""
-    import emlearn
+    emlearn = _import_emlearn()
     from sklearn.neural_network import MLPRegressor
 
     if loaded.model.config.output_activation is not None:

@@ -1,0 +1,83 @@
+"""Simulated faults of a deployed unit, injected into its tared pressure rows.
+
+All functions take x (n, C) tared pressures in Pa (rows in recorded order) and return a
+faulty copy; the clean rows are left untouched. A tared reading is the change from the
+power-up rest reading, so a barometer that stops responding reads 0 Pa after tare.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import h5py
+import numpy as np
+
+from anytip.data.arrays import CONTACT_FORCE_N, rest_reading
+from anytip.data.registry import Registry, RunRecord
+
+
+def dead_channel(x: np.ndarray, channel: int) -> np.ndarray:
+    """Barometer `channel` stops responding: it reads its rest value (0 Pa tared)."""
+    out = x.copy()
+    out[:, channel] = 0.0
+    return out
+
+
+def stuck_channel(x: np.ndarray, channel: int, value_pa: float) -> np.ndarray:
+    """Barometer `channel` freezes at `value_pa` (tared Pa), e.g. a reading it held once."""
+    out = x.copy()
+    out[:, channel] = value_pa
+    return out
+
+
+def baseline_drift(x: np.ndarray, amplitude_pa: float, channels: np.ndarray | None = None,
+                   ramp: bool = False) -> np.ndarray:
+    """The rest reading of `channels` (default: all) has drifted by `amplitude_pa` since
+    tare; `ramp` grows the offset linearly from 0 over the rows instead of a constant."""
+    out = x.copy()
+    cols = np.arange(x.shape[1]) if channels is None else np.asarray(channels)
+    offset = amplitude_pa * (np.linspace(0, 1, len(x)) if ramp else np.ones(len(x)))
+    out[:, cols] += offset[:, None]
+    return out
+
+
+def saturation(x: np.ndarray, limit_pa: np.ndarray | float) -> np.ndarray:
+    """Every channel clips at `limit_pa` (scalar or (C,)) tared Pa: lost headroom."""
+    return np.minimum(x, limit_pa)
+
+
+def fault_suite(x: np.ndarray, x_train: np.ndarray, rng: np.random.Generator,
+                drift_pa: list[float]) -> dict[str, np.ndarray]:
+    """The simulated faults of one unit's clean rows x (n, C), by name.
+
+    Dead and stuck channels pick a random channel; the stuck value is the channel's
+    reading in a random training row. Drift: every channel, or one random channel, offset
+    by each amplitude. Saturation: every channel clips at half of its largest training
+    reading (rows below the limit stay clean; score only the rows it changes).
+    """
+    ch = int(rng.integers(x.shape[1]))
+    stuck_value = float(x_train[rng.integers(len(x_train)), ch])
+    out = {"dead_channel": dead_channel(x, ch), "stuck_channel": stuck_channel(x, ch, stuck_value)}
+    for a in drift_pa:
+        out[f"drift_all_{a / 1000:g}kPa"] = baseline_drift(x, a)
+        out[f"drift_one_{a / 1000:g}kPa"] = baseline_drift(x, a, np.array([ch]))
+    out["saturation"] = saturation(x, 0.5 * x_train.max(0))
+    return out
+
+
+def rest_rows(registry: Registry, runs: Sequence[RunRecord]) -> np.ndarray:
+    """Contact-free rows after each run's first contact, tared like contact rows:
+    (n, C) float32 Pa in recorded order. These are what a deployed unit reads between
+    touches; the rows before the first contact (the tare itself) are left out."""
+    parts = []
+    for rec in runs:
+        path = registry.payload_path(rec.run_id)
+        with h5py.File(path, "r") as f:
+            pressure = f["pressure"][()]
+            force = f["force"][()]
+            contact = (np.asarray(f["in_contact"][()]).astype(bool) if "in_contact" in f
+                       else np.linalg.norm(force, axis=1) >= CONTACT_FORCE_N)
+        tare = rest_reading(pressure, contact, str(path))
+        after = np.arange(len(contact)) > np.argmax(contact)
+        parts.append((pressure[after & ~contact] - tare).astype(np.float32))
+    return np.concatenate(parts) if parts else np.zeros((0, 8), np.float32)

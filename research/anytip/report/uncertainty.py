@@ -1,0 +1,171 @@
+"""The uncertainty report: coverage, width and NLL per method, the per-unit coverage
+target, MAPIE's gap, fault-detection AUROC, embedded cost, and figures."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from anytip.models.heteroscedastic import hetero_config  # noqa: E402
+from anytip.report.markdown import image, table  # noqa: E402
+
+BAND = (0.87, 0.93)
+
+
+def _group(rows: list[dict[str, Any]], *keys: str) -> dict[tuple, list[dict[str, Any]]]:
+    out: dict[tuple, list[dict[str, Any]]] = defaultdict(list)
+    for r in rows:
+        out[tuple(r[k] for k in keys)].append(r)
+    return out
+
+
+def coverage_table(rows: list[dict[str, Any]]) -> str:
+    """Per nominal level, method and group: coverage over units (min/mean/max), width, NLL."""
+    body = []
+    sel = [r for r in rows if "nominal_coverage" in r and r["group"] in ("force", "angle")]
+    for (level, method, group), rs in sorted(_group(sel, "nominal_coverage", "method", "group").items()):
+        c = [r["coverage"] for r in rs]
+        nll = [r["nll"] for r in rs if r["nll"] is not None]
+        body.append([level, method, group, min(c), float(np.mean(c)), max(c),
+                     float(np.mean([r["interval_width"] for r in rs])),
+                     float(np.mean(nll)) if nll else "-"])
+    return table(["nominal", "method", "group", "coverage min", "mean", "max",
+                  "width (N or rad)", "NLL"], body)
+
+
+def target_table(rows: list[dict[str, Any]]) -> str:
+    """At nominal 0.9: per method, how many (unit, seed, output) lie in the 0.87-0.93 band."""
+    sel = [r for r in rows if r.get("nominal_coverage") == 0.9 and r["group"] in
+           ("fx", "fy", "fz", "theta", "phi")]
+    body = []
+    for (method,), rs in sorted(_group(sel, "method").items()):
+        c = np.array([r["coverage"] for r in rs])
+        inside = (c >= BAND[0]) & (c <= BAND[1])
+        body.append([method, f"{int(inside.sum())}/{len(c)}", float(c.min()), float(c.max()),
+                     "yes" if inside.all() else "no"])
+    return table(["method", "unit-outputs in 0.87-0.93", "min", "max", "target met"], body)
+
+
+def detection_table(rows: list[dict[str, Any]]) -> str:
+    """Fault x signal: mean AUROC over units (min in brackets), per row and per window."""
+    sel = [r for r in rows if "auroc" in r]
+    signals = sorted({r["method"] for r in sel})
+    keys = list(dict.fromkeys((r["fault"], r["window"]) for r in sel))
+    by = _group(sel, "fault", "window", "method")
+    body = []
+    for f, w in keys:
+        cells = []
+        for s in signals:
+            a = [r["auroc"] for r in by[(f, w, s)]]
+            cells.append(f"{np.mean(a):.3f} ({min(a):.3f})" if a else "-")
+        body.append([f, w, *cells])
+    return table(["fault", "rows per score", *[s.removeprefix("detect:") for s in signals]], body)
+
+
+def cost_table(members: int, sizes: tuple[int, ...]) -> str:
+    """Parameters and multiply-accumulates per inference on the unit, per method."""
+    from anytip.models.mlp import MLPConfig
+
+    base = MLPConfig(sizes=sizes)
+    het = hetero_config(base)
+
+    def macs(c: MLPConfig) -> int:
+        return sum(i * o for i, o in zip(c.sizes[:-1], c.sizes[1:], strict=True))
+
+    d = sizes[-1]
+    body = [["per-unit MLP (point estimate)", base.n_params, macs(base), "-"],
+            ["conformal (constant width)", base.n_params, macs(base), f"+{d} floats per level"],
+            ["hetero (beta-NLL head)", het.n_params, macs(het), "+d exp()"],
+            ["hetero+conformal", het.n_params, macs(het), f"+{d} floats per level"],
+            [f"ensemble ({members} members)", members * het.n_params, members * macs(het),
+             f"x{members} flash and time"],
+            ["input novelty (Mahalanobis)", sizes[0] * (sizes[0] + 1), sizes[0] * (sizes[0] + 1), "-"]]
+    return table(["method", "parameters", "MACs", "extra"], body)
+
+
+def calibration_curves(levels: np.ndarray, curves: list[dict[str, list[float]]], path: Path) -> None:
+    fig, ax = plt.subplots(figsize=(5.5, 5))
+    for name in curves[0]:
+        ax.plot(levels, np.mean([c[name] for c in curves], 0), "o-", ms=3, label=name)
+    ax.plot([0, 1], [0, 1], "k--", lw=0.8)
+    ax.set(xlabel="nominal coverage", ylabel="empirical coverage (held-out patches)",
+           title="calibration curves (mean over units and outputs)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    _save(fig, path)
+
+
+def coverage_map(angles: np.ndarray, covered: np.ndarray, path: Path, title: str) -> None:
+    """Force coverage at nominal 0.9 over the contact region (15-degree cells)."""
+    deg = np.degrees(angles)
+    t_edges, p_edges = np.arange(-45, 60, 15), np.arange(-135, 60, 15)
+    s, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges], weights=covered)
+    n, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cov = s / n
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    im = ax.pcolormesh(p_edges, t_edges, cov, shading="flat", cmap="RdYlGn", vmin=0.6, vmax=1.0)
+    fig.colorbar(im, ax=ax, label="coverage at nominal 0.9")
+    ax.set(xlabel="phi [deg]", ylabel="theta [deg]", title=title, aspect="equal")
+    _save(fig, path)
+
+
+def coverage_vs_force(force: np.ndarray, covered: dict[str, np.ndarray], path: Path) -> None:
+    edges = np.quantile(force, np.linspace(0, 1, 11))
+    which = np.clip(np.digitize(force, edges) - 1, 0, 9)
+    centres = [float(np.median(force[which == b])) for b in range(10)]
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for name, c in covered.items():
+        ax.plot(centres, [c[which == b].mean() for b in range(10)], "o-", ms=3, label=name)
+    ax.axhspan(*BAND, color="grey", alpha=0.2)
+    ax.set(xlabel="|F| [N] (decile medians)", ylabel="force coverage at nominal 0.9",
+           title="coverage against contact force")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    _save(fig, path)
+
+
+def _save(fig: plt.Figure, path: Path) -> None:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts: Any,
+                 levels: np.ndarray) -> Path:
+    d = ctx.run_dir
+    angles, force = np.concatenate(fig["angles"]), np.concatenate(fig["force"])
+    covered = {m: np.concatenate([c[m] for c in fig["covered"]]) for m in fig["covered"][0]}
+    calibration_curves(levels, fig["curves"], d / "calibration_curves.png")
+    coverage_vs_force(force, covered, d / "coverage_vs_force.png")
+    for m in ("conformal", "ensemble+conformal", "ensemble"):
+        coverage_map(angles, covered[m], d / f"coverage_map_{m.replace('+', '_')}.png",
+                     f"{m}: force coverage at nominal 0.9")
+    gap = [abs(r["mapie_minus_own_width"]) for r in rows if "mapie_minus_own_width" in r]
+    units = sorted({r["unit"] for r in rows})
+    parts = [
+        f"# Uncertainty: {ctx.spec.name}\n",
+        f"{len(units)} units, seeds {ctx.spec.all_seeds}, {opts.members} ensemble members, "
+        f"beta-NLL beta={opts.beta}. Test rows: held-out patches; conformal calibration: a "
+        f"further {opts.calib_patch_fraction:.0%} of each unit's other patches, whole.\n",
+        "## Coverage, width and NLL (held-out patches)\n", coverage_table(rows),
+        "\n## Target: coverage of every unit and output within 0.87-0.93 at nominal 0.9\n",
+        target_table(rows),
+        f"\nMAPIE (SplitConformalRegressor, prefit, absolute residual) against the own `conformal` "
+        f"on the same residuals: largest width difference {max(gap) if gap else float('nan'):.2e}.\n",
+        "## Fault detection: AUROC, mean over units (min)\n", detection_table(rows),
+        "\n## Embedded cost\n", cost_table(opts.members, tuple(ctx.spec.model.sizes)),
+        "\n## Figures\n", image("calibration_curves.png", "calibration curves"),
+        image("coverage_vs_force.png", "coverage against force"),
+        *[image(f"coverage_map_{m}.png", m) for m in ("conformal", "ensemble_conformal", "ensemble")],
+    ]
+    path = d / "report.md"
+    path.write_text("\n".join(parts) + "\n")
+    return path

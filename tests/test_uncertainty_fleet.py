@@ -1,0 +1,112 @@
+"""Heteroscedastic ensembles on a tiny fleet: coverage, export with scales, the pipeline."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from anytip.data.arrays import load_arrays
+from anytip.models.io import load_models
+from anytip.runner import run_experiment
+from anytip.train import conformal as cp
+from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.recipe import FAST
+from anytip.train.uncertainty import mixture, predict_members, train_hetero_fleet
+
+REPO = Path(__file__).resolve().parents[1]
+TINY = FAST.model_copy(update={"epochs": 3, "batch_size": 128})
+TINY_SPEC = ["data.protocol=short", "training.epochs=2", "training.batch_size=128",
+             "options.members=2", "options.max_train_rows=3000", "options.foreign_units=1",
+             "options.max_detect_rows=2000", "options.windows=[100]",
+             "options.adapted={epochs: 1, budget: 500, calib_rows: 500}"]
+
+
+def _random_roles(arrays, units, seed=0):
+    """Per unit: fit / val / calibration / test rows drawn at random (exchangeable)."""
+    members, cal, test = [], [], []
+    for u in units:
+        rows = np.random.default_rng(seed + u).permutation(np.flatnonzero(arrays.unit == u))[:8000]
+        fit, val, c, t = np.split(rows, [4000, 4500, 6000])
+        y = arrays.targets
+        members.append(UnitTensors(torch.from_numpy(arrays.pressure[fit]), torch.from_numpy(y[fit]),
+                                   torch.from_numpy(arrays.pressure[val]), torch.from_numpy(y[val]),
+                                   arrays.units[u]))
+        cal.append(c)
+        test.append(t)
+    return FleetBatchData.from_units(members), cal, test
+
+
+def test_conformal_ensemble_covers_each_unit_of_a_tiny_fleet(small_registry):
+    arrays = load_arrays(small_registry, small_registry.list_runs())
+    data, cal, test = _random_roles(arrays, [0, 1])
+    fit = train_hetero_fleet(data, recipe=TINY, n_members=2, seed=0)
+    assert fit.model.n_models == 4 and fit.model.config.sizes[-1] == 10
+    for u in range(2):
+        mu_c, sig_c = predict_members(fit, u, arrays.pressure[cal[u]])
+        mu_t, sig_t = predict_members(fit, u, arrays.pressure[test[u]])
+        (m_c, s_c, _), (m_t, s_t, _) = mixture(mu_c, sig_c), mixture(mu_t, sig_t)
+        q = cp.conformal_quantile(cp.scores_of(m_c, arrays.targets[cal[u]], s_c), 0.1)
+        cov = cp.coverage(*cp.interval(m_t, q, s_t), arrays.targets[test[u]])
+        # 2000 exchangeable test rows per unit: within 0.04 of nominal for every output
+        assert np.all(np.abs(cov - 0.9) < 0.04), cov
+
+
+def test_saved_model_carries_its_scale_outputs(small_registry, tmp_path):
+    arrays = load_arrays(small_registry, small_registry.list_runs())
+    data, _, test = _random_roles(arrays, [0, 1])
+    fit = train_hetero_fleet(data, recipe=TINY.model_copy(update={"epochs": 1}), n_members=2)
+    loaded = load_models(fit.save(tmp_path / "m.safetensors"))
+    assert loaded.meta["scale_outputs"] == [5, 6, 7, 8, 9] and loaded.model.n_models == 4
+    x = torch.from_numpy(arrays.pressure[test[1][:50]])
+    z = loaded.model.model_slice(3)(loaded.in_scaler.slice(3).transform(x[None]))[0]
+    out = loaded.out_scaler.slice(3).inverse(z[None])[0]
+    sigma = loaded.out_scaler.std[3, 0, :5] * torch.exp(0.5 * out[:, 5:])
+    mu_ref, sig_ref = predict_members(fit, 1, x.numpy())
+    np.testing.assert_allclose(out[:, :5].detach().numpy(), mu_ref[1], rtol=1e-4, atol=1e-4)
+    np.testing.assert_allclose(sigma.detach().numpy(), sig_ref[1], rtol=1e-4, atol=1e-6)
+
+
+def test_pipeline_rows_and_stuck_channel_is_flagged(small_registry, tmp_path):
+    spec = REPO / "experiments" / "uncertainty.yaml"
+    out = run_experiment(spec, small_registry, out=tmp_path / "run", overrides=TINY_SPEC, progress=False)
+    rows = json.loads((out / "metrics.json").read_text())["results"]
+    cov = [r for r in rows if "coverage" in r]
+    assert {r["nominal_coverage"] for r in cov} == {0.5, 0.9, 0.95}
+    assert {"hetero", "ensemble", "conformal", "ensemble+conformal", "mapie"} <= {r["method"] for r in cov}
+    assert all(0 <= r["coverage"] <= 1 and r["interval_width"] > 0 for r in cov)
+    gap = [abs(r["mapie_minus_own_width"]) for r in rows if "mapie_minus_own_width" in r]
+    assert max(gap) < 1e-9
+    stuck = [r["auroc"] for r in rows
+             if r.get("fault") == "stuck_channel" and r["method"] == "detect:flatline"]
+    assert len(stuck) == 8 and min(stuck) > 0.99
+    assert (out / "report.md").exists() and (out / "calibration_curves.png").exists()
+    adapted = {r["unit"] for r in cov if r["method"].endswith("conformal:val_units")}
+    assert len(adapted) == 4  # the held-out units of the shared model
+
+
+def _rowset(x: np.ndarray) -> set[bytes]:
+    return {r.tobytes() for r in np.ascontiguousarray(x)}
+
+
+def test_calibration_and_test_patches_never_reach_training(small_registry):
+    from anytip.pipelines.uncertainty import Options, uq_split
+
+    arrays = load_arrays(small_registry, small_registry.list_runs())
+    split = uq_split(arrays, Options(max_train_rows=None), 0.2, 0.1, 0, torch.device("cpu"))
+    for u in range(len(arrays.units)):
+        member = split.data.unit(u)
+        seen = _rowset(member.X_train.numpy()) | _rowset(member.X_val.numpy())
+        cal, test = _rowset(split.X_cal[u]), _rowset(split.X_test[u])
+        assert len(cal) and len(test) and not (seen & cal) and not (seen & test) and not (cal & test)
+
+
+def test_unknown_option_names_the_key(small_registry, tmp_path):
+    import pytest
+
+    from anytip.errors import AnytipError
+
+    spec = REPO / "experiments" / "uncertainty.yaml"
+    with pytest.raises(AnytipError, match="options.*membres"):
+        run_experiment(spec, small_registry, out=tmp_path / "bad", overrides=["options.membres=3"],
+                       progress=False)
