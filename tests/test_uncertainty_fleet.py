@@ -61,7 +61,7 @@ def test_saved_model_carries_its_scale_outputs(small_registry, tmp_path):
     x = torch.from_numpy(arrays.pressure[test[1][:50]])
     z = loaded.model.model_slice(3)(loaded.in_scaler.slice(3).transform(x[None]))[0]
     out = loaded.out_scaler.slice(3).inverse(z[None])[0]
-    sigma = loaded.out_scaler.std[3, 0, :5] * torch.exp(0.5 * out[:, 5:])
+    sigma = torch.exp(0.5 * out[:, 5:])  # physical log-variances: no scaler needed
     mu_ref, sig_ref = predict_members(fit, 1, x.numpy())
     np.testing.assert_allclose(out[:, :5].detach().numpy(), mu_ref[1], rtol=1e-4, atol=1e-4)
     np.testing.assert_allclose(sigma.detach().numpy(), sig_ref[1], rtol=1e-4, atol=1e-6)
@@ -110,3 +110,18 @@ def test_unknown_option_names_the_key(small_registry, tmp_path):
     with pytest.raises(AnytipError, match="options.*membres"):
         run_experiment(spec, small_registry, out=tmp_path / "bad", overrides=["options.membres=3"],
                        progress=False)
+
+
+def test_saved_scale_outputs_are_physical_log_variances():
+    """Standardised log-variance z and std s give log(s^2 e^z) = z + 2 log s after the saved
+    scaler, so sigma = exp(0.5 * output) in N or rad on the device."""
+    import torch
+
+    from anytip.models.heteroscedastic import output_scaler_2d, to_physical
+    from anytip.models.scaler import Scaler
+
+    s = Scaler(torch.tensor([[[1.0, -2.0]]]), torch.tensor([[[3.0, 0.5]]]))
+    z = torch.tensor([[[0.2, -0.3, 0.7, -1.1]]])
+    out = output_scaler_2d(s).inverse(z)
+    _, sigma = to_physical(z[..., :2], z[..., 2:], s)
+    torch.testing.assert_close(torch.exp(0.5 * out[..., 2:]), sigma)

@@ -46,9 +46,12 @@ def beta_nll(mu: Tensor, log_var: Tensor, y: Tensor, beta: float = 0.5) -> Tenso
 
 def output_scaler_2d(out_scaler: Scaler) -> Scaler:
     """The (U, 1, 2d) scaler a heteroscedastic model is saved with: the means use the
-    original scaler, the log-variance outputs pass through (mean 0, std 1)."""
-    zeros, ones = torch.zeros_like(out_scaler.mean), torch.ones_like(out_scaler.std)
-    return Scaler(torch.cat([out_scaler.mean, zeros], -1), torch.cat([out_scaler.std, ones], -1))
+    original scaler; a log-variance output z is shifted by 2 log std, so the saved model
+    gives log sigma^2 in physical units (N^2, rad^2). The shift is affine: it folds into the
+    last layer and an exported model needs no exp() on the device."""
+    ones = torch.ones_like(out_scaler.std)
+    return Scaler(torch.cat([out_scaler.mean, 2 * out_scaler.std.log()], -1),
+                  torch.cat([out_scaler.std, ones], -1))
 
 
 def to_physical(mu_z: Tensor, log_var_z: Tensor, out_scaler: Scaler) -> tuple[Tensor, Tensor]:

@@ -65,8 +65,8 @@ class EnsembleFit:
                 "n_members": self.n_members,
                 "output_names": ["fx", "fy", "fz", "theta", "phi"][:d],
                 "mean_outputs": list(range(d)), "scale_outputs": list(range(d, 2 * d)),
-                "scale_kind": "log-variance in standardised output units: "
-                              "sigma_k = out_scaler.std[k] * exp(0.5 * output[d + k])",
+                "scale_kind": "log-variance in physical units (N^2, rad^2): "
+                              "sigma_k = exp(0.5 * output[d + k])",
                 "loss": f"beta-NLL, beta={self.beta}", "recipe": self.recipe.model_dump(mode="json"),
                 "seed": self.seed}
         return save_models(path, self.model, _take(self.in_scaler, mu), _take(out2, mu), meta)
