@@ -1,0 +1,1 @@
+"""Architecture search under the microcontroller's budget."""
