@@ -41,7 +41,8 @@ def test_paper_mlp_fits_and_a_wide_one_does_not(budget):
 
 
 @pytest.mark.skipif(toolchain_missing() is not None, reason=str(toolchain_missing()))
-@pytest.mark.parametrize("sizes", [PAPER, (8, 32, 32, 5), (8, 24, 48, 48, 5), (8, 16, 5), (8, 32, 64, 64, 32, 5)])
+@pytest.mark.parametrize("sizes", [PAPER, (8, 32, 32, 5), (8, 24, 48, 48, 5), (8, 16, 5),
+                                   (8, 32, 64, 64, 32, 5)])
 def test_estimate_tracks_the_compiled_code(budget, sizes):
     m, e = measure(sizes, budget), estimate(sizes, budget)
     assert m.measured_sizes and not e.measured_sizes
