@@ -139,6 +139,20 @@ def cmd_export_model(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
+def cmd_search(args: argparse.Namespace) -> int:
+    """`anytip search SPEC`: `anytip run` for a search spec, with the study's storage and workers."""
+    from anytip.runner import run_experiment
+
+    overrides = list(args.set)
+    if args.storage:
+        overrides.append(f"options.storage={args.storage}")
+    if args.workers:
+        overrides.append(f"options.workers={args.workers}")
+    run_experiment(args.spec, _registry(args), out=args.out, overrides=overrides,
+                   progress=sys.stderr.isatty())
+    return 0
+
+
 def cmd_main_job(args: argparse.Namespace) -> int:
     """The README's main job: the quickstart experiment (simulates a fleet into an empty registry)."""
     ns = argparse.Namespace(spec=str(quickstart_spec()), registry=args.registry, out=None, set=[])
@@ -163,6 +177,17 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="override a spec key, e.g. --set training.epochs=3 (repeatable)")
     run.set_defaults(func=cmd_run)
+    search = sub.add_parser("search", help="run an architecture search spec (an Optuna study)")
+    _add_registry_opt(search)
+    search.add_argument("spec", help="experiments/search.yaml or another `pipeline: search` spec")
+    search.add_argument("--storage", default=None,
+                        help="Optuna storage URL, e.g. postgresql://user@host/db "
+                             "(default: sqlite in the run directory)")
+    search.add_argument("--workers", type=int, default=None, help="processes sharing the study here")
+    search.add_argument("--out", default=None, help="run directory (default runs/<spec>/<UTC time>/)")
+    search.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="override a spec key (repeatable)")
+    search.set_defaults(func=cmd_search)
     cal = sub.add_parser("calibrate", help="fit a new unit's adapter and save its folded model")
     _add_registry_opt(cal)
     cal.add_argument("--model", required=True,

@@ -25,7 +25,7 @@ from anytip.validation import format_validation_error
 
 BLOCK_DIRS = {"fleet": "fleets", "model": "models", "training": "training"}
 Pipeline = Literal["baseline", "cross_sensor", "deploy", "fleet_speed", "impulse_ratio", "realism",
-                   "uncertainty"]
+                   "search", "uncertainty"]
 
 
 class Strict(BaseModel):

@@ -1,0 +1,121 @@
+"""The search report: the Pareto front of force error against MACs, the paper's MLP marked,
+and the front retrained on units the study never saw."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import TYPE_CHECKING, Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+
+from anytip.report.markdown import table as md_table  # noqa: E402
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from anytip.pipelines.common import Context
+    from anytip.search.budget import Budget
+
+PAPER_SIZES = (8, 12, 64, 64, 5)
+
+
+def front_figure(trials: list[dict[str, Any]], path: Path) -> Path:
+    """Search-unit force RMSE against MACs: every complete trial, the front, the paper's MLP."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    x = [t["macs"] for t in trials]
+    y = [t["force_rmse_n"] for t in trials]
+    ax.scatter(x, y, c="0.7", s=18, label="trials within the budget")
+    front = sorted((t for t in trials if t["pareto"]), key=lambda t: t["macs"])
+    ax.plot([t["macs"] for t in front], [t["force_rmse_n"] for t in front], "o-", c="C0",
+            label="Pareto front")
+    for t in trials:
+        if tuple(t["sizes"]) == PAPER_SIZES:
+            ax.scatter([t["macs"]], [t["force_rmse_n"]], marker="*", s=220, c="C3", label="paper MLP",
+                       zorder=5)
+    ax.set(xscale="log", xlabel="MACs per inference", ylabel="held-out force RMSE, search units [N]",
+           title="architecture search under the budget")
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def by_architecture(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Mean test-unit RMSE per retrained architecture."""
+    groups: dict[tuple, list[dict[str, Any]]] = defaultdict(list)
+    for r in rows:
+        groups[(r["method"], tuple(r["sizes"]))].append(r)
+    out = []
+    for (method, sizes), rs in groups.items():
+        out.append({"method": method, "sizes": sizes,
+                    "force": float(np.mean([r["force_rmse_n"] for r in rs])),
+                    "angle": float(np.mean([r["angle_rmse_rad"] for r in rs])),
+                    **{k: rs[0][k] for k in ("params", "macs", "flash_bytes", "ram_bytes", "measured")}})
+    return sorted(out, key=lambda a: a["macs"])
+
+
+def target(archs: list[dict[str, Any]]) -> str:
+    """The issue's target against the paper's MLP on the test units."""
+    paper = next((a for a in archs if a["method"] == "paper_mlp"), None)
+    if paper is None:
+        return "The paper's MLP was not among the complete trials: no comparison."
+    better = [a for a in archs if a["method"] == "search" and a["macs"] <= paper["macs"]
+              and a["force"] <= 0.85 * paper["force"]]
+    cheaper = [a for a in archs if a["method"] == "search" and a["macs"] <= 0.5 * paper["macs"]
+               and a["force"] <= paper["force"]]
+    if better or cheaper:
+        a = (better or cheaper)[0]
+        return (f"**Met**: {'-'.join(map(str, a['sizes']))} reaches {a['force']:.3f} N against the paper's "
+                f"{paper['force']:.3f} N at {a['macs']} against {paper['macs']} MACs.")
+    best = min((a for a in archs if a["method"] == "search"), key=lambda a: a["force"], default=None)
+    detail = "" if best is None else (f" The best front member on the test units, "
+                                      f"{'-'.join(map(str, best['sizes']))}, reaches {best['force']:.3f} N "
+                                      f"at {best['macs']} MACs against the paper's {paper['force']:.3f} N "
+                                      f"at {paper['macs']}.")
+    return "**Not met** (>= 15% lower force RMSE at no more MACs, or equal at <= 50% MACs)." + detail
+
+
+def write_report(ctx: Context, rows: list[dict[str, Any]], trials: list[dict[str, Any]],
+                 budget: Budget) -> Path:
+    s = ctx.provenance["search"]
+    front_figure(trials, ctx.run_dir / "pareto.png")
+    archs = by_architecture(rows)
+    body = [[a["method"], "-".join(map(str, a["sizes"])), a["params"], a["macs"], a["flash_bytes"],
+             a["ram_bytes"], "measured" if a["measured"] else "estimated", a["force"], a["angle"]]
+            for a in archs]
+    tph = s["trials_per_hour"]
+    path = ctx.run_dir / "report.md"
+    path.write_text(f"""# {ctx.spec.name}: architecture search under the {budget.name} budget
+
+{ctx.spec.description.strip()}
+
+Budget: {budget.flash_bytes_max} B flash, {budget.ram_bytes_max} B RAM, inference within
+{budget.inference_s_max * 1e3:.2f} ms at {budget.clock_hz / 1e6:.0f} MHz (constraints of every trial;
+infeasible trials are pruned before training). Objectives: mean held-out-patch force RMSE of the
+{len(s['search_units'])} search units, and MACs. {s['trials']} trials ({s['complete']} complete) in
+{s['wall_s']:.0f} s with {s['workers']} worker(s): {'n/a' if tph is None else f'{tph:.0f}'} trials per hour on
+`{ctx.provenance.get('device')}`. Storage `{s['storage']}`, study `{s['study_name']}`.
+
+![Pareto front](pareto.png)
+
+## On units the study never saw
+
+The paper's MLP and the front, retrained on the {len(s['test_units'])} test units and scored on their
+held-out patches:
+
+{md_table(['method', 'sizes', 'params', 'MACs', 'flash B', 'RAM B', 'bytes', 'force RMSE [N]',
+           'angle RMSE [rad]'], body)}
+
+{target(archs)}
+
+Browse the study: `optuna-dashboard {s['storage']}`
+""")
+    return path

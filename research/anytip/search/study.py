@@ -1,0 +1,142 @@
+"""An Optuna study over per-unit MLP architectures under the microcontroller's budget.
+
+A trial picks hidden widths, learning rate and batch size; the budget (search/budget.py)
+becomes Optuna constraints before any training, and an infeasible trial is pruned without
+training. A feasible one trains the candidate for every search unit at once (the fleet
+trainer) and is scored on those units' held-out patches: objectives (force RMSE, MACs).
+The study lives in a storage URL (SQLite in the run directory by default), so a killed
+study resumes where it stopped: trials whose heartbeat stopped are marked failed and retried.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import optuna
+from pydantic import BaseModel, ConfigDict, Field
+
+from anytip.models.mlp import MLPConfig
+from anytip.search.budget import Budget, constraints, cost
+from anytip.train.recipe import TrainRecipe
+
+CONSTRAINT_NAMES = ("flash", "ram", "time")
+PAPER_HIDDEN = (12, 64, 64)
+
+
+class SearchOptions(BaseModel):
+    """`options:` of a search spec."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    n_trials: int = Field(default=24, ge=1)
+    widths: list[int] = [8, 12, 16, 24, 32, 48, 64, 96, 128]
+    min_hidden: int = Field(default=1, ge=1)
+    max_hidden: int = Field(default=3, ge=1)
+    lr: tuple[float, float] = (3e-3, 3e-2)
+    batch_sizes: list[int] = [128, 256, 512]
+    budget: str = "stm32f334"
+    measure: bool = True  # compile and emulate where the toolchain is present
+    storage: str | None = None  # an Optuna storage URL; default sqlite in the run directory
+    study_name: str = "search"
+    workers: int = Field(default=1, ge=1)  # processes sharing the study on this machine
+    n_search_units: int = Field(default=4, ge=1)
+    n_test_units: int = Field(default=4, ge=1)
+    heartbeat_s: int = Field(default=30, ge=1)
+    seed: int = 0
+
+
+def suggest(trial: optuna.Trial, opts: SearchOptions) -> tuple[tuple[int, ...], float, int]:
+    """(sizes, lr, batch) of a trial; sizes run 8 -> hidden widths -> 5."""
+    n = trial.suggest_int("n_hidden", opts.min_hidden, opts.max_hidden)
+    choices = sorted(set(opts.widths) | set(PAPER_HIDDEN))  # the paper's MLP is always a candidate
+    hidden = [trial.suggest_categorical(f"width{k}", choices) for k in range(opts.max_hidden)][:n]
+    lr = trial.suggest_float("lr", *opts.lr, log=True)
+    batch = trial.suggest_categorical("batch_size", opts.batch_sizes)
+    return (8, *hidden, 5), lr, batch
+
+
+def paper_params(opts: SearchOptions, recipe: TrainRecipe) -> dict[str, Any] | None:
+    """The paper's 8-12-64-64-5 as a trial to enqueue first (widths beyond its depth unused);
+    None when the space's depth range excludes it."""
+    if not opts.min_hidden <= len(PAPER_HIDDEN) <= opts.max_hidden:
+        return None
+    widths = [*PAPER_HIDDEN] + [min(opts.widths)] * (opts.max_hidden - len(PAPER_HIDDEN))
+    lr = min(max(recipe.lr, opts.lr[0]), opts.lr[1])
+    batch = recipe.batch_size if recipe.batch_size in opts.batch_sizes else opts.batch_sizes[0]
+    return {"n_hidden": 3, **{f"width{k}": w for k, w in enumerate(widths[: opts.max_hidden])},
+            "lr": lr, "batch_size": batch}
+
+
+def make_objective(fit_and_score: Callable[[MLPConfig, TrainRecipe], tuple[float, float]],
+                   opts: SearchOptions, budget: Budget, recipe: TrainRecipe
+                   ) -> Callable[[optuna.Trial], tuple[float, float]]:
+    """objective(trial) -> (mean held-out force RMSE over the search units [N], MACs)."""
+
+    def objective(trial: optuna.Trial) -> tuple[float, float]:
+        sizes, lr, batch = suggest(trial, opts)
+        c = cost(sizes, budget, measure_if_possible=opts.measure)
+        with warnings.catch_warnings():  # a retried trial carries its constraints over already
+            warnings.simplefilter("ignore", UserWarning)
+            for name, value in zip(CONSTRAINT_NAMES, constraints(c, budget), strict=True):
+                trial.set_constraint(name, value)
+        for key, value in c.to_json().items():
+            trial.set_user_attr(key, list(value) if isinstance(value, tuple) else value)
+        if any(v > 0 for v in constraints(c, budget)):
+            raise optuna.TrialPruned(f"{sizes} exceeds the {budget.name} budget")
+        force, angle = fit_and_score(MLPConfig(sizes=sizes),
+                                     recipe.model_copy(update={"lr": lr, "batch_size": batch}))
+        trial.set_user_attr("angle_rmse_rad", angle)
+        return force, float(c.macs)
+
+    return objective
+
+
+def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0) -> optuna.Study:
+    """Create or load the study; stale running trials (no heartbeat) are failed and retried.
+    Each worker samples from its own seed, so parallel workers do not propose the same trial."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        storage = optuna.storages.RDBStorage(
+            url, heartbeat_interval=opts.heartbeat_s, grace_period=2 * opts.heartbeat_s,
+            heartbeat_stale_trial_callback=optuna.storages.RetryHeartbeatStaleTrialCallback(max_retry=1))
+    sampler = optuna.samplers.TPESampler(seed=opts.seed * 1000 + worker,
+                                         n_startup_trials=min(8, opts.n_trials))
+    return optuna.create_study(study_name=name, storage=storage, load_if_exists=True, sampler=sampler,
+                               directions=["minimize", "minimize"])
+
+
+def remaining(study: optuna.Study, n_trials: int) -> int:
+    """Trials still to run for the study to hold n_trials finished (complete or pruned) ones."""
+    done = [t for t in study.trials
+            if t.state in (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED)]
+    return max(0, n_trials - len(done))
+
+
+def pareto_numbers(study: optuna.Study) -> set[int]:
+    """Trial numbers on the feasible Pareto front."""
+    return {t.number for t in study.best_trials}
+
+
+def front_table(study: optuna.Study) -> list[dict[str, Any]]:
+    """Complete trials as plain dicts, sorted by MACs."""
+    front = pareto_numbers(study)
+    out = []
+    for t in study.trials:
+        if t.state != optuna.trial.TrialState.COMPLETE:
+            continue
+        out.append({"number": t.number, "sizes": tuple(t.user_attrs["sizes"]),
+                    "force_rmse_n": t.values[0], "macs": int(t.values[1]),
+                    "angle_rmse_rad": t.user_attrs.get("angle_rmse_rad"),
+                    "params": t.user_attrs["params"], "flash_bytes": t.user_attrs["flash_bytes"],
+                    "ram_bytes": t.user_attrs["ram_bytes"], "cycles": t.user_attrs["cycles"],
+                    "measured": bool(t.user_attrs["measured_sizes"]), "pareto": t.number in front,
+                    "lr": t.params["lr"], "batch_size": t.params["batch_size"]})
+    return sorted(out, key=lambda r: (r["macs"], r["force_rmse_n"]))
+
+
+def mean_scores(scores: list[dict[str, float]]) -> tuple[float, float]:
+    return (float(np.mean([s["force_rmse_n"] for s in scores])),
+            float(np.mean([s["angle_rmse_rad"] for s in scores])))
