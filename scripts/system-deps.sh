@@ -2,7 +2,9 @@
 # Debian packages the tests use. Installed when running as root with apt-get available;
 # elsewhere the tests that need them skip and say why.
 set -euo pipefail
-PACKAGES=(gcc-arm-none-eabi libnewlib-arm-none-eabi)  # Cortex-M4F cross-compile (tests/test_deploy_*)
+# Cortex-M4F cross-compile (tests/test_deploy_*, test_search_budget); a PostgreSQL server for
+# the shared-study test (tests/test_search_postgres.py)
+PACKAGES=(gcc-arm-none-eabi libnewlib-arm-none-eabi postgresql)
 missing=()
 for pkg in "${PACKAGES[@]}"; do
     dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
