@@ -13,7 +13,6 @@ import time
 import warnings
 from typing import Any
 
-import numpy as np
 import optuna
 from pydantic import ValidationError
 
@@ -37,7 +36,7 @@ from anytip.train.recipe import TrainRecipe
 from anytip.validation import format_validation_error
 
 PAPER_SIZES = (8, 12, 64, 64, 5)
-MAX_FRONT = 4  # front members retrained on the test units
+MAX_FRONT = 6  # front members retrained on the test units: the most accurate on the search units
 
 
 def parse_options(ctx: Context) -> SearchOptions:
@@ -107,8 +106,9 @@ def run(ctx: Context) -> list[dict[str, Any]]:
         study.enqueue_trial(paper)
     objective = make_objective(unit_scorer(ctx, arrays, search_units, spec.seed), opts, budget,
                                spec.training)
-    wall = run_trials(url, opts, objective, workers)
+    run_trials(url, opts, objective, workers)
     study = open_study(url, opts.study_name, opts)
+    wall = study_seconds(study)
     table = front_table(study)
     rows = test_rows(ctx, arrays, test_units, table, spec.training)
     done = sum(t.state == optuna.trial.TrialState.COMPLETE for t in study.trials)
@@ -121,13 +121,19 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     return rows
 
 
+def study_seconds(study: optuna.Study) -> float:
+    """Wall seconds from the first trial's start to the last trial's end (across resumes)."""
+    starts = [t.datetime_start for t in study.trials if t.datetime_start]
+    ends = [t.datetime_complete for t in study.trials if t.datetime_complete]
+    return (max(ends) - min(starts)).total_seconds() if starts and ends else 0.0
+
+
 def test_rows(ctx: Context, arrays, units: list[str], table: list[dict[str, Any]],
               recipe: TrainRecipe) -> list[dict[str, Any]]:
     """The paper's MLP and up to MAX_FRONT front members retrained on the test units."""
     paper = [r for r in table if tuple(r["sizes"]) == PAPER_SIZES][:1]
-    front = [r for r in table if r["pareto"] and tuple(r["sizes"]) != PAPER_SIZES]
-    if len(front) > MAX_FRONT:
-        front = [front[i] for i in np.linspace(0, len(front) - 1, MAX_FRONT).round().astype(int)]
+    front = sorted((r for r in table if r["pareto"] and tuple(r["sizes"]) != PAPER_SIZES),
+                   key=lambda r: r["force_rmse_n"])[:MAX_FRONT]
     score = unit_scorer(ctx, arrays, units, ctx.spec.seed + 1)
     rows = []
     for r in paper + front:

@@ -99,9 +99,11 @@ def write_report(ctx: Context, rows: list[dict[str, Any]], trials: list[dict[str
 
 Budget: {budget.flash_bytes_max} B flash, {budget.ram_bytes_max} B RAM, inference within
 {budget.inference_s_max * 1e3:.2f} ms at {budget.clock_hz / 1e6:.0f} MHz (constraints of every trial;
-infeasible trials are pruned before training). Objectives: mean held-out-patch force RMSE of the
-{len(s['search_units'])} search units, and MACs. {s['trials']} trials ({s['complete']} complete) in
-{s['wall_s']:.0f} s with {s['workers']} worker(s): {'n/a' if tph is None else f'{tph:.0f}'} trials per hour on
+infeasible trials are pruned before training). Objectives: mean held-out-patch force and angle
+RMSE of the {len(s['search_units'])} search units, and MACs (the front is their 3-objective Pareto set;
+the figure shows its force-MACs view). {s['trials']} trials ({s['complete']} complete) in
+{s['wall_s']:.0f} s of study time (first trial start to last trial end)
+with {s['workers']} worker(s): {'n/a' if tph is None else f'{tph:.0f}'} trials per hour on
 `{ctx.provenance.get('device')}`. Storage `{s['storage']}`, study `{s['study_name']}`.
 
 ![Pareto front](pareto.png)

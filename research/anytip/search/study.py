@@ -3,7 +3,8 @@
 A trial picks hidden widths, learning rate and batch size; the budget (search/budget.py)
 becomes Optuna constraints before any training, and an infeasible trial is pruned without
 training. A feasible one trains the candidate for every search unit at once (the fleet
-trainer) and is scored on those units' held-out patches: objectives (force RMSE, MACs).
+trainer) and is scored on those units' held-out patches: objectives (force RMSE, angle
+RMSE, MACs).
 The study lives in a storage URL (SQLite in the run directory by default), so a killed
 study resumes where it stopped: trials whose heartbeat stopped are marked failed and retried.
 """
@@ -72,10 +73,11 @@ def paper_params(opts: SearchOptions, recipe: TrainRecipe) -> dict[str, Any] | N
 
 def make_objective(fit_and_score: Callable[[MLPConfig, TrainRecipe], tuple[float, float]],
                    opts: SearchOptions, budget: Budget, recipe: TrainRecipe
-                   ) -> Callable[[optuna.Trial], tuple[float, float]]:
-    """objective(trial) -> (mean held-out force RMSE over the search units [N], MACs)."""
+                   ) -> Callable[[optuna.Trial], tuple[float, float, float]]:
+    """objective(trial) -> mean held-out force RMSE [N] and angle RMSE [rad] over the search
+    units, and MACs."""
 
-    def objective(trial: optuna.Trial) -> tuple[float, float]:
+    def objective(trial: optuna.Trial) -> tuple[float, float, float]:
         sizes, lr, batch = suggest(trial, opts)
         c = cost(sizes, budget, measure_if_possible=opts.measure)
         with warnings.catch_warnings():  # a retried trial carries its constraints over already
@@ -88,8 +90,7 @@ def make_objective(fit_and_score: Callable[[MLPConfig, TrainRecipe], tuple[float
             raise optuna.TrialPruned(f"{sizes} exceeds the {budget.name} budget")
         force, angle = fit_and_score(MLPConfig(sizes=sizes),
                                      recipe.model_copy(update={"lr": lr, "batch_size": batch}))
-        trial.set_user_attr("angle_rmse_rad", angle)
-        return force, float(c.macs)
+        return force, angle, float(c.macs)
 
     return objective
 
@@ -105,7 +106,7 @@ def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0) -> opt
     sampler = optuna.samplers.TPESampler(seed=opts.seed * 1000 + worker,
                                          n_startup_trials=min(8, opts.n_trials))
     return optuna.create_study(study_name=name, storage=storage, load_if_exists=True, sampler=sampler,
-                               directions=["minimize", "minimize"])
+                               directions=["minimize", "minimize", "minimize"])
 
 
 def remaining(study: optuna.Study, n_trials: int) -> int:
@@ -128,8 +129,7 @@ def front_table(study: optuna.Study) -> list[dict[str, Any]]:
         if t.state != optuna.trial.TrialState.COMPLETE:
             continue
         out.append({"number": t.number, "sizes": tuple(t.user_attrs["sizes"]),
-                    "force_rmse_n": t.values[0], "macs": int(t.values[1]),
-                    "angle_rmse_rad": t.user_attrs.get("angle_rmse_rad"),
+                    "force_rmse_n": t.values[0], "angle_rmse_rad": t.values[1], "macs": int(t.values[2]),
                     "params": t.user_attrs["params"], "flash_bytes": t.user_attrs["flash_bytes"],
                     "ram_bytes": t.user_attrs["ram_bytes"], "cycles": t.user_attrs["cycles"],
                     "measured": bool(t.user_attrs["measured_sizes"]), "pareto": t.number in front,
