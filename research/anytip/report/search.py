@@ -24,24 +24,29 @@ if TYPE_CHECKING:
 PAPER_SIZES = (8, 12, 64, 64, 5)
 
 
-def front_figure(trials: list[dict[str, Any]], path: Path) -> Path:
-    """Search-unit force RMSE against MACs: every complete trial, the front, the paper's MLP."""
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    x = [t["macs"] for t in trials]
-    y = [t["force_rmse_n"] for t in trials]
-    ax.scatter(x, y, c="0.7", s=18, label="trials within the budget")
-    front = sorted((t for t in trials if t["pareto"]), key=lambda t: t["macs"])
-    ax.plot([t["macs"] for t in front], [t["force_rmse_n"] for t in front], "o-", c="C0",
-            label="Pareto front")
-    for t in trials:
-        if tuple(t["sizes"]) == PAPER_SIZES:
-            ax.scatter([t["macs"]], [t["force_rmse_n"]], marker="*", s=220, c="C3", label="paper MLP",
-                       zorder=5)
-    ax.set(xscale="log", xlabel="MACs per inference", ylabel="held-out force RMSE, search units [N]",
-           title="architecture search under the budget")
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
+def front_figure(trials: list[dict[str, Any]], path: Path, flash_max: int | None = None) -> Path:
+    """Search-unit force RMSE against MACs and against flash bytes: every complete trial, the
+    front members, the paper's MLP (star) and the flash limit."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.3), sharey=True)
+    front = [t for t in trials if t["pareto"]]
+    for ax, key, label in zip(axes, ("macs", "flash_bytes"), ("MACs per inference", "flash bytes"),
+                              strict=True):
+        ax.scatter([t[key] for t in trials], [t["force_rmse_n"] for t in trials], c="0.7", s=18,
+                   label="trials within the budget")
+        ax.scatter([t[key] for t in front], [t["force_rmse_n"] for t in front], c="C0", s=30,
+                   label="Pareto front (force, angle, MACs)")
+        for t in trials:
+            if tuple(t["sizes"]) == PAPER_SIZES:
+                ax.scatter([t[key]], [t["force_rmse_n"]], marker="*", s=220, c="C3", label="paper MLP",
+                           zorder=5)
+        if key == "flash_bytes" and flash_max:
+            ax.axvline(flash_max, c="C3", ls="--", lw=1, label="flash budget")
+        ax.set(xscale="log", xlabel=label)
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.grid(alpha=0.3, which="both")
+    axes[0].set_ylabel("held-out force RMSE, search units [N]")
+    axes[1].legend(fontsize=8)
+    fig.suptitle("architecture search under the budget")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -86,7 +91,7 @@ def target(archs: list[dict[str, Any]]) -> str:
 def write_report(ctx: Context, rows: list[dict[str, Any]], trials: list[dict[str, Any]],
                  budget: Budget) -> Path:
     s = ctx.provenance["search"]
-    front_figure(trials, ctx.run_dir / "pareto.png")
+    front_figure(trials, ctx.run_dir / "pareto.png", budget.flash_bytes_max)
     archs = by_architecture(rows)
     body = [[a["method"], "-".join(map(str, a["sizes"])), a["params"], a["macs"], a["flash_bytes"],
              a["ram_bytes"], "measured" if a["measured"] else "estimated", a["force"], a["angle"]]
