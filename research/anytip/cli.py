@@ -165,29 +165,31 @@ def _add_registry_opt(p: argparse.ArgumentParser, top: bool = False) -> None:
                    help="registry directory (default: $ANYTIP_REGISTRY or ./data/registry)")
 
 
+def _add_spec_parser(sub, name: str, help_: str, spec_help: str,
+                     func: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
+    """A sub-command that runs a spec: SPEC, --registry, --out, --set."""
+    p = sub.add_parser(name, help=help_)
+    _add_registry_opt(p)
+    p.add_argument("spec", help=spec_help)
+    p.add_argument("--out", default=None, help="run directory (default runs/<spec>/<UTC time>/)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a spec key, e.g. --set training.epochs=3 (repeatable)")
+    p.set_defaults(func=func)
+    return p
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="anytip", description=__doc__)
     _add_registry_opt(parser, top=True)
     parser.set_defaults(func=cmd_main_job)
     sub = parser.add_subparsers(dest="command")
-    run = sub.add_parser("run", help="run an experiment spec")
-    _add_registry_opt(run)
-    run.add_argument("spec", help="experiments/<name>.yaml")
-    run.add_argument("--out", default=None, help="run directory (default runs/<spec>/<UTC time>/)")
-    run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                     help="override a spec key, e.g. --set training.epochs=3 (repeatable)")
-    run.set_defaults(func=cmd_run)
-    search = sub.add_parser("search", help="run an architecture search spec (an Optuna study)")
-    _add_registry_opt(search)
-    search.add_argument("spec", help="experiments/search.yaml or another `pipeline: search` spec")
+    _add_spec_parser(sub, "run", "run an experiment spec", "experiments/<name>.yaml", cmd_run)
+    search = _add_spec_parser(sub, "search", "run an architecture search spec (an Optuna study)",
+                              "experiments/search.yaml or another `pipeline: search` spec", cmd_search)
     search.add_argument("--storage", default=None,
                         help="Optuna storage URL, e.g. postgresql://user@host/db "
                              "(default: sqlite in the run directory)")
     search.add_argument("--workers", type=int, default=None, help="processes sharing the study here")
-    search.add_argument("--out", default=None, help="run directory (default runs/<spec>/<UTC time>/)")
-    search.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                        help="override a spec key (repeatable)")
-    search.set_defaults(func=cmd_search)
     cal = sub.add_parser("calibrate", help="fit a new unit's adapter and save its folded model")
     _add_registry_opt(cal)
     cal.add_argument("--model", required=True,

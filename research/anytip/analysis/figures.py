@@ -13,14 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from anytip.report.figures import DPI  # noqa: E402
-
-
-def _save(fig: plt.Figure, path: Path) -> Path:
-    fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
-    plt.close(fig)
-    return path
+from anytip.report.figures import save_figure  # noqa: E402
 
 
 def eta_map(x: np.ndarray, y: np.ndarray, eta: np.ndarray, path: Path, xlabel: str, ylabel: str,
@@ -36,7 +29,7 @@ def eta_map(x: np.ndarray, y: np.ndarray, eta: np.ndarray, path: Path, xlabel: s
         ax.plot(*mark, "r*", ms=12, label="nominal")
         ax.legend(loc="upper right", fontsize=8)
     ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def collision_trace(t_closed: np.ndarray, x_closed: np.ndarray, t_num: np.ndarray, x_num: np.ndarray,
@@ -51,7 +44,7 @@ def collision_trace(t_closed: np.ndarray, x_closed: np.ndarray, t_num: np.ndarra
     ax.set(xlabel="time since impact [ms]", ylabel="spring compression x [mm]", title=title)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def stream_excerpt(t_truth: np.ndarray, truth: np.ndarray, t_est: np.ndarray,
@@ -65,4 +58,4 @@ def stream_excerpt(t_truth: np.ndarray, truth: np.ndarray, t_est: np.ndarray,
     ax.set(xlabel="time [s]", ylabel=ylabel, title=title)
     ax.legend(fontsize=8, ncol=2)
     ax.grid(alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)

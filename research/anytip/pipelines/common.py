@@ -8,10 +8,11 @@ from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 import torch
+from pydantic import BaseModel, ValidationError
 
 from anytip.config import DataConfig, ExperimentSpec
 from anytip.data.arrays import FleetArrays, load_arrays
@@ -21,6 +22,7 @@ from anytip.errors import AnytipError
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import FitResult
 from anytip.train.metrics import predict
+from anytip.validation import format_validation_error
 
 OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
 
@@ -35,6 +37,19 @@ class Context:
     device: torch.device
     progress: bool = True
     provenance: dict[str, Any] = field(default_factory=dict)
+
+
+M = TypeVar("M", bound=BaseModel)
+
+
+def validate_options(ctx: Context, model: type[M], raw: dict[str, Any] | None = None) -> M:
+    """The spec's `options:` (or `raw`) as the pipeline's options model; a bad key or value
+    stops the run with the spec file, the key and what is allowed."""
+    try:
+        return model.model_validate(dict(ctx.spec.options) if raw is None else raw)
+    except ValidationError as e:
+        source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
+        raise AnytipError(format_validation_error(e, source, model)) from None
 
 
 def resolve_device(name: str) -> torch.device:

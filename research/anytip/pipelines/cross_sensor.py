@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 import torch
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
@@ -32,7 +32,7 @@ from anytip.models.adapted import parse_kind
 from anytip.models.io import save_shared
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
-from anytip.pipelines.common import Context, load, scores
+from anytip.pipelines.common import Context, load, scores, validate_options
 from anytip.report.cross_sensor import main_rows as full_set_rows
 from anytip.report.cross_sensor import summary, write_report
 from anytip.train.adapt import (
@@ -47,7 +47,6 @@ from anytip.train.data import FleetBatchData, UnitTensors, pad_rows
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import predict
 from anytip.train.recipe import TrainRecipe
-from anytip.validation import format_validation_error
 
 SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1e-4, batch_size=256,
                       epochs=100, schedule="cosine", final_lr_frac=0.01, keep_best=False)
@@ -76,11 +75,7 @@ def parse_options(ctx: Context) -> Options:
     raw = dict(ctx.spec.options)
     if isinstance(raw.get("scratch"), dict):  # a partial recipe overrides the default's keys
         raw["scratch"] = {**SCRATCH.model_dump(), **raw["scratch"]}
-    try:
-        opts = Options.model_validate(raw)
-    except ValidationError as e:
-        source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
-        raise AnytipError(format_validation_error(e, source, Options)) from None
+    opts = validate_options(ctx, Options, raw)
     for kind in [*opts.adapters, opts.sweep_adapter]:
         parse_kind(kind)
     if any(b < 0 for b in opts.budgets):

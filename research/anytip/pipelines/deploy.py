@@ -15,14 +15,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import BaseModel, ConfigDict
 
 from anytip.deploy.export import Prepared, export_prepared, prepare
 from anytip.deploy.peers import PEERS, measure_peer
 from anytip.errors import AnytipError
-from anytip.pipelines.common import Context
+from anytip.pipelines.common import Context, validate_options
 from anytip.report.markdown import table
-from anytip.validation import format_validation_error
 
 FORMATS = ("onnx", "c", "c-int8", "firmware")
 
@@ -62,11 +61,7 @@ class Options(BaseModel):
 
 
 def parse_options(ctx: Context) -> Options:
-    try:
-        opts = Options.model_validate(dict(ctx.spec.options))
-    except ValidationError as e:
-        source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
-        raise AnytipError(format_validation_error(e, source, Options)) from None
+    opts = validate_options(ctx, Options)
     bad = [f for f in opts.formats if f not in FORMATS] + [p for p in opts.peers if p not in PEERS]
     if bad:
         raise AnytipError(f"options: unknown formats or peers {bad}; formats are {list(FORMATS)}, "

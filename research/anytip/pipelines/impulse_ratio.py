@@ -19,7 +19,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 from scipy.signal import filtfilt
 
 from anytip.analysis import budget
@@ -29,10 +29,9 @@ from anytip.analysis.latency import hold_delay_s, inference_time_s, mlp_macs
 from anytip.analysis.report import write_report
 from anytip.analysis.stream import estimate, press_trajectory, sense, train_unit_model
 from anytip.errors import AnytipError
-from anytip.pipelines.common import Context
+from anytip.pipelines.common import Context, validate_options
 from anytip.sensor.simulate import unit_rng, unit_sensor_id
 from anytip.sensor.variation import draw_unit
-from anytip.validation import format_validation_error
 
 
 class Strict(BaseModel):
@@ -78,10 +77,7 @@ class Options(Strict):
 
 def parse_options(ctx: Context) -> Options:
     source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
-    try:
-        opts = Options.model_validate(dict(ctx.spec.options))
-    except ValidationError as e:
-        raise AnytipError(format_validation_error(e, source, Options)) from None
+    opts = validate_options(ctx, Options)
     for name in ("map_latency_ms", "map_stiffness_n_per_m", "map_v0_m_per_s"):
         lo, hi = getattr(opts, name)
         if not 0 <= lo < hi or (name != "map_latency_ms" and lo <= 0):

@@ -14,12 +14,19 @@ import warnings
 from typing import Any
 
 import optuna
-from pydantic import ValidationError
 
 from anytip.data.splits import split_units
 from anytip.errors import AnytipError
 from anytip.models.mlp import MLPConfig
-from anytip.pipelines.common import Context, load, patch_test_mask, per_unit_split, predict_units, scores
+from anytip.pipelines.common import (
+    Context,
+    load,
+    patch_test_mask,
+    per_unit_split,
+    predict_units,
+    scores,
+    validate_options,
+)
 from anytip.report.search import write_report
 from anytip.search.budget import load_budget
 from anytip.search.study import (
@@ -33,18 +40,13 @@ from anytip.search.study import (
 )
 from anytip.train.fleet import train_fleet
 from anytip.train.recipe import TrainRecipe
-from anytip.validation import format_validation_error
 
 PAPER_SIZES = (8, 12, 64, 64, 5)
 MAX_FRONT = 6  # front members retrained on the test units: the most accurate on the search units
 
 
 def parse_options(ctx: Context) -> SearchOptions:
-    try:
-        opts = SearchOptions.model_validate(dict(ctx.spec.options))
-    except ValidationError as e:
-        source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
-        raise AnytipError(format_validation_error(e, source, SearchOptions)) from None
+    opts = validate_options(ctx, SearchOptions)
     if opts.min_hidden > opts.max_hidden:
         raise AnytipError(f"options: min_hidden {opts.min_hidden} > max_hidden {opts.max_hidden}")
     return opts

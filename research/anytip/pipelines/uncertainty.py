@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 import torch
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 from scipy.stats import norm
 
 from anytip.data.arrays import FleetArrays, load_arrays
@@ -26,8 +26,7 @@ from anytip.data.faults import baseline_drift, fault_suite, rest_rows
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.data.splits import held_out_patches
-from anytip.errors import AnytipError
-from anytip.pipelines.common import OUTPUTS, Context, load, patch_test_mask, scores
+from anytip.pipelines.common import OUTPUTS, Context, load, patch_test_mask, scores, validate_options
 from anytip.pipelines.cross_sensor import Options as CrossOptions
 from anytip.pipelines.cross_sensor import calibrate_many, predict_rows
 from anytip.pipelines.cross_sensor import prepare as cross_prepare
@@ -47,7 +46,6 @@ from anytip.train.detect import (
     window_means,
 )
 from anytip.train.uncertainty import EnsembleFit, mixture, predict_members, train_hetero_fleet
-from anytip.validation import format_validation_error
 
 GROUPS = {**{name: [k] for k, name in enumerate(OUTPUTS)}, "force": [0, 1, 2], "angle": [3, 4]}
 CURVE_LEVELS = np.round(np.linspace(0.05, 0.99, 20), 3)
@@ -86,11 +84,7 @@ class Options(BaseModel):
 
 
 def parse_options(ctx: Context) -> Options:
-    try:
-        return Options.model_validate(dict(ctx.spec.options))
-    except ValidationError as e:
-        source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
-        raise AnytipError(format_validation_error(e, source, Options)) from None
+    return validate_options(ctx, Options)
 
 
 @dataclass

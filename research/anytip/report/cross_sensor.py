@@ -12,6 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from anytip.report.figures import save_figure  # noqa: E402
 from anytip.report.markdown import table  # noqa: E402
 
 if TYPE_CHECKING:
@@ -109,10 +110,7 @@ def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
         ax.grid(alpha=0.3, which="both")
     axes[0].legend(fontsize=7)
     fig.suptitle("held-out units: error against calibration budget (median, 10-90% band)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Path | None:
@@ -140,10 +138,7 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Pa
     ax.set_xticks(counts, [str(c) for c in counts])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def write_report(ctx: Context, rows: list[dict[str, Any]], opts: Any) -> Path:

@@ -17,7 +17,8 @@ OUTPUT_NAMES = ("Fx [N]", "Fy [N]", "Fz [N]", "theta [rad]", "phi [rad]")
 DPI = 120
 
 
-def _save(fig: plt.Figure, path: Path) -> Path:
+def save_figure(fig: plt.Figure, path: Path) -> Path:
+    """Lay out, write as PNG at the reports' DPI, close; returns the path."""
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
@@ -37,7 +38,7 @@ def parity(pred: np.ndarray, target: np.ndarray, path: Path, title: str,
         rmse = float(np.sqrt(np.mean((target[:, k] - pred[:, k]) ** 2)))
         ax.set(title=f"{OUTPUT_NAMES[k]}  RMSE {rmse:.3g}", xlabel="true", ylabel="predicted")
     fig.suptitle(title)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def region_heatmap(angles: np.ndarray, err2: np.ndarray, path: Path, title: str,
@@ -54,7 +55,7 @@ def region_heatmap(angles: np.ndarray, err2: np.ndarray, path: Path, title: str,
     im = ax.pcolormesh(p_edges, t_edges, rmse, shading="flat", cmap="viridis")
     fig.colorbar(im, ax=ax, label="RMSE")
     ax.set(xlabel="phi [deg]", ylabel="theta [deg]", title=title, aspect="equal")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def error_vs_force(normal_force: np.ndarray, curves: Mapping[str, np.ndarray], path: Path,
@@ -72,7 +73,7 @@ def error_vs_force(normal_force: np.ndarray, curves: Mapping[str, np.ndarray], p
     ax.set(xlabel="|Fz| [N]", ylabel=ylabel, title=title)
     ax.legend()
     ax.grid(alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def training_curves(histories: Mapping[str, Sequence[tuple[float, float]]], path: Path,
@@ -90,7 +91,7 @@ def training_curves(histories: Mapping[str, Sequence[tuple[float, float]]], path
     if len(histories) <= 12:
         ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def bars(labels: Sequence[str], groups: Mapping[str, Sequence[float]], path: Path, title: str,
@@ -105,4 +106,4 @@ def bars(labels: Sequence[str], groups: Mapping[str, Sequence[float]], path: Pat
     ax.set(ylabel=ylabel, title=title)
     ax.legend()
     ax.grid(axis="y", alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)

@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
+from anytip.report.figures import save_figure  # noqa: E402
 from anytip.report.markdown import table as md_table  # noqa: E402
 
 if TYPE_CHECKING:
@@ -47,10 +48,7 @@ def front_figure(trials: list[dict[str, Any]], path: Path, flash_max: int | None
     axes[0].set_ylabel("held-out force RMSE, search units [N]")
     axes[1].legend(fontsize=8)
     fig.suptitle("architecture search under the budget")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def by_architecture(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from anytip.models.heteroscedastic import hetero_config  # noqa: E402
+from anytip.report.figures import save_figure  # noqa: E402
 from anytip.report.markdown import image, table  # noqa: E402
 
 BAND = (0.87, 0.93)
@@ -99,7 +100,7 @@ def calibration_curves(levels: np.ndarray, curves: list[dict[str, list[float]]],
            title="calibration curves (mean over units and outputs)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def coverage_map(angles: np.ndarray, covered: np.ndarray, path: Path, title: str) -> None:
@@ -114,7 +115,7 @@ def coverage_map(angles: np.ndarray, covered: np.ndarray, path: Path, title: str
     im = ax.pcolormesh(p_edges, t_edges, cov, shading="flat", cmap="RdYlGn", vmin=0.6, vmax=1.0)
     fig.colorbar(im, ax=ax, label="coverage at nominal 0.9")
     ax.set(xlabel="phi [deg]", ylabel="theta [deg]", title=title, aspect="equal")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def coverage_vs_force(force: np.ndarray, covered: dict[str, np.ndarray], path: Path) -> None:
@@ -129,13 +130,7 @@ def coverage_vs_force(force: np.ndarray, covered: dict[str, np.ndarray], path: P
            title="coverage against contact force")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    _save(fig, path)
-
-
-def _save(fig: plt.Figure, path: Path) -> None:
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts: Any,
