@@ -25,6 +25,7 @@ from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import load_shared, save_models
 from anytip.models.scaler import Scaler
+from anytip.pipelines.common import scores
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.metrics import predict
 
@@ -68,9 +69,8 @@ def find_shared(model: str | Path, adapter: str | None = None, seed: int | None 
 
 
 def budget_rows(stream: CalibrationStream, samples: int | None, seconds: float | None) -> int:
-    """Labeled rows a budget grants: a sample count, or all rows within `seconds` of robot time."""
-    if samples is not None and seconds is not None:
-        raise AnytipError("give --budget-samples or --budget-seconds, not both")
+    """Labeled rows a budget grants: a sample count, or all rows within `seconds` of robot time
+    (the caller makes sure at most one is given)."""
     if seconds is not None:
         return int(np.searchsorted(stream.seconds, seconds, side="right"))
     n = 1000 if samples is None else samples
@@ -115,8 +115,10 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
                                        seed=int(meta.get("seed", 0)))
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
-    check = _score(folded, stats, out_scaler, arrays.pressure[other], arrays.targets[other]) \
-        if other.any() else None
+    check = None
+    if other.any():
+        pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
+        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other])}
     result = Calibrated(Path(out), unit, n, stream.seconds_for(n), len(stream.rows), prior, check)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
@@ -127,10 +129,3 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     (Path(out) / "calibration.json").write_text(json.dumps(
         {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()}, indent=2) + "\n")
     return result
-
-
-def _score(model, in_scaler: Scaler, out_scaler: Scaler, X: np.ndarray, Y: np.ndarray) -> dict[str, float]:
-    pred = predict(model, in_scaler, out_scaler, torch.from_numpy(X)[None])[0].numpy().astype(np.float64)
-    err2 = (pred - Y) ** 2
-    return {"rows": len(Y), "force_rmse_n": float(np.sqrt(err2[:, :3].mean())),
-            "angle_rmse_rad": float(np.sqrt(err2[:, 3:].mean()))}

@@ -131,6 +131,21 @@ class UnitSplitRows:
     test_rows: list[np.ndarray]  # indices into the FleetArrays rows
 
 
+def split_validation(rows: np.ndarray, fraction: float,
+                     rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """(fitting rows, validation rows): a random `fraction` of `rows`, at least one, validates."""
+    is_val = np.zeros(len(rows), bool)
+    is_val[rng.choice(len(rows), max(1, round(fraction * len(rows))), replace=False)] = True
+    return rows[~is_val], rows[is_val]
+
+
+def unit_tensors(arrays: FleetArrays, fit_rows: np.ndarray, val_rows: np.ndarray, unit: str) -> UnitTensors:
+    """One unit's fitting and validation rows of `arrays` as trainer tensors."""
+    t = arrays.targets
+    return UnitTensors(torch.from_numpy(arrays.pressure[fit_rows]), torch.from_numpy(t[fit_rows]),
+                       torch.from_numpy(arrays.pressure[val_rows]), torch.from_numpy(t[val_rows]), unit)
+
+
 def per_unit_split(arrays: FleetArrays, units: Sequence[str], test_mask: TestMask,
                    val_fraction: float, seed: int, device: torch.device) -> UnitSplitRows:
     """For each unit: test rows from `test_mask`, the rest split into train and validation."""
@@ -141,14 +156,8 @@ def per_unit_split(arrays: FleetArrays, units: Sequence[str], test_mask: TestMas
         test = test_mask(arrays.patch[rows], u)
         train_rows, held = rows[~test], rows[test]
         rng = np.random.default_rng(seed * 7919 + u)
-        is_val = np.zeros(len(train_rows), bool)
-        n_val = max(1, round(val_fraction * len(train_rows)))
-        is_val[rng.choice(len(train_rows), n_val, replace=False)] = True
-        fit_rows, val_rows = train_rows[~is_val], train_rows[is_val]
-        members.append(UnitTensors(
-            torch.from_numpy(arrays.pressure[fit_rows]), torch.from_numpy(targets[fit_rows]),
-            torch.from_numpy(arrays.pressure[val_rows]), torch.from_numpy(targets[val_rows]), unit,
-        ))
+        fit_rows, val_rows = split_validation(train_rows, val_fraction, rng)
+        members.append(unit_tensors(arrays, fit_rows, val_rows, unit))
         X_test.append(arrays.pressure[held])
         Y_test.append(targets[held])
         test_rows.append(held)

@@ -32,9 +32,15 @@ from anytip.models.adapted import parse_kind
 from anytip.models.io import save_shared
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
-from anytip.pipelines.common import Context, load, scores, validate_options
-from anytip.report.cross_sensor import main_rows as full_set_rows
-from anytip.report.cross_sensor import summary, write_report
+from anytip.pipelines.common import (
+    Context,
+    load,
+    scores,
+    split_validation,
+    unit_tensors,
+    validate_options,
+)
+from anytip.report.cross_sensor import full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
     SharedFit,
@@ -43,7 +49,7 @@ from anytip.train.adapt import (
     pooled_scaler,
     train_shared,
 )
-from anytip.train.data import FleetBatchData, UnitTensors, pad_rows
+from anytip.train.data import FleetBatchData, pad_rows
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import predict
 from anytip.train.recipe import TrainRecipe
@@ -188,10 +194,8 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> Seed
     members, stats = [], []
     for u, unit in enumerate(split.train):
         mine = unit_main_rows(arrays, unit, main)
-        rng = np.random.default_rng(seed * 7919 + u)
-        is_val = np.zeros(len(mine), bool)
-        is_val[rng.choice(len(mine), max(1, round(s.val_fraction * len(mine))), replace=False)] = True
-        members.append(_tensors(arrays, mine[~is_val], mine[is_val], unit))
+        fit, val = split_validation(mine, s.val_fraction, np.random.default_rng(seed * 7919 + u))
+        members.append(unit_tensors(arrays, fit, val, unit))
         stream = calibration_stream(arrays, unit, opts.calibration_protocol)
         stats.append(torch.from_numpy(arrays.pressure[stream.rows]))
     train = FleetBatchData.from_units(members, ctx.device)
@@ -213,12 +217,6 @@ def unit_main_rows(arrays: FleetArrays, unit: str, main: np.ndarray) -> np.ndarr
     return own if len(own) else mine
 
 
-def _tensors(arrays: FleetArrays, fit_rows: np.ndarray, val_rows: np.ndarray, unit: str) -> UnitTensors:
-    t = arrays.targets
-    return UnitTensors(torch.from_numpy(arrays.pressure[fit_rows]), torch.from_numpy(t[fit_rows]),
-                       torch.from_numpy(arrays.pressure[val_rows]), torch.from_numpy(t[val_rows]), unit)
-
-
 def predict_rows(model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler, arrays: FleetArrays,
                  rows: list[np.ndarray]) -> list[np.ndarray]:
     """Model m's physical predictions on arrays rows[m]: [(n_m, 5), ...]."""
@@ -237,10 +235,8 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         mine = unit_main_rows(arrays, unit, main)
         train_rows = np.setdiff1d(mine, sd.evals[unit].test_rows)
         rng = np.random.default_rng(seed * 7919 + 1000 + u)
-        is_val = np.zeros(len(train_rows), bool)
-        n_val = max(1, round(ctx.spec.splits.val_fraction * len(train_rows)))
-        is_val[rng.choice(len(train_rows), n_val, replace=False)] = True
-        members.append(_tensors(arrays, train_rows[~is_val], train_rows[is_val], unit))
+        members.append(unit_tensors(arrays, *split_validation(train_rows, ctx.spec.splits.val_fraction, rng),
+                                    unit))
     data = FleetBatchData.from_units(members, ctx.device)
     fit = train_fleet(data, ctx.spec.model, ctx.spec.training, seed=seed, device=ctx.device,
                       progress=ctx.progress)
@@ -261,7 +257,7 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     members = []
     for u, b in jobs:
         r = sd.evals[u].stream.first(b)
-        members.append(_tensors(arrays, r, r, f"{u}@{b}"))
+        members.append(unit_tensors(arrays, r, r, f"{u}@{b}"))
     data = FleetBatchData.from_units(members, ctx.device)
     fit = train_fleet(data, ctx.spec.model, opts.scratch, seed=seed, device=ctx.device,
                       progress=ctx.progress)

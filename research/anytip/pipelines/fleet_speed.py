@@ -14,15 +14,31 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
 
-from anytip.pipelines.common import Context, load, patch_test_mask, per_unit_split, predict_units, scores
+from anytip.pipelines.common import (
+    Context,
+    load,
+    patch_test_mask,
+    per_unit_split,
+    predict_units,
+    scores,
+    validate_options,
+)
 from anytip.report import figures
 from anytip.report.markdown import table
 from anytip.train.fleet import FitResult, train_fleet
 from anytip.train.recipe import PAPER
 from anytip.train.sequential import train_sequential
 
-DEFAULTS = {"tolerance": 0.05, "reference_evals_per_epoch": 10}
+
+class Options(BaseModel):
+    """`options:` of a fleet_speed spec."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    tolerance: float = Field(0.05, ge=0)  # within this fraction of the reference's final RMSE
+    reference_evals_per_epoch: int = Field(10, ge=1)
 
 
 def _curve_sequential(fit: FitResult, n_units: int) -> list[tuple[float, float]]:
@@ -47,20 +63,20 @@ def _first_within(points: list[tuple[float, float]], target: float, tol: float) 
 
 
 def run(ctx: Context) -> list[dict[str, Any]]:
-    spec, opts = ctx.spec, {**DEFAULTS, **spec_options(ctx)}
+    spec, opts = ctx.spec, validate_options(ctx, Options)
     arrays = load(ctx)
     units, seed = arrays.units, spec.seed
     split = per_unit_split(arrays, units, patch_test_mask(spec.splits.patch_test_fraction, seed),
                            spec.splits.val_fraction, seed, ctx.device)
     ref = train_sequential(split.data, spec.model, PAPER, seed=seed, device=ctx.device,
-                           progress=ctx.progress, evals_per_epoch=opts["reference_evals_per_epoch"])
+                           progress=ctx.progress, evals_per_epoch=opts.reference_evals_per_epoch)
     fleet = train_fleet(split.data, spec.model, spec.training, seed=seed, device=ctx.device,
                         progress=ctx.progress)
     ref_curve = _curve_sequential(ref, len(units))
     fleet_curve = [(h["elapsed_s"], float(np.mean(h["val_force_rmse"]))) for h in fleet.history]
     target = ref_curve[-1][1]
-    t_ref = _first_within(ref_curve, target, opts["tolerance"])
-    t_fleet = _first_within(fleet_curve, target, opts["tolerance"])
+    t_ref = _first_within(ref_curve, target, opts.tolerance)
+    t_fleet = _first_within(fleet_curve, target, opts.tolerance)
     rows = []
     for name, fit, recipe in (("per_unit_sequential", ref, PAPER), ("per_unit_fleet", fleet, spec.training)):
         preds = predict_units(fit, split.X_test)
@@ -69,7 +85,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                          "seed": seed, "split": "patches", "recipe": recipe.name,
                          **scores(preds[u], split.Y_test[u])})
     summary = {
-        "units": len(units), "target_val_force_rmse_n": target, "tolerance": opts["tolerance"],
+        "units": len(units), "target_val_force_rmse_n": target, "tolerance": opts.tolerance,
         "reference_time_to_target_s": t_ref, "fleet_time_to_target_s": t_fleet,
         "reference_total_train_s": float(sum(ref.unit_train_s)),
         "fleet_total_train_s": fleet_curve[-1][0],
@@ -83,16 +99,6 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                             xlabel="training time [s]")
     (ctx.run_dir / "report.md").write_text(_report(ctx, rows, summary))
     return rows
-
-
-def spec_options(ctx: Context) -> dict[str, Any]:
-    unknown = set(ctx.spec.options) - set(DEFAULTS)
-    if unknown:
-        from anytip.errors import AnytipError
-
-        raise AnytipError(f"options {sorted(unknown)} are not known to pipeline fleet_speed; "
-                          f"allowed: {sorted(DEFAULTS)}")
-    return dict(ctx.spec.options)
 
 
 def _report(ctx: Context, rows: list[dict[str, Any]], s: dict[str, Any]) -> str:

@@ -26,7 +26,16 @@ from anytip.data.faults import baseline_drift, fault_suite, rest_rows
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.data.splits import held_out_patches
-from anytip.pipelines.common import OUTPUTS, Context, load, patch_test_mask, scores, validate_options
+from anytip.pipelines.common import (
+    OUTPUTS,
+    Context,
+    load,
+    patch_test_mask,
+    scores,
+    split_validation,
+    unit_tensors,
+    validate_options,
+)
 from anytip.pipelines.cross_sensor import Options as CrossOptions
 from anytip.pipelines.cross_sensor import calibrate_many, predict_rows
 from anytip.pipelines.cross_sensor import prepare as cross_prepare
@@ -34,7 +43,7 @@ from anytip.report.uncertainty import write_report
 from anytip.sensor.fleet import FleetConfig, NominalParams, SpreadParams
 from anytip.train import conformal as cp
 from anytip.train.adapt import AdapterRecipe, train_shared
-from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.data import FleetBatchData
 from anytip.train.detect import (
     InputNovelty,
     KnnNovelty,
@@ -113,12 +122,8 @@ def uq_split(arrays: FleetArrays, opts: Options, test_fraction: float, val_fract
         rng = np.random.default_rng(seed * 7919 + u)
         if opts.max_train_rows is not None and len(train) > opts.max_train_rows:
             train = np.sort(rng.choice(train, opts.max_train_rows, replace=False))
-        is_val = np.zeros(len(train), bool)
-        is_val[rng.choice(len(train), max(1, round(val_fraction * len(train))), replace=False)] = True
-        fit, val = train[~is_val], train[is_val]
-        members.append(UnitTensors(torch.from_numpy(arrays.pressure[fit]), torch.from_numpy(targets[fit]),
-                                   torch.from_numpy(arrays.pressure[val]), torch.from_numpy(targets[val]),
-                                   unit))
+        fit, val = split_validation(train, val_fraction, rng)
+        members.append(unit_tensors(arrays, fit, val, unit))
         for key, idx in (("cal", rest[cal]), ("test", rows[test])):
             parts[f"X_{key}"].append(arrays.pressure[idx])
             parts[f"Y_{key}"].append(targets[idx].astype(np.float64))

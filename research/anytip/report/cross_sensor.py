@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 METRICS = (("force_rmse_n", "force RMSE [N]"), ("angle_rmse_rad", "angle RMSE [rad]"))
 
 
-def main_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+def full_set_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Rows of the full training set (the unit-count sweep's smaller sets left out)."""
     full = max(r["n_train_units"] for r in rows)
     return [r for r in rows if r["n_train_units"] == full]
@@ -142,7 +142,7 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Pa
 
 
 def write_report(ctx: Context, rows: list[dict[str, Any]], opts: Any) -> Path:
-    main = main_rows(rows)
+    main = full_set_rows(rows)
     lines = summary(main)
     budget_figure(main, ctx.run_dir / "rmse_vs_budget.png")
     units_fig = unit_count_figure(rows, f"adapted:{opts.sweep_adapter}",
