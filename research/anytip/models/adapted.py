@@ -133,11 +133,19 @@ class AdaptedMLP(nn.Module):
 
     def deviation(self) -> Tensor:
         """Squared distance of each unit's adapter from the identity, (U,): the few-shot prior."""
-        out = torch.zeros(self.n_units, device=self.weights[0].device)
-        identity = {k: v.detach() for k, v in self.identity_adapter(1).items()}
+        device = self.weights[0].device
+        out = torch.zeros(self.n_units, device=device)
+        identity = self._identity_on(device)
         for k, p in self.adapter.items():
             out = out + ((p - identity[k]) ** 2).flatten(1).sum(1)
         return out
+
+    def _identity_on(self, device: torch.device) -> dict[str, Tensor]:
+        """One unit's identity adapter on `device`, built once (deviation() runs every step)."""
+        cache = self.__dict__.setdefault("_identity_cache", {})
+        if device not in cache:
+            cache[device] = {k: v.detach() for k, v in self.identity_adapter(1).items()}
+        return cache[device]
 
     @torch.no_grad()
     def fold(self, units: Sequence[int] | None = None) -> BatchedMLP:
