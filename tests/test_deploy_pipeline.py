@@ -26,7 +26,8 @@ def test_deploy_run_writes_rows_and_report(small_registry, tmp_path, monkeypatch
     model = save_baseline(tmp_path, n=1)
     opts = {"models": [{"name": "tiny", "path": str(model)}], "rows": 400,
             "calibrate": [{"name": "folded", "shared": "none.safetensors", "unit": "NOT-IN-REGISTRY"}]}
-    run_dir = run_experiment(spec(tmp_path, opts), small_registry, out=tmp_path / "run", progress=False)
+    monkeypatch.chdir(tmp_path)  # a relative run directory, as `--out reports/deploy` gives
+    run_dir = run_experiment(spec(tmp_path, opts), small_registry, out="run", progress=False)
     rows = json.loads((run_dir / "metrics.json").read_text())["results"]
     methods = {r["method"] for r in rows}
     assert methods == {"anytip_onnx", "anytip_c", "anytip_c_int8", "anytip_firmware", "emlearn",

@@ -77,11 +77,11 @@ def write_emlearn(loaded: LoadedModels, index: int, net: DeployNet,
         reg.fit(np.zeros((2, sizes[0])), np.zeros((2, sizes[-1])))  # sets the shapes
     reg.coefs_ = [W.astype(np.float32) for W, _ in plain]
     reg.intercepts_ = [b.astype(np.float32) for _, b in plain]
-    out_dir = Path(out_dir)
+    out_dir = Path(out_dir).resolve()  # absolute before the chdir below
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp, contextlib.chdir(tmp):  # emlearn builds a test binary in ./tmp
         emlearn.convert(reg, method="loadable", return_type="regressor").save(
-            file=str((out_dir / "peer_emlearn.h").resolve()), name="peer_emlearn")
+            file=str(out_dir / "peer_emlearn.h"), name="peer_emlearn")
     m_in, s_in = net.in_mean, net.in_std
     s_out = loaded.out_scaler.std[index, 0].double().numpy()
     m_out = loaded.out_scaler.mean[index, 0].double().numpy()
