@@ -83,8 +83,7 @@ def _models(ctx: Context, opts: Options) -> list[tuple[str, str, str | None, int
             continue
         cal = calibrate_unit(c.shared, c.unit, ctx.registry, ctx.run_dir / "calibrated" / c.name,
                              budget_samples=c.budget_samples)
-        folded = cal.path / "model" if (cal.path / "model").is_dir() else cal.path
-        out.append((c.name, str(folded), c.unit, cal.calib_samples))
+        out.append((c.name, str(cal.path), c.unit, cal.calib_samples))  # holds model.safetensors
     return out
 
 
