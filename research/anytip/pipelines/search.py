@@ -91,6 +91,10 @@ def run_trials(url: str, opts: SearchOptions, objective, workers: int) -> float:
             p.start()
         for p in procs:
             p.join()
+        # a worker that died (killed, or a storage error) leaves trials undone: finish them here
+        left = remaining(open_study(url, opts.study_name, opts), opts.n_trials)
+        if left:
+            _worker(url, opts.study_name, opts, objective, left, workers)
     return time.perf_counter() - start
 
 

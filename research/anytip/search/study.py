@@ -100,8 +100,10 @@ def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0) -> opt
     Each worker samples from its own seed, so parallel workers do not propose the same trial."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
+        # SQLite serialises writers: let concurrent workers wait for the lock instead of failing
+        engine = {"connect_args": {"timeout": 60}} if url.startswith("sqlite") else None
         storage = optuna.storages.RDBStorage(
-            url, heartbeat_interval=opts.heartbeat_s, grace_period=2 * opts.heartbeat_s,
+            url, engine_kwargs=engine, heartbeat_interval=opts.heartbeat_s, grace_period=2 * opts.heartbeat_s,
             heartbeat_stale_trial_callback=optuna.storages.RetryHeartbeatStaleTrialCallback(max_retry=1))
     sampler = optuna.samplers.TPESampler(seed=opts.seed * 1000 + worker,
                                          n_startup_trials=min(8, opts.n_trials))
