@@ -7,6 +7,7 @@ import subprocess
 import sys
 import threading
 import time
+from contextlib import closing
 from pathlib import Path
 
 import pytest
@@ -135,3 +136,28 @@ def test_writer_waits_for_a_held_write_lock_and_readers_do_not(tmp_path):
     assert time.monotonic() - started >= 0.5
     holder.close()
     assert reg.units() == ["FT-1", "FT-2"]
+
+
+OPENER = """
+import os, sys, time
+from anytip.data.registry import Registry
+while not os.path.exists(sys.argv[2]):
+    time.sleep(0.001)
+Registry(sys.argv[1])
+"""
+
+
+def test_many_processes_create_one_registry_at_once(tmp_path):
+    # The first connections race to create the catalog and switch it to WAL.
+    for attempt in range(3):
+        root, go = tmp_path / f"reg{attempt}", tmp_path / f"go{attempt}"
+        procs = [subprocess.Popen([sys.executable, "-c", OPENER, str(root), str(go)],
+                                  stderr=subprocess.PIPE, text=True) for _ in range(6)]
+        time.sleep(1.0)
+        go.touch()
+        for proc in procs:
+            _, err = proc.communicate(timeout=120)
+            assert proc.returncode == 0, err
+        with closing(catalog.connect(root / "catalog.sqlite")) as conn:
+            assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+            assert conn.execute("PRAGMA user_version").fetchone()[0] == catalog.SCHEMA_VERSION

@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import re
 import sqlite3
+import time
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass, fields
 from datetime import UTC, datetime
@@ -134,18 +135,43 @@ def record_for(run: CalibrationRun, run_id: str, sha256: str, imported_at: str) 
     )
 
 
+def _enable_wal(conn: sqlite3.Connection, db_path: Path) -> None:
+    """Switch the catalog to WAL, retrying while another connection holds the file.
+
+    SQLite returns SQLITE_BUSY for a journal-mode change without calling the busy
+    handler when a second process is creating the same file, so the timeout set on
+    the connection does not cover it.
+    """
+    deadline = time.monotonic() + BUSY_TIMEOUT_S
+    delay = 0.005
+    while True:
+        try:
+            conn.execute("PRAGMA journal_mode = WAL")
+            return
+        except sqlite3.OperationalError as err:
+            if "locked" not in str(err) and "busy" not in str(err):
+                raise
+            if time.monotonic() > deadline:
+                raise AnytipError(f"{db_path}: catalog locked for {BUSY_TIMEOUT_S:.0f} s") from err
+            time.sleep(delay)
+            delay = min(delay * 2, 0.2)
+
+
 def connect(db_path: Path) -> sqlite3.Connection:
     """Open (creating if needed) the catalog in autocommit mode; transactions are explicit."""
     conn = sqlite3.connect(db_path, timeout=BUSY_TIMEOUT_S, isolation_level=None)
     conn.execute(f"PRAGMA busy_timeout = {int(BUSY_TIMEOUT_S * 1000)}")
-    conn.execute("PRAGMA journal_mode = WAL")
+    _enable_wal(conn, db_path)
     conn.execute("PRAGMA synchronous = FULL")
     version = conn.execute("PRAGMA user_version").fetchone()[0]
     if version == 0:
         conn.execute("BEGIN IMMEDIATE")
-        for statement in SCHEMA.split(";"):
-            conn.execute(statement)
-        conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        version = conn.execute("PRAGMA user_version").fetchone()[0]  # another process may have won
+        if version == 0:
+            for statement in SCHEMA.split(";"):
+                conn.execute(statement)
+            conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+            version = SCHEMA_VERSION
         conn.execute("COMMIT")
     elif version != SCHEMA_VERSION:
         conn.close()
