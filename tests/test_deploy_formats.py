@@ -58,7 +58,7 @@ def test_c_float_matches_and_uses_no_heap_or_libm(model_path, tmp_path):
     assert "#define ANYTIP_N_INPUTS 8" in header and "#define ANYTIP_N_OUTPUTS 5" in header
     assert "void anytip_infer(const float *in, float *out);" in header
     assert not re.search(r"malloc|free\(|#include <math|fmaxf|expf|sqrtf", source)
-    assert "static const float L0[" in source
+    assert "static const float P[" in source
     x = synthetic_x()
     assert rel_err(run_c(c, x, 5), model_predict(loaded, i, x), net.out_scale) <= 1e-5
 
@@ -86,6 +86,33 @@ def test_rounding_search_lowers_the_error_against_float(tmp_path):
     after = refine_rounding(q, net, x, layer=0, passes=1, rows=300)
     assert after < before
     assert np.abs(q.layers[0].q_w.astype(int)).max() <= 127
+
+
+@pytest.mark.parametrize("layer", [0, 1, 2, 3])
+def test_rounding_search_scores_moves_as_the_whole_network_would(tmp_path, layer):
+    """The search scores each move by rank-one updates; its loss equals a full int8 forward pass."""
+    net, _, _ = load_deploy_net(save_baseline(tmp_path))
+    x = synthetic_x(800, seed=3)
+    q = quantize(net, x)
+    rows = x[np.unique(np.linspace(0, len(x) - 1, 200).round().astype(int))]
+
+    def loss() -> float:
+        return float((((simulate(q, rows) - net.forward(rows)) / net.out_scale) ** 2).mean())
+
+    before = loss()
+    after = refine_rounding(q, net, x, layer=layer, passes=1, rows=200)
+    assert after == pytest.approx(loss(), rel=1e-9) and after <= before
+
+
+def test_affine_refit_brings_each_layer_closer_to_the_float_network(tmp_path, monkeypatch):
+    net, _, _ = load_deploy_net(save_baseline(tmp_path))
+    x = synthetic_x(1000, seed=4)
+    monkeypatch.setattr(quantize_mod, "REFINE", ())
+    errs = {}
+    for refit in (False, True):
+        monkeypatch.setattr(quantize_mod, "REFIT", refit)
+        errs[refit] = float(((simulate(quantize(net, x), x) - net.forward(x)) ** 2).mean())
+    assert errs[True] < errs[False]
 
 
 def test_int8_words_hold_each_weight_once():

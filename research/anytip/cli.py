@@ -127,15 +127,18 @@ def cmd_export_model(args: argparse.Namespace) -> int:
     root = Path(args.registry) if args.registry else default_registry_path()
     registry = Registry(root, create=False) if root.is_dir() else None
     formats = [f for f in FORMATS if f != "model"] if args.format == "all" else [args.format]
+    held_out = args.held_out or "auto"
     failed = 0
     for fmt in formats:
         out = Path(args.out) / fmt if len(formats) > 1 else Path(args.out)
         r = export_model(args.model, fmt, out, unit=args.unit, registry=registry, rows=args.rows,
-                         embedded_checks=not args.no_embedded)
+                         embedded_checks=not args.no_embedded, held_out=held_out)
         failed += not r["passed"]
         print(f"{fmt}: unit {r['unit']} -> {out} ({', '.join(r['files'])}); verification "
               f"{'passed' if r['passed'] else 'FAILED'} on {r['reference']['source']} rows, "
               f"report {out / 'verification.json'}")
+        if r["reference"].get("warning"):
+            print(f"warning: {r['reference']['warning']}", file=sys.stderr)
     return 1 if failed else 0
 
 
@@ -214,6 +217,9 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--out", required=True, help="output directory (one sub-directory per format for 'all')")
     exp.add_argument("--unit", default=None, help="which unit of the model file (default: the first)")
     exp.add_argument("--rows", type=int, default=20000, help="reference rows to verify on")
+    exp.add_argument("--held-out", default=None, metavar="RUN_DIR[:SEED]",
+                     help="score RMSE on the rows this cross_sensor or baseline run held out from the "
+                          "model (default: found from the model file's run directory or metadata)")
     exp.add_argument("--no-embedded", action="store_true",
                      help="skip the Cortex-M4F cross-compile and emulator measurements")
     exp.set_defaults(func=cmd_export_model)

@@ -1,11 +1,13 @@
 """C99 export (float32): `anytip_model.h` + `anytip_model.c`, static const weights, no heap, no libm.
 
 `void anytip_infer(const float *in, float *out)` maps ANYTIP_N_INPUTS tared pressures (Pa) to
-ANYTIP_N_OUTPUTS outputs in N and rad, like the ONNX export. Each layer is one table: its biases,
-then its weights in blocks of 8 output channels (the remainder one by one), input-major within a
-block, so the inner loop reads one input and a contiguous run of weights for 8 accumulators (about
-2.5 instructions per MAC on a Cortex-M4F with fused multiply-adds; 3.0 for the whole paper-size
-network). Activations live in two static buffers (bss).
+ANYTIP_N_OUTPUTS outputs in N and rad, like the ONNX export. One table P holds every layer in turn:
+its biases, then its weights in blocks of 8 output channels (the remainder one by one), input-major
+within a block, so the inner loop reads one input and a contiguous run of weights for 8 accumulators
+(about 2.5 instructions per MAC on a Cortex-M4F with fused multiply-adds; 3.0 for the whole
+paper-size network). One `dense` function serves every layer and returns where the next layer's
+table starts; it is compiled for size (GCC's optimize("Os")), which keeps the -O2 inner loop and
+drops set-up code. Activations live in two static buffers (bss).
 """
 
 from __future__ import annotations
@@ -63,18 +65,18 @@ void anytip_infer(const float *in, float *out);
 
 
 def _block_loop(size: int) -> str:
-    """The kernel's loop over output blocks of `size` channels (`size` accumulators)."""
+    """The kernel's loop over output blocks of `size` channels (`size` accumulators); y and b advance."""
     if size == 1:
-        return """    for (; o < n_out; o++) {
-        float a = b[o];
+        return """    for (; y < end; y++) {
+        float a = *b++;
         for (i = 0; i < n_in; i++) a += *w++ * x[i];
-        y[o] = a;
+        *y = a;
     }
 """
-    acc = ", ".join(f"a{j} = b[o + {j}]" for j in range(size))
+    acc = ", ".join(f"a{j} = b[{j}]" for j in range(size))
     mac = " ".join(f"a{j} += w[{j}] * v;" for j in range(size))
-    store = " ".join(f"y[o + {j}] = a{j};" for j in range(size))
-    return f"""    for (; o + {size} <= n_out; o += {size}) {{
+    store = " ".join(f"y[{j}] = a{j};" for j in range(size))
+    return f"""    for (; y + {size} <= end; y += {size}, b += {size}) {{
         float {acc};
         for (i = 0; i < n_in; i++, w += {size}) {{
             const float v = x[i];
@@ -85,39 +87,74 @@ def _block_loop(size: int) -> str:
 """
 
 
-def kernel_f32() -> str:
-    """y[o] = act(b[o] + sum_i x[i] w[i][o]) over the output blocks of BLOCKS (see pack_blocks)."""
+# Activation loops over y[0 .. n_out), by the code `dense` gets: 1 the hidden activation, 2 ReLU.
+# ReLU clears a float whose sign bit is set (an integer AND: smaller than a float compare and select).
+ACT_LOOPS = {
+    "relu": """for (y = y0; y < end; y++) {
+            uint32_t u;
+            memcpy(&u, y, sizeof u);
+            u &= ~(uint32_t)((int32_t)u >> 31);
+            memcpy(y, &u, sizeof u);
+        }""",
+    "leaky_relu": "for (y = y0; y < end; y++) *y = *y > 0.0f ? *y : 0.01f * *y;",
+    "hardswish": """for (y = y0; y < end; y++) {
+            const float t = *y + 3.0f;
+            *y = *y * (t < 0.0f ? 0.0f : t > 6.0f ? 6.0f : t) * (1.0f / 6.0f);
+        }""",
+}
+
+
+def _act_code(net: DeployNet) -> str:
+    """The activation step of `dense`: the hidden activation for act 1, ReLU for act 2."""
+    lines = f"    if (act == 1)\n        {ACT_LOOPS[net.activation]}\n"
+    if net.output_relu and net.activation != "relu":
+        lines += f"    else if (act == 2)\n        {ACT_LOOPS['relu']}\n"
+    return lines
+
+
+def kernel_f32(net: DeployNet) -> str:
+    """y[o] = act(b[o] + sum_i x[i] w[i][o]) over the output blocks of BLOCKS (see pack_blocks).
+
+    Compiled for size (GCC's optimize("Os")): the same inner loop as -O2 with less set-up code."""
     loops = "".join(_block_loop(size) for size in BLOCKS)
     return f"""
+#if defined(__GNUC__) && !defined(__clang__)
+#define ANYTIP_SMALL __attribute__((optimize("Os")))
+#else
+#define ANYTIP_SMALL
+#endif
+
 /* y[o] = act(b[o] + sum_i x[i] w[i][o]); b holds the n_out biases, then the weights in output
- * blocks of {", ".join(map(str, BLOCKS))} (see pack_blocks). */
-static void dense(const float *x, const float *b, float *y, int n_in, int n_out, int relu)
+ * blocks of {", ".join(map(str, BLOCKS))} (see pack_blocks). Returns the end of the table (the next
+ * layer's). act: 0 none, 1 the hidden activation ({net.activation}), 2 ReLU. */
+ANYTIP_SMALL static const float *dense(const float *x, const float *b, float *y, int n_in, int n_out,
+                                       int act)
 {{
     const float *w = b + n_out;
-    int o = 0, i;
-{loops}    if (relu)
-        for (o = 0; o < n_out; o++) y[o] = y[o] > 0.0f ? y[o] : 0.0f;
+    float *const y0 = y, *const end = y + n_out;
+    int i;
+{loops}{_act_code(net)}    return w;
 }}
 """
 
 
 def _layer_tables(net: DeployNet) -> str:
-    out = []
-    for k, (W, b) in enumerate(net.layers):
-        params = np.concatenate([b, pack_blocks(W)])
-        out.append(f"static const float L{k}[{params.size}] = {{ /* {b.size} biases, then the weights */\n"
-                   f"{c_floats(params)}\n}};")
-    return "\n".join(out)
+    """All layers in one table P: per layer its biases, then its weights (see pack_blocks)."""
+    params = np.concatenate([np.concatenate([b, pack_blocks(W)]) for W, b in net.layers])
+    sizes = ", ".join(f"{W.shape[0]}-{W.shape[1]}" for W, _ in net.layers)
+    return f"static const float P[{params.size}] = {{ /* layers {sizes}: biases, then weights */\n" \
+           f"{c_floats(params)}\n}};"
 
 
 def _infer_body(net: DeployNet, dense: str = "dense") -> str:
     """Calls of `dense` alternating between the two static buffers, the last into `out`."""
-    lines, src = [], "in"
+    lines, src = ["    const float *p = P;"], "in"
     last = len(net.layers) - 1
     for k, (W, _) in enumerate(net.layers):
         dst = "out" if k == last else ("buf_a" if k % 2 == 0 else "buf_b")
-        relu = int(k < last or net.output_relu)
-        lines.append(f"    {dense}({src}, L{k}, {dst}, {W.shape[0]}, {W.shape[1]}, {relu});")
+        act = 1 if k < last else (2 if net.output_relu else 0)
+        call = f"{dense}({src}, p, {dst}, {W.shape[0]}, {W.shape[1]}, {act});"
+        lines.append(f"    {call}" if k == last else f"    p = {call}")
         src = dst
     if net.output_relu:
         lines.append("    for (int o = 0; o < ANYTIP_N_OUTPUTS; o++) out[o] += OUT_OFFSET[o];")
@@ -143,12 +180,14 @@ def _buffers(net: DeployNet, width: int) -> str:
 def render_source(net: DeployNet) -> str:
     width = buffer_width(net)
     return f"""/* anytip contact model, unit {net.unit}: float32 weights. Generated by `anytip export`. */
+#include <stdint.h>
+#include <string.h>
 #include "{HEADER}"
 
 {_layer_tables(net)}
 {_offset_table(net)}
 {_buffers(net, width)}
-{kernel_f32()}
+{kernel_f32(net)}
 void anytip_infer(const float *in, float *out)
 {{
 {_infer_body(net)}

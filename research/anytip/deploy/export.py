@@ -18,8 +18,11 @@ import numpy as np
 from anytip.deploy import embedded, firmware
 from anytip.deploy.c_export import buffer_width, write_c
 from anytip.deploy.c_int8 import write_c_int8
+from anytip.deploy.held_out import HeldOut, parse_spec
+from anytip.deploy.held_out import for_model as held_out_for
+from anytip.deploy.held_out import from_run as held_out_from_run
 from anytip.deploy.native import run_c
-from anytip.deploy.net import DeployNet, deploy_net, model_predict, unit_index
+from anytip.deploy.net import DeployNet, deploy_net, model_predict, require_relu, unit_index
 from anytip.deploy.onnx_export import run_onnx, write_onnx
 from anytip.deploy.quantize import quantize, simulate
 from anytip.deploy.reference import Reference, registry_reference, synthetic_reference
@@ -111,23 +114,33 @@ class Prepared:
 
 
 def prepare(model: str | Path, unit: str | None = None, registry=None, rows: int = 20000,
-            patches: list[int] | None = None, protocols: list[str] | None = None) -> Prepared:
-    """Load `model` (or import a firmware JSON), pick `unit`, fold it and choose reference rows
-    (the unit's registry rows, restricted to `protocols` and held-out `patches` when given)."""
+            held_out: HeldOut | str | None = "auto") -> Prepared:
+    """Load `model` (or import a firmware JSON), pick `unit`, fold it and choose reference rows: the
+    unit's registry rows the model never trained on (`held_out`; "auto": what the model file's run
+    directory or metadata tell; "RUN_DIR[:SEED]": what that run held out, see
+    `anytip.deploy.held_out`; None: all its rows), or synthetic inputs without a registry."""
     loaded = load_any(model)
     index = unit_index(loaded, unit, model)
     net = deploy_net(loaded, index, model)
-    ref = (registry_reference(registry, net.unit, rows, patches=patches, protocols=protocols)
+    why = ""
+    if held_out == "auto":
+        held_out, why = held_out_for(model, loaded, index, net.unit, registry)
+    elif isinstance(held_out, str):
+        held_out = held_out_from_run(*parse_spec(held_out), net.unit, index, registry)
+    ref = (registry_reference(registry, net.unit, rows, held_out=held_out)
            if registry is not None else None) or synthetic_reference(net, min(rows, 4000))
+    if ref.may_include_training_rows and why:
+        ref.note += f"; no held-out rows known: {why}"
     return Prepared(str(model), loaded, index, net, ref, model_predict(loaded, index, ref.x))
 
 
 def export_model(model: str | Path, fmt: str, out_dir: str | Path, unit: str | None = None,
-                 registry=None, rows: int = 20000, embedded_checks: bool = True) -> dict[str, Any]:
+                 registry=None, rows: int = 20000, embedded_checks: bool = True,
+                 held_out: HeldOut | str | None = "auto") -> dict[str, Any]:
     """Export one unit in `fmt` into out_dir and write out_dir/verification.json; returns the report."""
     if fmt not in FORMATS:
         raise AnytipError(f"--format {fmt!r} is not one of {', '.join(FORMATS)}")
-    return export_prepared(prepare(model, unit, registry, rows), fmt, out_dir, embedded_checks)
+    return export_prepared(prepare(model, unit, registry, rows, held_out), fmt, out_dir, embedded_checks)
 
 
 def export_prepared(p: Prepared, fmt: str, out_dir: str | Path,
@@ -177,11 +190,18 @@ def _c(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
     return rep
 
 
-def _c_int8(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+def quantize_reference(net: DeployNet, ref: Reference, y_model: np.ndarray):
+    """The int8 network calibrated on the reference's calibration rows (disjoint from the scored
+    rows); its rounding weighs each output by the float model's RMSE there when there are targets."""
+    require_relu(net, "c-int8")
     err_scale = None
     if ref.targets is not None:  # the float model's RMSE per output on the calibration rows
         err_scale = np.sqrt(((y_model[ref.cal] - ref.targets[ref.cal]) ** 2).mean(0))
-    q = quantize(net, ref.x[ref.cal], err_scale)
+    return quantize(net, ref.x[ref.cal], err_scale)
+
+
+def _c_int8(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    q = quantize_reference(net, ref, y_model)
     h, c = write_c_int8(q, net, out_dir)
     ev = ref.eval_rows
     y_c = run_c(c, ref.x[ev], net.n_outputs)
@@ -198,6 +218,7 @@ def _c_int8(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
 
 
 def _firmware(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    require_relu(net, "firmware")
     nets = {net.unit: firmware.to_firmware(loaded, index, net, ref.x, targets=ref.targets)}
     path = firmware.write_firmware_json(out_dir / "firmware.json", nets, firmware.DESCRIPTION)
     c_path = firmware.write_firmware_c(out_dir / "anytip_firmware_net.c", nets[net.unit], net.unit)

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from anytip.deploy.net import DeployNet
+from anytip.deploy.net import DeployNet, require_relu
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels
 from anytip.models.mlp import BatchedMLP, MLPConfig
@@ -142,6 +142,7 @@ def to_firmware(loaded: LoadedModels, index: int, net: DeployNet, x_ref: np.ndar
     (B, 5) if given, maxims[k] as far above the highest. A model with an output ReLU of its own
     is written as is.
     """
+    require_relu(net, "firmware")
     if tuple(loaded.model.config.sizes) != SIZES:
         raise AnytipError(f"the firmware struct holds an MLP of sizes {SIZES}, "
                           f"this model has {tuple(loaded.model.config.sizes)}")

@@ -1,8 +1,10 @@
 """One unit of a saved model as plain float64 arrays, with its scalers folded into the layers.
 
 A `DeployNet` computes, for tared pressures x (B, 8) in Pa:
-    h = x @ W[0] + b[0];  h = relu(h) between layers;  h = relu(h) after the last layer if
+    h = x @ W[0] + b[0];  h = act(h) between layers;  h = relu(h) after the last layer if
     `output_relu`;  y = h + out_offset
+where act is `activation`: relu, leaky_relu (negative slope 0.01) or hardswish
+(x * clamp(x + 3, 0, 6) / 6), as torch defines them.
 with y (B, 5) in physical units (N, rad). The input standardisation is folded into W[0], b[0] and
 the output scale into W[-1], b[-1]; `out_offset` is the output mean when an output ReLU keeps it
 from being folded (it is zero otherwise).
@@ -19,6 +21,27 @@ import torch
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models
 
+ACTIVATIONS = ("relu", "leaky_relu", "hardswish")
+LEAKY_SLOPE = 0.01  # torch's default negative slope
+
+
+def activate(h: np.ndarray, activation: str) -> np.ndarray:
+    """A hidden activation of ACTIVATIONS, elementwise, in h's dtype."""
+    if activation == "relu":
+        return np.maximum(h, 0)
+    if activation == "leaky_relu":
+        return np.where(h > 0, h, h * h.dtype.type(LEAKY_SLOPE))
+    if activation == "hardswish":
+        return h * np.clip(h + 3, 0, 6) / 6
+    raise AnytipError(f"activation {activation!r} does not export (exportable: {', '.join(ACTIVATIONS)})")
+
+
+def require_relu(net: DeployNet, fmt: str) -> None:
+    """Formats whose arithmetic assumes ReLU (int8 requantisation, the firmware struct) refuse others."""
+    if net.activation != "relu":
+        raise AnytipError(f"unit {net.unit}: --format {fmt} supports ReLU networks only; this model's "
+                          f"hidden activation is {net.activation!r} (export it as onnx or c)")
+
 
 @dataclass
 class DeployNet:
@@ -32,6 +55,7 @@ class DeployNet:
     in_std: np.ndarray  # (in,) Pa
     output_names: list[str] = field(default_factory=list)
     unit: str = ""
+    activation: str = "relu"  # hidden layers' activation, one of ACTIVATIONS
 
     @property
     def n_inputs(self) -> int:
@@ -55,7 +79,9 @@ class DeployNet:
         h = np.asarray(x, dtype=dtype)
         for k, (W, b) in enumerate(self.layers):
             h = h @ W.astype(dtype) + b.astype(dtype)
-            if k < len(self.layers) - 1 or self.output_relu:
+            if k < len(self.layers) - 1:
+                h = activate(h, self.activation)
+            elif self.output_relu:
                 h = np.maximum(h, 0)
         return h + self.out_offset.astype(dtype)
 
@@ -71,10 +97,12 @@ def unit_index(loaded: LoadedModels, unit: str | None, path: str | Path = "model
 
 
 def deploy_net(loaded: LoadedModels, index: int = 0, path: str | Path = "model") -> DeployNet:
-    """Fold model `index`'s scalers into its layers (float64). Only ReLU networks deploy."""
+    """Fold model `index`'s scalers into its layers (float64). Hidden activations of ACTIVATIONS,
+    output activation none or ReLU."""
     cfg = loaded.model.config
-    if cfg.activation != "relu" or cfg.output_activation not in (None, "relu"):
-        raise AnytipError(f"{path}: only ReLU networks export (activation {cfg.activation!r}, "
+    if cfg.activation not in ACTIVATIONS or cfg.output_activation not in (None, "relu"):
+        raise AnytipError(f"{path}: only {', '.join(ACTIVATIONS)} hidden activations and no or a ReLU "
+                          f"output activation export (activation {cfg.activation!r}, "
                           f"output_activation {cfg.output_activation!r})")
     layers = [(W.double().cpu().numpy(), b.double().cpu().numpy()) for W, b in loaded.model.to_plain(index)]
     m_in, s_in = (t[index, 0].double().cpu().numpy() for t in (loaded.in_scaler.mean, loaded.in_scaler.std))
@@ -89,7 +117,7 @@ def deploy_net(loaded: LoadedModels, index: int = 0, path: str | Path = "model")
     layers[-1] = (Wl * s_out, bl * s_out + (0.0 if relu_out else m_out))
     ids = [str(u) for u in loaded.meta.get("unit_ids") or range(loaded.model.n_models)]
     return DeployNet(layers, relu_out, m_out if relu_out else np.zeros_like(m_out), s_out, m_in, s_in,
-                     list(loaded.meta.get("output_names") or []), ids[index])
+                     list(loaded.meta.get("output_names") or []), ids[index], cfg.activation)
 
 
 def load_deploy_net(path: str | Path, unit: str | None = None) -> tuple[DeployNet, LoadedModels, int]:

@@ -12,15 +12,28 @@ import numpy as np
 import onnx
 from onnx import TensorProto, helper, numpy_helper
 
-from anytip.deploy.net import DeployNet
+from anytip.deploy.net import LEAKY_SLOPE, DeployNet
+from anytip.errors import AnytipError
 
 OPSET = 18
 IR_VERSION = 9  # readable by every onnxruntime that runs opset 18
 INPUT, OUTPUT = "pressure", "contact"
 
 
+def _activation_node(activation: str, x: str, y: str, k: int) -> onnx.NodeProto:
+    """Relu, LeakyRelu (alpha 0.01) or HardSwish (opset 14+; x * clip(x + 3, 0, 6) / 6)."""
+    if activation == "relu":
+        return helper.make_node("Relu", [x], [y], name=f"relu{k}")
+    if activation == "leaky_relu":
+        return helper.make_node("LeakyRelu", [x], [y], name=f"leaky_relu{k}", alpha=LEAKY_SLOPE)
+    if activation == "hardswish":
+        return helper.make_node("HardSwish", [x], [y], name=f"hardswish{k}")
+    raise AnytipError(f"activation {activation!r} has no ONNX export")
+
+
 def build_onnx(net: DeployNet) -> onnx.ModelProto:
-    """The network as an ONNX graph: Gemm layers (float32), Relu between, output offset."""
+    """The network as an ONNX graph: Gemm layers (float32), the hidden activation between, output
+    offset."""
     nodes, inits = [], []
     h = INPUT
     last = len(net.layers) - 1
@@ -30,7 +43,7 @@ def build_onnx(net: DeployNet) -> onnx.ModelProto:
         out = f"z{k}"
         nodes.append(helper.make_node("Gemm", [h, f"W{k}", f"b{k}"], [out], name=f"dense{k}"))
         if k < last or net.output_relu:
-            nodes.append(helper.make_node("Relu", [out], [f"h{k}"], name=f"relu{k}"))
+            nodes.append(_activation_node(net.activation if k < last else "relu", out, f"h{k}", k))
             out = f"h{k}"
         h = out
     if net.output_relu:

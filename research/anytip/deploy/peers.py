@@ -67,8 +67,9 @@ def write_emlearn(loaded: LoadedModels, index: int, net: DeployNet,
     emlearn = _import_emlearn()
     from sklearn.neural_network import MLPRegressor
 
-    if loaded.model.config.output_activation is not None:
-        raise AnytipError("the emlearn peer takes models without an output activation")
+    if loaded.model.config.output_activation is not None or net.activation != "relu":
+        raise AnytipError("the emlearn peer takes ReLU models without an output activation "
+                          f"(this one: {net.activation!r}, output {loaded.model.config.output_activation!r})")
     plain = _standardised(loaded, index)
     sizes = [plain[0][0].shape[0]] + [W.shape[1] for W, _ in plain]
     reg = MLPRegressor(hidden_layer_sizes=tuple(sizes[1:-1]), activation="relu", max_iter=1)

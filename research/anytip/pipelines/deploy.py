@@ -11,13 +11,14 @@ held-out patches when `held_out` names the cross_sensor run that recorded them).
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict
 
 from anytip.deploy.export import Prepared, export_prepared, prepare
+from anytip.deploy.held_out import HeldOut as HeldOutRows
+from anytip.deploy.held_out import from_run as held_out_from_run
 from anytip.deploy.peers import PEERS, measure_peer
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, validate_options
@@ -42,10 +43,10 @@ class CalibrateEntry(BaseModel):
 
 
 class HeldOut(BaseModel):
-    """Score on a unit's held-out patches as a cross_sensor run recorded them."""
+    """Score on a unit's held-out patches as a cross_sensor (or baseline) run drew them."""
 
     model_config = ConfigDict(extra="forbid")
-    run: str  # a cross_sensor run directory
+    run: str  # a cross_sensor or baseline run directory
     seed: int
     protocols: list[str] = ["full"]  # runs whose rows are scored (not the calibration protocol)
 
@@ -87,17 +88,14 @@ def _models(ctx: Context, opts: Options) -> list[tuple[str, str, str | None, int
     return out
 
 
-def _held_out(opts: Options, unit: str | None) -> tuple[list[int] | None, list[str] | None]:
-    """(patches, protocols) of the unit's held-out rows, or (None, None) for all its rows."""
+def _held_out(opts: Options, unit: str | None, registry) -> HeldOutRows | str:
+    """The unit's held-out rows of options.held_out, or "auto" (what the model file tells)."""
     h = opts.held_out
     if h is None or unit is None:
-        return None, None
-    path = Path(h.run) / "provenance.json"
-    try:
-        patches = json.loads(path.read_text())["cross_sensor"][f"seed{h.seed}"]["test_patches"][unit]
-    except (OSError, ValueError, KeyError) as e:
-        raise AnytipError(f"{path}: no held-out patches of unit {unit!r} for seed {h.seed} ({e!r})") from None
-    return list(patches), list(h.protocols)
+        return "auto"
+    rows = held_out_from_run(h.run, h.seed, unit, registry=registry)
+    rows.protocols = list(h.protocols)
+    return rows
 
 
 def _row(name: str, method: str, p: Prepared, samples: int, seed: int, rep: dict[str, Any]) -> dict[str, Any]:
@@ -122,7 +120,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     opts = parse_options(ctx)
     rows: list[dict[str, Any]] = []
     for name, path, unit, samples in _models(ctx, opts):
-        p = prepare(path, unit, ctx.registry, opts.rows, *_held_out(opts, unit))
+        p = prepare(path, unit, ctx.registry, opts.rows, _held_out(opts, unit, ctx.registry))
         out = ctx.run_dir / "exports" / name
         for fmt in opts.formats:
             rep = export_prepared(p, fmt, out / fmt)
@@ -155,8 +153,9 @@ def report(rows: list[dict[str, Any]], skipped: list[str]) -> str:
              "(float64) over the reference rows, divided by the output's scale; float exports and "
              "peers are marked verified at <= 1e-5 (int8: verified when its C equals its numpy "
              "model and the RMSE increase over float is within 2%). RMSE on the scored reference "
-             "rows: 'held-out patches' are rows of patches the model never trained on (options."
-             "held_out); plain 'registry' rows may include training rows.", ""]
+             "rows: 'registry, held out' rows are rows the model never trained on (options.held_out, or what "
+             "the model file's run directory or metadata tell); plain 'registry' rows may include "
+             "training rows.", ""]
     for name in dict.fromkeys(r["model"] for r in rows):
         rs = [r for r in rows if r["model"] == name]
         parts += [f"## {name} (unit {rs[0]['unit']}, {rs[0]['macs']} MACs, reference rows: "
