@@ -51,3 +51,23 @@ def test_estimate_tracks_the_compiled_code(budget, sizes):
     if m.measured_instructions:
         assert abs(m.instructions - e.instructions) <= 0.12 * m.instructions
     assert cost(sizes, budget).measured_sizes
+
+
+def test_activation_costs_and_libm_activations_refused(budget):
+    relu, hs = estimate(PAPER, budget), estimate(PAPER, budget, "hardswish")
+    assert hs.instructions > estimate(PAPER, budget, "leaky_relu").instructions > relu.instructions
+    assert hs.activation == "hardswish" and hs.macs == relu.macs
+    with pytest.raises(AnytipError, match="'tanh' does not export.*leaky_relu"):
+        cost(PAPER, budget, activation="tanh")
+
+
+@pytest.mark.skipif(toolchain_missing() is not None, reason=str(toolchain_missing()))
+@pytest.mark.parametrize("activation", ["leaky_relu", "hardswish"])
+def test_activation_code_is_compiled_and_counted(budget, activation):
+    sizes = (8, 32, 32, 5)
+    m, r, e = measure(sizes, budget, activation=activation), measure(sizes, budget), estimate(sizes, budget,
+                                                                                            activation)
+    assert m.activation == activation and m.flash_bytes > r.flash_bytes
+    if m.measured_instructions:
+        assert m.instructions > r.instructions
+        assert abs(m.instructions - e.instructions) <= 0.12 * m.instructions

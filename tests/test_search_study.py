@@ -10,7 +10,9 @@ import time
 from pathlib import Path
 
 import optuna
+import pytest
 
+from anytip.errors import AnytipError
 from anytip.runner import run_experiment
 from anytip.search.budget import load_budget
 
@@ -83,3 +85,55 @@ def test_a_killed_study_resumes(small_registry, tmp_path):
     assert optuna.trial.TrialState.FAIL in states and optuna.trial.TrialState.RUNNING not in states
     finished = [s for s in states if s in (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED)]
     assert len(finished) == 3
+
+
+def test_activation_and_feature_dimensions(small_registry, tmp_path):
+    run = run_experiment(SPEC, small_registry, out=tmp_path / "a", progress=False, overrides=[
+        *TINY, "options.n_trials=3", "options.activations=[leaky_relu,hardswish]",
+        "options.features=[neighbour_diffs]"])
+    done = [t for t in trials(run) if t.state == optuna.trial.TrialState.COMPLETE]
+    assert done and all(t.params["activation"] in ("leaky_relu", "hardswish") for t in done)
+    assert all(t.params["features"] == "neighbour_diffs" for t in done)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    # the paper's ReLU MLP is outside the space; the best member is also scored with raw inputs and ReLU
+    assert rows and {r["method"] for r in rows} == {"search", "ablation"}
+    for r in rows:
+        assert r["sizes"][0] == 8 and r["force_rmse_n"] > 0
+        assert r["features"] == "neighbour_diffs" or r["method"] == "ablation"
+    ablated = {(r["trial"], r["activation"], r["features"]) for r in rows if r["method"] == "ablation"}
+    assert len(ablated) == 2 and {a[1:] for a in ablated} >= {("relu", "neighbour_diffs")}
+
+
+def test_shared_family_scores_only_search_units(small_registry, tmp_path):
+    run = run_experiment(SPEC, small_registry, out=tmp_path / "sh", progress=False, overrides=[
+        *TINY, "options.family=shared", "options.n_search_units=2", "options.n_test_units=2",
+        "options.n_trials=3", "options.calib_samples=200", "options.adapter_steps=10",
+        "options.max_train_rows=1000", "options.adapters=[input_diag,input_affine+film]"])
+    prov = json.loads((run / "provenance.json").read_text())["search"]
+    search, test, train = set(prov["search_units"]), set(prov["test_units"]), set(prov["train_units"])
+    assert prov["family"] == "shared" and len(train) == 4
+    assert search.isdisjoint(test) and train.isdisjoint(search | test)
+    done = [t for t in trials(run) if t.state == optuna.trial.TrialState.COMPLETE]
+    scored = {u for t in done for u in t.user_attrs["units"]}
+    assert scored == search  # the objective never touched a test (or training) unit
+    assert all(t.params["adapter"] in ("input_diag", "input_affine+film") for t in done)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    assert {r["unit"] for r in rows} == test and "paper_mlp" in {r["method"] for r in rows}
+    for r in rows:
+        assert r["calib_samples"] <= 200 and r["family"] == "shared"
+        assert {"adapter", "activation", "features", "pareto", "macs", "flash_bytes", "ram_bytes"} <= r.keys()
+    paper = next(r for r in rows if r["method"] == "paper_mlp")
+    assert paper["adapter"] == "input_diag" and paper["activation"] == "relu"
+    assert "Family `shared`" in (run / "report.md").read_text()
+
+
+@pytest.mark.parametrize(("override", "message"), [
+    ("options.activations=[relu,tanh]", r"options.*activations.*'tanh'.*need libm"),
+    ("options.features=[raw,pca]", r"options.*features.*unknown input features \['pca'\]"),
+    ("options.family=pooled", r"options.*family"),
+    ("options.adapters=[input_foo]", r"options.*adapters.*unknown part"),
+])
+def test_bad_options_name_the_key(small_registry, tmp_path, override, message):
+    with pytest.raises(AnytipError, match=message):
+        run_experiment(SPEC, small_registry, out=tmp_path / "bad", overrides=[*TINY, override],
+                       progress=False)

@@ -17,9 +17,13 @@ import torch.nn.functional as F
 from pydantic import BaseModel, ConfigDict, field_validator
 from torch import Tensor, nn
 
-Activation = Literal["relu", "tanh", "gelu", "silu"]
-ACTIVATIONS = {"relu": torch.relu, "tanh": torch.tanh, "gelu": F.gelu, "silu": F.silu}
-ACTIVATION_MODULES = {"relu": nn.ReLU, "tanh": nn.Tanh, "gelu": nn.GELU, "silu": nn.SiLU}
+# leaky_relu (negative slope 0.01, torch's default) and hardswish (x * clamp(x + 3, 0, 6) / 6) need
+# only compares, adds and multiplies, so they export without libm; tanh, gelu and silu do not.
+Activation = Literal["relu", "tanh", "gelu", "silu", "leaky_relu", "hardswish"]
+ACTIVATIONS = {"relu": torch.relu, "tanh": torch.tanh, "gelu": F.gelu, "silu": F.silu,
+               "leaky_relu": F.leaky_relu, "hardswish": F.hardswish}
+ACTIVATION_MODULES = {"relu": nn.ReLU, "tanh": nn.Tanh, "gelu": nn.GELU, "silu": nn.SiLU,
+                      "leaky_relu": nn.LeakyReLU, "hardswish": nn.Hardswish}
 
 Plain = list[tuple[Tensor, Tensor]]  # one model as [(W (in, out), b (out,)), ...]
 

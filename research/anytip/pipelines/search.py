@@ -1,9 +1,12 @@
 """Architecture search under the microcontroller's budget (`pipeline: search`).
 
-Units are dealt into search units (the study's objective: their held-out patches) and test
-units (never seen by the study). The study (search/study.py) runs in a storage URL; then the
-paper's MLP and the feasible Pareto front are retrained on the test units and scored on
-their held-out patches, which is what the report's comparison uses.
+`options.family: per_unit` (default): units are dealt into search units (the study's
+objective: their held-out patches) and test units; a candidate is trained per unit.
+`options.family: shared`: units are dealt into training, search and test units; a candidate is a
+shared network trained on the training units, scored on the search units after fitting their
+adapters on a calibration budget (search/shared.py). Either way the test units are never seen by
+the study (search/study.py, run in a storage URL); then the paper's MLP and the feasible Pareto
+front are retrained and scored on the test units, which is what the report's comparison uses.
 """
 
 from __future__ import annotations
@@ -17,7 +20,6 @@ import optuna
 
 from anytip.data.splits import split_units
 from anytip.errors import AnytipError
-from anytip.models.mlp import MLPConfig
 from anytip.pipelines.common import (
     Context,
     load,
@@ -28,20 +30,22 @@ from anytip.pipelines.common import (
     validate_options,
 )
 from anytip.report.search import write_report
-from anytip.search.budget import load_budget
+from anytip.search.budget import cost, load_budget
+from anytip.search.fit import train_candidate
+from anytip.search.shared import prepare_shared, shared_scorer
 from anytip.search.study import (
+    Candidate,
     SearchOptions,
+    candidate_of,
     front_table,
+    is_paper,
     make_objective,
-    mean_scores,
     open_study,
     paper_params,
     remaining,
 )
-from anytip.train.fleet import train_fleet
 from anytip.train.recipe import TrainRecipe
 
-PAPER_SIZES = (8, 12, 64, 64, 5)
 MAX_FRONT = 6  # front members retrained on the test units: the most accurate on the search units
 
 
@@ -53,16 +57,16 @@ def parse_options(ctx: Context) -> SearchOptions:
 
 
 def unit_scorer(ctx: Context, arrays, units: list[str], seed: int):
-    """fit_and_score(config, recipe) -> mean held-out (force, angle) RMSE over `units`."""
+    """fit_and_score(candidate, recipe) -> one held-out-patch score row per unit of `units`, of
+    each unit's own network (features folded into its first layer)."""
     split = per_unit_split(arrays, units, patch_test_mask(ctx.spec.splits.patch_test_fraction, seed),
                            ctx.spec.splits.val_fraction, seed, ctx.device)
 
-    def fit_and_score(config: MLPConfig, recipe: TrainRecipe, per_unit: bool = False):
-        fit = train_fleet(split.data, config, recipe, seed=seed, device=ctx.device)
+    def fit_and_score(cand: Candidate, recipe: TrainRecipe) -> list[dict[str, Any]]:
+        fit = train_candidate(split.data, cand, recipe, seed, ctx.device)
         preds = predict_units(fit, split.X_test)
-        s = [scores(p, y) | {"calib_samples": int(n)}
-             for p, y, n in zip(preds, split.Y_test, split.data.n_train, strict=True)]
-        return s if per_unit else mean_scores(s)
+        return [{"unit": u, "calib_samples": int(n), **scores(p, y)}
+                for u, p, y, n in zip(units, preds, split.Y_test, split.data.n_train, strict=True)]
 
     return fit_and_score
 
@@ -98,33 +102,60 @@ def run_trials(url: str, opts: SearchOptions, objective, workers: int) -> float:
     return time.perf_counter() - start
 
 
+def scorers(ctx: Context, arrays, opts: SearchOptions) -> tuple[Any, Any, dict[str, list[str]]]:
+    """(search-unit scorer, test-unit scorer, unit roles) of the options' family."""
+    seed = ctx.spec.seed
+    if opts.family == "shared":
+        data = prepare_shared(ctx, arrays, opts, seed)
+        roles = {"train_units": data.train_units, "search_units": data.search_units,
+                 "test_units": data.test_units}
+        return (shared_scorer(ctx, arrays, data, opts, data.search_units, seed),
+                shared_scorer(ctx, arrays, data, opts, data.test_units, seed), roles)
+    split = split_units(arrays.units, seed, opts.n_search_units, opts.n_test_units)
+    roles = {"search_units": list(split.val), "test_units": list(split.test)}
+    return (unit_scorer(ctx, arrays, roles["search_units"], seed),
+            unit_scorer(ctx, arrays, roles["test_units"], seed + 1), roles)
+
+
 def run(ctx: Context) -> list[dict[str, Any]]:
     opts, spec = parse_options(ctx), ctx.spec
     workers = opts.workers
     budget = load_budget(opts.budget)
-    arrays = load(ctx, min_units=opts.n_search_units + opts.n_test_units + 1)
-    split = split_units(arrays.units, spec.seed, opts.n_search_units, opts.n_test_units)
-    search_units, test_units = list(split.val), list(split.test)
+    extra = 1 if opts.family == "per_unit" else (opts.n_train_units or 1)
+    arrays = load(ctx, min_units=opts.n_search_units + opts.n_test_units + extra)
+    search_scorer, test_scorer, roles = scorers(ctx, arrays, opts)
     url = opts.storage or f"sqlite:///{ctx.run_dir / 'study.db'}"
     study = open_study(url, opts.study_name, opts)
     paper = paper_params(opts, spec.training)
     if not study.trials and paper is not None:
         study.enqueue_trial(paper)
-    objective = make_objective(unit_scorer(ctx, arrays, search_units, spec.seed), opts, budget,
-                               spec.training)
+    objective = make_objective(search_scorer, opts, budget, spec.training)
     run_trials(url, opts, objective, workers)
     study = open_study(url, opts.study_name, opts)
     wall = study_seconds(study)
-    table = front_table(study)
-    rows = test_rows(ctx, arrays, test_units, table, spec.training)
+    table = [r | {"paper": is_paper(candidate_of(r), opts)} for r in front_table(study)]
+    front = test_candidates(table)
+    front += ablations(front, budget, opts.measure)
+    rows = test_rows(ctx, test_scorer, front, spec.training, opts.family)
     done = sum(t.state == optuna.trial.TrialState.COMPLETE for t in study.trials)
     ctx.provenance["search"] = {
         "storage": url, "study_name": opts.study_name, "workers": workers, "budget": budget.model_dump(),
-        "search_units": search_units, "test_units": test_units, "wall_s": wall,
-        "trials": len(study.trials), "complete": done,
-        "trials_per_hour": 3600 * len(study.trials) / wall if wall > 0 else None, "table": table}
+        "family": opts.family, **roles, "wall_s": wall, "trials": len(study.trials), "complete": done,
+        "trials_per_hour": 3600 * len(study.trials) / wall if wall > 0 else None,
+        "trial_seconds": trial_seconds(study), "table": table}
     write_report(ctx, rows, table, budget)
     return rows
+
+
+def trial_seconds(study: optuna.Study) -> dict[str, float | None]:
+    """Median wall seconds of a complete trial and of a pruned (over-budget) one."""
+    import statistics
+
+    out: dict[str, float | None] = {}
+    for state in (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED):
+        d = [t.duration.total_seconds() for t in study.trials if t.state == state and t.duration]
+        out[state.name.lower()] = statistics.median(d) if d else None
+    return out
 
 
 def study_seconds(study: optuna.Study) -> float:
@@ -134,22 +165,44 @@ def study_seconds(study: optuna.Study) -> float:
     return (max(ends) - min(starts)).total_seconds() if starts and ends else 0.0
 
 
-def test_rows(ctx: Context, arrays, units: list[str], table: list[dict[str, Any]],
-              recipe: TrainRecipe) -> list[dict[str, Any]]:
-    """The paper's MLP and up to MAX_FRONT front members retrained on the test units."""
-    paper = [r for r in table if tuple(r["sizes"]) == PAPER_SIZES][:1]
-    front = sorted((r for r in table if r["pareto"] and tuple(r["sizes"]) != PAPER_SIZES),
+def test_candidates(table: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The paper's MLP and the MAX_FRONT front members most accurate on the search units."""
+    paper = [r | {"method": "paper_mlp"} for r in table if r["paper"]][:1]
+    front = sorted((r for r in table if r["pareto"] and not r["paper"]),
                    key=lambda r: r["force_rmse_n"])[:MAX_FRONT]
-    score = unit_scorer(ctx, arrays, units, ctx.spec.seed + 1)
+    return paper + [r | {"method": "search"} for r in front]
+
+
+def ablations(candidates: list[dict[str, Any]], budget, measure: bool) -> list[dict[str, Any]]:
+    """The most accurate front member with raw pressures instead of its features, and with ReLU
+    instead of its activation (method `ablation`, not front members), costed again."""
+    best = next((r for r in candidates if r["method"] == "search"), None)
+    if best is None:
+        return []
+    out = []
+    for key, plain in (("features", "raw"), ("activation", "relu")):
+        if best[key] == plain:
+            continue
+        c = cost(best["sizes"], budget, measure_if_possible=measure,
+                 activation=plain if key == "activation" else best["activation"])
+        out.append(best | {key: plain, "method": "ablation", "pareto": False, "params": c.params,
+                           "macs": c.macs, "flash_bytes": c.flash_bytes, "ram_bytes": c.ram_bytes,
+                           "cycles": c.cycles, "measured": c.measured_sizes})
+    return out
+
+
+def test_rows(ctx: Context, score, candidates: list[dict[str, Any]], recipe: TrainRecipe,
+              family: str) -> list[dict[str, Any]]:
+    """`candidates` (front_table rows with a `method`) retrained and scored on the test units."""
     rows = []
-    for r in paper + front:
+    for r in candidates:
         rec = recipe.model_copy(update={"lr": r["lr"], "batch_size": r["batch_size"]})
-        method = "paper_mlp" if tuple(r["sizes"]) == PAPER_SIZES else "search"
-        for unit, s in zip(units, score(MLPConfig(sizes=tuple(r["sizes"])), rec, per_unit=True), strict=True):
-            rows.append({"method": method, "unit": unit, "calib_samples": s["calib_samples"],
-                         "seed": ctx.spec.seed,
+        method = r["method"]
+        for s in score(candidate_of(r), rec):
+            rows.append({"method": method, "unit": s["unit"], "calib_samples": s["calib_samples"],
+                         "seed": ctx.spec.seed, "family": family,
                          "force_rmse_n": s["force_rmse_n"], "angle_rmse_rad": s["angle_rmse_rad"],
                          "sizes": list(r["sizes"]), "trial": r["number"], "pareto": r["pareto"],
                          **{k: r[k] for k in ("params", "macs", "flash_bytes", "ram_bytes", "cycles",
-                                              "measured")}})
+                                              "measured", "activation", "features", "adapter")}})
     return rows

@@ -37,7 +37,7 @@ def front_figure(trials: list[dict[str, Any]], path: Path, flash_max: int | None
         ax.scatter([t[key] for t in front], [t["force_rmse_n"] for t in front], c="C0", s=30,
                    label="Pareto front (force, angle, MACs)")
         for t in trials:
-            if tuple(t["sizes"]) == PAPER_SIZES:
+            if t.get("paper", tuple(t["sizes"]) == PAPER_SIZES):
                 ax.scatter([t[key]], [t["force_rmse_n"]], marker="*", s=220, c="C3", label="paper MLP",
                            zorder=5)
         if key == "flash_bytes" and flash_max:
@@ -52,17 +52,29 @@ def front_figure(trials: list[dict[str, Any]], path: Path, flash_max: int | None
 
 
 def by_architecture(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Mean test-unit RMSE per retrained architecture."""
+    """Mean test-unit RMSE per retrained candidate (trial)."""
     groups: dict[tuple, list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
-        groups[(r["method"], tuple(r["sizes"]))].append(r)
+        key = (r["method"], r.get("trial", tuple(r["sizes"])), r.get("activation"), r.get("features"))
+        groups[key].append(r)
     out = []
-    for (method, sizes), rs in groups.items():
-        out.append({"method": method, "sizes": sizes,
+    for (method, *_), rs in groups.items():
+        out.append({"method": method, "sizes": tuple(rs[0]["sizes"]),
                     "force": float(np.mean([r["force_rmse_n"] for r in rs])),
                     "angle": float(np.mean([r["angle_rmse_rad"] for r in rs])),
+                    "calib_samples": int(np.mean([r["calib_samples"] for r in rs])),
+                    "trial": rs[0].get("trial"),
+                    **{k: rs[0].get(k) for k in ("activation", "features", "adapter")},
                     **{k: rs[0][k] for k in ("params", "macs", "flash_bytes", "ram_bytes", "measured")}})
     return sorted(out, key=lambda a: a["macs"])
+
+
+def describe(a: dict[str, Any]) -> str:
+    """'8-32-32-5 hardswish, neighbour_diffs[, adapter]'."""
+    parts = [a.get("activation") or "relu", a.get("features") or "raw"]
+    if a.get("adapter"):
+        parts.append(a["adapter"])
+    return f"{'-'.join(map(str, a['sizes']))} ({', '.join(parts)})"
 
 
 def target(archs: list[dict[str, Any]]) -> str:
@@ -76,48 +88,81 @@ def target(archs: list[dict[str, Any]]) -> str:
                and a["force"] <= paper["force"]]
     if better or cheaper:
         a = (better or cheaper)[0]
-        return (f"**Met**: {'-'.join(map(str, a['sizes']))} reaches {a['force']:.3f} N against the paper's "
+        return (f"**Met**: {describe(a)} reaches {a['force']:.3f} N against the paper's "
                 f"{paper['force']:.3f} N at {a['macs']} against {paper['macs']} MACs.")
     best = min((a for a in archs if a["method"] == "search"), key=lambda a: a["force"], default=None)
     detail = "" if best is None else (f" The best front member on the test units, "
-                                      f"{'-'.join(map(str, best['sizes']))}, reaches {best['force']:.3f} N "
+                                      f"{describe(best)}, reaches {best['force']:.3f} N "
                                       f"at {best['macs']} MACs against the paper's {paper['force']:.3f} N "
                                       f"at {paper['macs']}.")
     return "**Not met** (>= 15% lower force RMSE at no more MACs, or equal at <= 50% MACs)." + detail
 
 
+FAMILY_TEXT = {
+    "per_unit": "Family `per_unit`: every unit gets its own network, trained on its own rows.",
+    "shared": ("Family `shared`: one network trained on the training units with per-unit adapters; "
+               "a search or test unit's adapter is fitted on the first {calib} labeled rows of its "
+               "calibration stream, folded into a plain MLP of the deployed shape, and scored."),
+}
+
+
+def table_body(archs: list[dict[str, Any]], shared: bool) -> tuple[list[str], list[list[Any]]]:
+    """Columns and rows of the test-unit table, force and angle also as ratios to the paper's MLP."""
+    paper = next((a for a in archs if a["method"] == "paper_mlp"), None)
+    head = ["method", "trial", "sizes", "activation", "features", *(["adapter"] if shared else []),
+            "params", "MACs", "flash B", "RAM B", "bytes", "force RMSE [N]", "vs paper", "angle RMSE [rad]",
+            "vs paper"]
+    body = []
+    for a in archs:
+        ratios = [f"{a[k] / paper[k]:.2f}x" if paper else "n/a" for k in ("force", "angle")]
+        body.append([a["method"], a.get("trial"), "-".join(map(str, a["sizes"])),
+                     a.get("activation") or "relu", a.get("features") or "raw",
+                     *([a.get("adapter")] if shared else []), a["params"], a["macs"], a["flash_bytes"],
+                     a["ram_bytes"], "measured" if a["measured"] else "estimated",
+                     a["force"], ratios[0], a["angle"], ratios[1]])
+    return head, body
+
+
 def write_report(ctx: Context, rows: list[dict[str, Any]], trials: list[dict[str, Any]],
                  budget: Budget) -> Path:
     s = ctx.provenance["search"]
+    family = s.get("family", "per_unit")
     front_figure(trials, ctx.run_dir / "pareto.png", budget.flash_bytes_max)
     archs = by_architecture(rows)
-    body = [[a["method"], "-".join(map(str, a["sizes"])), a["params"], a["macs"], a["flash_bytes"],
-             a["ram_bytes"], "measured" if a["measured"] else "estimated", a["force"], a["angle"]]
-            for a in archs]
+    head, body = table_body(archs, family == "shared")
+    calib = archs[0]["calib_samples"] if archs else 0
     tph = s["trials_per_hour"]
+    secs = s.get("trial_seconds") or {}
+    median = secs.get("complete")
+    timing = "" if median is None else f"; a complete trial took {median:.1f} s (median)"
+    train = f" ({len(s['train_units'])} training units)" if "train_units" in s else ""
     path = ctx.run_dir / "report.md"
     path.write_text(f"""# {ctx.spec.name}: architecture search under the {budget.name} budget
 
 {ctx.spec.description.strip()}
 
+{FAMILY_TEXT[family].format(calib=calib)}
+
 Budget: {budget.flash_bytes_max} B flash, {budget.ram_bytes_max} B RAM, inference within
 {budget.inference_s_max * 1e3:.2f} ms at {budget.clock_hz / 1e6:.0f} MHz (constraints of every trial;
 infeasible trials are pruned before training). Objectives: mean held-out-patch force and angle
-RMSE of the {len(s['search_units'])} search units, and MACs (the front is their 3-objective Pareto set;
-the figure shows its force-MACs view). {s['trials']} trials ({s['complete']} complete) in
+RMSE of the {len(s['search_units'])} search units{train}, and MACs (the front is their 3-objective
+Pareto set; the figure shows its force-MACs view). {s['trials']} trials ({s['complete']} complete) in
 {s['wall_s']:.0f} s of study time (first trial start to last trial end)
 with {s['workers']} worker(s): {'n/a' if tph is None else f'{tph:.0f}'} trials per hour on
-`{ctx.provenance.get('device')}`. Storage `{s['storage']}`, study `{s['study_name']}`.
+`{ctx.provenance.get('device')}`{timing}.
+Storage `{s['storage']}`, study `{s['study_name']}`.
 
 ![Pareto front](pareto.png)
 
 ## On units the study never saw
 
-The paper's MLP and the front, retrained on the {len(s['test_units'])} test units and scored on their
-held-out patches:
+The paper's MLP (ReLU, raw pressures) and the front, retrained on the {len(s['test_units'])} test units
+and scored on their held-out patches; ratios are to the paper's MLP in this run. `ablation` rows
+are the front member most accurate on the search units with raw pressures instead of its input
+features, or with ReLU instead of its activation (same widths, learning rate and batch size):
 
-{md_table(['method', 'sizes', 'params', 'MACs', 'flash B', 'RAM B', 'bytes', 'force RMSE [N]',
-           'angle RMSE [rad]'], body)}
+{md_table(head, body)}
 
 {target(archs)}
 

@@ -1,10 +1,11 @@
-"""An Optuna study over per-unit MLP architectures under the microcontroller's budget.
+"""An Optuna study over MLP architectures under the microcontroller's budget.
 
-A trial picks hidden widths, learning rate and batch size; the budget (search/budget.py)
-becomes Optuna constraints before any training, and an infeasible trial is pruned without
-training. A feasible one trains the candidate for every search unit at once (the fleet
-trainer) and is scored on those units' held-out patches: objectives (force RMSE, angle
-RMSE, MACs).
+A trial picks hidden widths, activation, input features (and, for shared cross-sensor models,
+the adapter kind), learning rate and batch size; the budget (search/budget.py) becomes Optuna
+constraints before any training, and an infeasible trial is pruned without training. A
+feasible one is trained and scored on the search units' held-out patches by the family's
+`fit_and_score` (per-unit: search/fit.py; shared: search/shared.py): objectives (force RMSE,
+angle RMSE, MACs).
 The study lives in a storage URL (SQLite in the run directory by default), so a killed
 study resumes where it stopped: trials whose heartbeat stopped are marked failed and retried.
 """
@@ -13,18 +14,32 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Callable
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, Literal
 
 import numpy as np
 import optuna
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-from anytip.models.mlp import MLPConfig
-from anytip.search.budget import Budget, constraints, cost
+from anytip.errors import AnytipError
+from anytip.models.adapted import parse_kind
+from anytip.models.features import FEATURES
+from anytip.search.budget import ACTIVATION_INSTRUCTIONS, Budget, constraints, cost
 from anytip.train.recipe import TrainRecipe
 
 CONSTRAINT_NAMES = ("flash", "ram", "time")
 PAPER_HIDDEN = (12, 64, 64)
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """What a trial trains: deployed layer widths (8 -> hidden -> 5), the activation, the input
+    features (folded into the first layer before scoring) and, for shared models, the adapter."""
+
+    sizes: tuple[int, ...]
+    activation: str = "relu"
+    features: str = "raw"
+    adapter: str | None = None
 
 
 class SearchOptions(BaseModel):
@@ -47,39 +62,92 @@ class SearchOptions(BaseModel):
     n_test_units: int = Field(default=4, ge=1)
     heartbeat_s: int = Field(default=30, ge=1)
     seed: int = 0
+    activations: list[str] = Field(default=["relu", "leaky_relu", "hardswish"], min_length=1)
+    features: list[str] = Field(default=["raw", "neighbour_diffs"], min_length=1)
+    family: Literal["per_unit", "shared"] = "per_unit"
+    # shared family only: the first adapter kind is the one the paper's MLP is scored with
+    adapters: list[str] = Field(default=["input_affine+film", "input_diag", "input_affine+embedding+film"],
+                                min_length=1)
+    n_train_units: int | None = Field(default=None, ge=1)  # shared: None takes every other unit
+    max_train_rows: int | None = Field(default=None, ge=1)  # shared: rows per training unit, at random
+    calib_samples: int = Field(default=1000, ge=1)  # labeled rows per search or test unit's adapter
+    calibration_protocol: str = "short"
+    prior: float = Field(default=100.0, ge=0)  # pull of a new unit's adapter toward the identity
+    adapter_steps: int = Field(default=400, ge=1)
+    adapter_lr: float = Field(default=1e-2, gt=0)
+    adapter_decay: float = Field(default=0.01, ge=0)
+
+    @field_validator("activations")
+    @classmethod
+    def _exportable(cls, names: list[str]) -> list[str]:
+        bad = [a for a in names if a not in ACTIVATION_INSTRUCTIONS]
+        if bad:
+            raise ValueError(f"{bad} cannot be searched: the microcontroller export computes only "
+                             f"{list(ACTIVATION_INSTRUCTIONS)} (tanh, gelu and silu need libm)")
+        return names
+
+    @field_validator("features")
+    @classmethod
+    def _known_features(cls, names: list[str]) -> list[str]:
+        bad = [f for f in names if f not in FEATURES]
+        if bad:
+            raise ValueError(f"unknown input features {bad}; known: {list(FEATURES)}")
+        return names
+
+    @field_validator("adapters")
+    @classmethod
+    def _known_adapters(cls, kinds: list[str]) -> list[str]:
+        for kind in kinds:
+            try:
+                parse_kind(kind)
+            except AnytipError as e:
+                raise ValueError(str(e)) from None
+        return kinds
 
 
-def suggest(trial: optuna.Trial, opts: SearchOptions) -> tuple[tuple[int, ...], float, int]:
-    """(sizes, lr, batch) of a trial; sizes run 8 -> hidden widths -> 5."""
+def suggest(trial: optuna.Trial, opts: SearchOptions) -> tuple[Candidate, float, int]:
+    """(candidate, lr, batch) of a trial; sizes run 8 -> hidden widths -> 5."""
     n = trial.suggest_int("n_hidden", opts.min_hidden, opts.max_hidden)
     choices = sorted(set(opts.widths) | set(PAPER_HIDDEN))  # the paper's MLP is always a candidate
     hidden = [trial.suggest_categorical(f"width{k}", choices) for k in range(opts.max_hidden)][:n]
+    activation = trial.suggest_categorical("activation", opts.activations)
+    features = trial.suggest_categorical("features", opts.features)
+    adapter = trial.suggest_categorical("adapter", opts.adapters) if opts.family == "shared" else None
     lr = trial.suggest_float("lr", *opts.lr, log=True)
     batch = trial.suggest_categorical("batch_size", opts.batch_sizes)
-    return (8, *hidden, 5), lr, batch
+    return Candidate((8, *hidden, 5), activation, features, adapter), lr, batch
 
 
 def paper_params(opts: SearchOptions, recipe: TrainRecipe) -> dict[str, Any] | None:
-    """The paper's 8-12-64-64-5 as a trial to enqueue first (widths beyond its depth unused);
-    None when the space's depth range excludes it."""
-    if not opts.min_hidden <= len(PAPER_HIDDEN) <= opts.max_hidden:
+    """The paper's 8-12-64-64-5 (ReLU, raw inputs, the first adapter kind) as a trial to enqueue
+    first (widths beyond its depth unused); None when the space excludes it."""
+    depth_ok = opts.min_hidden <= len(PAPER_HIDDEN) <= opts.max_hidden
+    if not depth_ok or "relu" not in opts.activations or "raw" not in opts.features:
         return None
     widths = [*PAPER_HIDDEN] + [min(opts.widths)] * (opts.max_hidden - len(PAPER_HIDDEN))
     lr = min(max(recipe.lr, opts.lr[0]), opts.lr[1])
     batch = recipe.batch_size if recipe.batch_size in opts.batch_sizes else opts.batch_sizes[0]
+    shared = {"adapter": opts.adapters[0]} if opts.family == "shared" else {}
     return {"n_hidden": 3, **{f"width{k}": w for k, w in enumerate(widths[: opts.max_hidden])},
-            "lr": lr, "batch_size": batch}
+            "activation": "relu", "features": "raw", **shared, "lr": lr, "batch_size": batch}
 
 
-def make_objective(fit_and_score: Callable[[MLPConfig, TrainRecipe], tuple[float, float]],
+def is_paper(c: Candidate, opts: SearchOptions) -> bool:
+    """Whether `c` is the paper's MLP as the study enqueues it."""
+    adapter = opts.adapters[0] if opts.family == "shared" else None
+    return c == Candidate((8, *PAPER_HIDDEN, 5), "relu", "raw", adapter)
+
+
+def make_objective(fit_and_score: Callable[[Candidate, TrainRecipe], list[dict[str, Any]]],
                    opts: SearchOptions, budget: Budget, recipe: TrainRecipe
                    ) -> Callable[[optuna.Trial], tuple[float, float, float]]:
-    """objective(trial) -> mean held-out force RMSE [N] and angle RMSE [rad] over the search
-    units, and MACs."""
+    """objective(trial) -> mean held-out force RMSE [N] and angle RMSE [rad] over the units
+    `fit_and_score` scored (one row each, with its `unit`, kept as the trial's `units`), and MACs."""
 
     def objective(trial: optuna.Trial) -> tuple[float, float, float]:
-        sizes, lr, batch = suggest(trial, opts)
-        c = cost(sizes, budget, measure_if_possible=opts.measure)
+        cand, lr, batch = suggest(trial, opts)
+        sizes = cand.sizes
+        c = cost(sizes, budget, measure_if_possible=opts.measure, activation=cand.activation)
         with warnings.catch_warnings():  # a retried trial carries its constraints over already
             warnings.simplefilter("ignore", UserWarning)
             for name, value in zip(CONSTRAINT_NAMES, constraints(c, budget), strict=True):
@@ -88,8 +156,9 @@ def make_objective(fit_and_score: Callable[[MLPConfig, TrainRecipe], tuple[float
             trial.set_user_attr(key, list(value) if isinstance(value, tuple) else value)
         if any(v > 0 for v in constraints(c, budget)):
             raise optuna.TrialPruned(f"{sizes} exceeds the {budget.name} budget")
-        force, angle = fit_and_score(MLPConfig(sizes=sizes),
-                                     recipe.model_copy(update={"lr": lr, "batch_size": batch}))
+        rows = fit_and_score(cand, recipe.model_copy(update={"lr": lr, "batch_size": batch}))
+        trial.set_user_attr("units", [r["unit"] for r in rows])
+        force, angle = mean_scores(rows)
         return force, angle, float(c.macs)
 
     return objective
@@ -134,11 +203,19 @@ def front_table(study: optuna.Study) -> list[dict[str, Any]]:
                     "force_rmse_n": t.values[0], "angle_rmse_rad": t.values[1], "macs": int(t.values[2]),
                     "params": t.user_attrs["params"], "flash_bytes": t.user_attrs["flash_bytes"],
                     "ram_bytes": t.user_attrs["ram_bytes"], "cycles": t.user_attrs["cycles"],
-                    "measured": bool(t.user_attrs["measured_sizes"]), "pareto": t.number in front,
-                    "lr": t.params["lr"], "batch_size": t.params["batch_size"]})
+                    "measured": bool(t.user_attrs["measured_sizes"]),
+                    "measured_instructions": bool(t.user_attrs.get("measured_instructions")),
+                    "pareto": t.number in front, "lr": t.params["lr"], "batch_size": t.params["batch_size"],
+                    "activation": t.params.get("activation", "relu"),
+                    "features": t.params.get("features", "raw"), "adapter": t.params.get("adapter")})
     return sorted(out, key=lambda r: (r["macs"], r["force_rmse_n"]))
 
 
-def mean_scores(scores: list[dict[str, float]]) -> tuple[float, float]:
+def mean_scores(scores: list[dict[str, Any]]) -> tuple[float, float]:
     return (float(np.mean([s["force_rmse_n"] for s in scores])),
             float(np.mean([s["angle_rmse_rad"] for s in scores])))
+
+
+def candidate_of(row: dict[str, Any]) -> Candidate:
+    """The candidate of a `front_table` row."""
+    return Candidate(tuple(row["sizes"]), row["activation"], row["features"], row["adapter"])
