@@ -7,6 +7,7 @@ import pytest
 
 from anytip.deploy import embedded
 from anytip.deploy.export import export_model
+from anytip.deploy.native import fma_flags
 from test_deploy_helpers import save_baseline, save_folded
 
 pytestmark = pytest.mark.skipif(embedded.emulator_missing() is not None,
@@ -28,6 +29,8 @@ def test_float32_meets_the_budget_and_runs_on_the_m4(paper_model, tmp_path):
     assert m4["rodata"] >= 4 * r["params"]  # every weight is in flash as a float32
     assert 1.0 < m4["instructions_per_mac"] <= 3.0
     assert m4["macs"] == 8 * 12 + 12 * 64 + 64 * 64 + 64 * 5
+    if fma_flags():  # the host build fuses like the device: the same sums, bit for bit
+        assert m4["emulated_vs_host"]["max_rel_err"] == 0.0
 
 
 def test_int8_meets_the_budget_and_matches_on_the_m4(paper_model, tmp_path):

@@ -19,6 +19,7 @@ from pydantic import BaseModel, ConfigDict
 from anytip.deploy.export import Prepared, export_prepared, prepare
 from anytip.deploy.held_out import HeldOut as HeldOutRows
 from anytip.deploy.held_out import from_run as held_out_from_run
+from anytip.deploy.native import fma_flags
 from anytip.deploy.peers import PEERS, measure_peer
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, validate_options
@@ -150,7 +151,9 @@ def report(rows: list[dict[str, Any]], skipped: list[str]) -> str:
              "cross-compiled with arm-none-eabi-gcc -O2 for Cortex-M4F (fpv4-sp-d16, hard float, "
              "fused multiply-add). Instructions: one inference executed on the unicorn emulator "
              "(Cortex-M4 CPU model). Max rel. err: max abs difference from the trained model "
-             "(float64) over the reference rows, divided by the output's scale; float exports and "
+             "(float64) over the reference rows, divided by the output's scale, with the float C "
+             f"built here by gcc {' '.join(fma_flags()) or '(no fused multiply-add on this CPU)'} so "
+             "that it sums like the Cortex-M4F build; float exports and "
              "peers are marked verified at <= 1e-5 (int8: verified when its C equals its numpy "
              "model and the RMSE increase over float is within 2%). RMSE on the scored reference "
              "rows: 'registry, held out' rows are rows the model never trained on (options.held_out, or what "
