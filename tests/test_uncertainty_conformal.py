@@ -71,3 +71,27 @@ def test_flatline_flags_a_stuck_channel_window():
     stuck = stuck_channel(x, 5, 12.0)
     assert auroc(flatline(x, 100), flatline(stuck, 100)) == 1.0
     assert window_means(np.arange(10.0), 5).tolist() == [2.0, 7.0]
+
+
+def test_patch_bootstrap_spread_matches_patch_to_patch_scatter():
+    from anytip.train.coverage_bootstrap import (
+        bootstrap_test_patches,
+        conformal_patch_bootstrap,
+        exact_method_band,
+    )
+
+    rng = np.random.default_rng(4)
+    n_patch, rows = 40, 100
+    p = np.clip(rng.normal(0.9, 0.06, n_patch), 0, 1)  # each patch's own coverage
+    patch = np.repeat(np.arange(n_patch), rows)
+    covered = (rng.random(n_patch * rows) < np.repeat(p, rows))[:, None]
+    boot = bootstrap_test_patches(covered, patch, 2000, rng)
+    expected = np.std([covered[patch == i].mean() for i in range(n_patch)]) / np.sqrt(n_patch)
+    assert abs(boot.std() / expected - 1) < 0.15
+    band = exact_method_band(boot, covered.mean(0), 0.9, (0.87, 0.93))
+    assert band["lo"][0] < 0.9 < band["hi"][0] and 0 <= band["p_outside"][0] <= 1
+    # drawing the calibration patches again as well can only widen the spread
+    resid = np.abs(rng.normal(size=(n_patch * rows, 1)))
+    both = conformal_patch_bootstrap(np.abs(rng.normal(size=(3000, 1))), np.repeat(np.arange(30), 100), None,
+                                     resid, patch, 0.9, 400, rng)
+    assert both.std() > bootstrap_test_patches(resid <= 1.645, patch, 400, rng).std()

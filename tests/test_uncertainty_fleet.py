@@ -16,9 +16,10 @@ from anytip.train.uncertainty import mixture, predict_members, train_hetero_flee
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = FAST.model_copy(update={"epochs": 3, "batch_size": 128})
-TINY_SPEC = ["data.protocol=short", "training.epochs=2", "training.batch_size=128",
+TINY_SPEC = ["seeds=[0]", "data.protocol=short", "training.epochs=2", "training.batch_size=128",
              "options.members=2", "options.max_train_rows=3000", "options.foreign_units=1",
-             "options.max_detect_rows=2000", "options.windows=[100]",
+             "options.max_detect_rows=2000", "options.windows=[100]", "options.cv_folds=3",
+             "options.rest_block_rows=300", "options.rest_reference_rows=1000",
              "options.adapted={epochs: 1, budget: 500, calib_rows: 500}"]
 
 
@@ -83,6 +84,14 @@ def test_pipeline_rows_and_stuck_channel_is_flagged(small_registry, tmp_path):
     assert (out / "report.md").exists() and (out / "calibration_curves.png").exists()
     adapted = {r["unit"] for r in cov if r["method"].endswith("conformal:val_units")}
     assert len(adapted) == 4  # the held-out units of the shared model
+    methods = {r["method"] for r in cov}
+    assert {"cv+conformal", "cv+hetero+conformal", "adapted:input_affine+film+scale+conformal:val_units",
+            "adapted:input_affine+film+scale+conformal:budget"} <= methods
+    assert any(r.get("method") == "detect:rest_drift:other_runs" for r in rows)
+    drift = [r for r in rows if r.get("method") == "detect:rest_drift"]
+    assert {r["fault"] for r in drift} == {f"drift_{c}_{a}kPa" for c in ("all", "one") for a in (1, 3)}
+    boot = [r for r in rows if "bootstrap" in r]
+    assert boot and all(0 <= r["exact_p_outside"] <= 1 and r["exact_lo"] <= r["exact_hi"] for r in boot)
 
 
 def _rowset(x: np.ndarray) -> set[bytes]:
@@ -125,3 +134,38 @@ def test_saved_scale_outputs_are_physical_log_variances():
     out = output_scaler_2d(s).inverse(z)
     _, sigma = to_physical(z[..., :2], z[..., 2:], s)
     torch.testing.assert_close(torch.exp(0.5 * out[..., 2:]), sigma)
+
+
+def test_cross_conformal_covers_each_unit_of_a_tiny_fleet(small_registry):
+    """K fold models as one batched fleet; out-of-fold normalised scores calibrate a fold
+    model drawn per test row. Groups of rows stand in for patches; test rows are exchangeable."""
+    from anytip.train.cross_conformal import out_of_fold, patch_folds, pick_fold_model
+
+    arrays = load_arrays(small_registry, small_registry.list_runs())
+    K, members, folds, rest_rows, test_rows = 3, [], [], [], []
+    for u in (0, 1):
+        rows = np.random.default_rng(10 + u).permutation(np.flatnonzero(arrays.unit == u))[:9000]
+        rest, test = rows[:6000], rows[6000:8000]
+        fold = patch_folds(np.arange(len(rest)) % 60, K, seed=u)
+        assert sorted(np.bincount(fold).tolist()) == [2000, 2000, 2000]
+        for k in range(K):
+            train = rest[fold != k]
+            members.append(UnitTensors(torch.from_numpy(arrays.pressure[train[:3600]]),
+                                       torch.from_numpy(arrays.targets[train[:3600]]),
+                                       torch.from_numpy(arrays.pressure[train[3600:]]),
+                                       torch.from_numpy(arrays.targets[train[3600:]]), f"{u}/{k}"))
+        folds.append(fold)
+        rest_rows.append(rest)
+        test_rows.append(test)
+    fit = train_hetero_fleet(FleetBatchData.from_units(members), recipe=TINY, n_members=1, seed=0)
+    for u in (0, 1):
+        pred_r = [tuple(a[0] for a in predict_members(fit, u * K + k, arrays.pressure[rest_rows[u]]))
+                  for k in range(K)]
+        mu_c, sig_c = out_of_fold(pred_r, folds[u])
+        pred_t = [tuple(a[0] for a in predict_members(fit, u * K + k, arrays.pressure[test_rows[u]]))
+                  for k in range(K)]
+        mu_t, sig_t = pick_fold_model(pred_t, np.random.default_rng(u))
+        q = cp.conformal_quantile(cp.scores_of(mu_c, arrays.targets[rest_rows[u]], sig_c), 0.1)
+        cov = cp.coverage(*cp.interval(mu_t, q, sig_t), arrays.targets[test_rows[u]])
+        # 6000 out-of-fold scores, 2000 exchangeable test rows: within 0.04 of nominal
+        assert np.all(np.abs(cov - 0.9) < 0.04), cov

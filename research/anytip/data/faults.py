@@ -8,12 +8,14 @@ power-up rest reading, so a barometer that stops responding reads 0 Pa after tar
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import h5py
 import numpy as np
 
 from anytip.data.arrays import CONTACT_FORCE_N, rest_reading
 from anytip.data.registry import Registry, RunRecord
+from anytip.errors import AnytipError
 
 
 def dead_channel(x: np.ndarray, channel: int) -> np.ndarray:
@@ -47,15 +49,16 @@ def saturation(x: np.ndarray, limit_pa: np.ndarray | float) -> np.ndarray:
 
 
 def fault_suite(x: np.ndarray, x_train: np.ndarray, rng: np.random.Generator,
-                drift_pa: list[float]) -> dict[str, np.ndarray]:
+                drift_pa: list[float], channel: int | None = None) -> dict[str, np.ndarray]:
     """The simulated faults of one unit's clean rows x (n, C), by name.
 
     Dead and stuck channels pick a random channel; the stuck value is the channel's
     reading in a random training row. Drift: every channel, or one random channel, offset
     by each amplitude. Saturation: every channel clips at half of its largest training
-    reading (rows below the limit stay clean; score only the rows it changes).
+    reading (rows below the limit stay clean; score only the rows it changes). `channel`
+    fixes the faulty channel (default: drawn from rng).
     """
-    ch = int(rng.integers(x.shape[1]))
+    ch = int(rng.integers(x.shape[1])) if channel is None else channel
     stuck_value = float(x_train[rng.integers(len(x_train)), ch])
     out = {"dead_channel": dead_channel(x, ch), "stuck_channel": stuck_channel(x, ch, stuck_value)}
     for a in drift_pa:
@@ -81,3 +84,55 @@ def rest_rows(registry: Registry, runs: Sequence[RunRecord]) -> np.ndarray:
         after = np.arange(len(contact)) > np.argmax(contact)
         parts.append((pressure[after & ~contact] - tare).astype(np.float32))
     return np.concatenate(parts) if parts else np.zeros((0, 8), np.float32)
+
+
+@dataclass
+class RunStream:
+    """One run as the unit reads it, every row in recorded order (n rows, C channels).
+
+    pressure (n, C) float64 tared Pa; temperature (n, C) float64 degC change since tare (each
+    barometer's own die temperature); contact (n,) bool, the recorded contact flag (used only
+    to place the dataset's labelled rows in the stream and to find the tare rows); run the
+    run's index in the loaded FleetArrays.
+    """
+
+    pressure: np.ndarray
+    temperature: np.ndarray
+    contact: np.ndarray
+    run: int
+
+    @property
+    def after_tare(self) -> np.ndarray:
+        """(n,) bool: rows after the first contact (the rows before it are the tare)."""
+        return np.arange(len(self.contact)) > np.argmax(self.contact)
+
+    def drifted(self, amplitude_pa: float, channels: np.ndarray | None = None, onset: int = 0) -> RunStream:
+        """The same stream with the baseline of `channels` drifted by `amplitude_pa` from row
+        `onset` on (and never before the tare is over): the level a slow drift has reached."""
+        p = self.pressure.copy()
+        rows = self.after_tare & (np.arange(len(p)) >= onset)
+        p[rows] = baseline_drift(p[rows], amplitude_pa, channels)
+        return RunStream(p, self.temperature, self.contact, self.run)
+
+
+def run_streams(registry: Registry, runs: Sequence[RunRecord], indices: Sequence[int]) -> list[RunStream]:
+    """Full recorded streams of `runs` (contact and contact-free rows), tared like the
+    training rows; `indices` are the runs' positions in the loaded FleetArrays."""
+    out = []
+    for rec, k in zip(runs, indices, strict=True):
+        path = registry.payload_path(rec.run_id)
+        with h5py.File(path, "r") as f:
+            if "temperature" not in f:
+                raise AnytipError(f"{path}: no 'temperature' dataset; the rest-drift detector needs it")
+            pressure = f["pressure"][()].astype(np.float64)
+            temp = f["temperature"][()].astype(np.float64)
+            force = f["force"][()]
+            contact = (np.asarray(f["in_contact"][()]).astype(bool) if "in_contact" in f
+                       else np.linalg.norm(force, axis=1) >= CONTACT_FORCE_N)
+        first = int(np.argmax(contact)) if contact.any() else len(contact)
+        temp = temp.reshape(len(temp), -1)
+        if temp.shape[1] != pressure.shape[1]:  # one sensor for the board: every channel reads it
+            temp = np.repeat(temp[:, :1], pressure.shape[1], 1)
+        t0 = temp[:max(first, 1)].mean(0)
+        out.append(RunStream(pressure - rest_reading(pressure, contact, str(path)), temp - t0, contact, k))
+    return out

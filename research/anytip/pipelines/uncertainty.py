@@ -1,6 +1,7 @@
 """Uncertainty of the per-unit baseline: heteroscedastic heads (beta-NLL), deep ensembles
 (members trained as one batched model) and split conformal intervals, side by side;
-then fault simulation and how well "untrustworthy" signals flag it (AUROC).
+then fault simulation and how well "untrustworthy" signals flag it (AUROC; in
+pipelines/uncertainty_faults.py).
 
 Rows of each unit: whole held-out patches are its test rows; a further set of whole
 patches of the remaining rows is its conformal calibration set (exchangeable with the
@@ -11,9 +12,7 @@ trained or calibrated on.
 
 from __future__ import annotations
 
-import tempfile
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -21,11 +20,9 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field
 from scipy.stats import norm
 
-from anytip.data.arrays import FleetArrays, load_arrays
-from anytip.data.faults import baseline_drift, fault_suite, rest_rows
-from anytip.data.registry import Registry
-from anytip.data.simulated import simulate_into
+from anytip.data.arrays import FleetArrays
 from anytip.data.splits import held_out_patches
+from anytip.errors import AnytipError
 from anytip.pipelines.common import (
     OUTPUTS,
     Context,
@@ -39,20 +36,19 @@ from anytip.pipelines.common import (
 from anytip.pipelines.cross_sensor import Options as CrossOptions
 from anytip.pipelines.cross_sensor import calibrate_many, predict_rows
 from anytip.pipelines.cross_sensor import prepare as cross_prepare
-from anytip.report.uncertainty import write_report
-from anytip.sensor.fleet import FleetConfig, NominalParams, SpreadParams
+from anytip.pipelines.uncertainty_faults import fault_rows
+from anytip.report.uncertainty import BAND, write_report
 from anytip.train import conformal as cp
+from anytip.train import coverage_bootstrap as boot
 from anytip.train.adapt import AdapterRecipe, train_shared
+from anytip.train.cross_conformal import out_of_fold, patch_folds, pick_fold_model
 from anytip.train.data import FleetBatchData
-from anytip.train.detect import (
-    InputNovelty,
-    KnnNovelty,
-    auroc,
-    contiguous_windows,
-    flatline,
-    rest_offset,
-    unit_signals,
-    window_means,
+from anytip.train.shared_scale import (
+    fit_force_scale,
+    fit_scale_network,
+    force_scale,
+    predict_scale,
+    shared_residuals,
 )
 from anytip.train.uncertainty import EnsembleFit, mixture, predict_members, train_hetero_fleet
 
@@ -71,6 +67,7 @@ class AdaptedOptions(BaseModel):
     calib_rows: int = Field(5000, ge=1, description="the next stream rows: the budget's conformal set")
     prior: float = Field(10.0, ge=0)
     calibration_protocol: str | None = "short"
+    scale_epochs: int = Field(10, ge=0, description="scale network epochs; 0 skips the normalised variant")
 
 
 class Options(BaseModel):
@@ -89,6 +86,10 @@ class Options(BaseModel):
     max_detect_rows: int = Field(40000, ge=100, description="rows per unit and fault")
     # rows per detection window: 1 s and 10 s at 200 Hz (flatline and rest offset use the first)
     windows: list[int] = Field([200, 2000], min_length=1)
+    cv_folds: int = Field(5, ge=0, description="cross-conformal patch folds per unit; 0 skips (K<2 invalid)")
+    bootstrap: int = Field(400, ge=0, description="patch-bootstrap draws per unit and method; 0 skips")
+    rest_reference_rows: int = Field(12000, ge=1, description="rows after tare that re-learn the rest state")
+    rest_block_rows: int | None = Field(None, ge=2, description="rest-drift block; None: 2x longest press")
     adapted: AdaptedOptions | None = None  # also the adapted shared model (needs >= 3 units)
 
 
@@ -106,13 +107,17 @@ class UQSplit:
     X_test: list[np.ndarray]
     Y_test: list[np.ndarray]
     X_fit: list[np.ndarray]  # training rows (for input novelty statistics)
+    test_idx: list[np.ndarray] = field(default_factory=list)  # test rows' indices into the arrays
+    cal_idx: list[np.ndarray] = field(default_factory=list)  # calibration rows' indices
+    rest_idx: list[np.ndarray] = field(default_factory=list)  # every non-test row's index
 
 
 def uq_split(arrays: FleetArrays, opts: Options, test_fraction: float, val_fraction: float,
              seed: int, device: torch.device) -> UQSplit:
     """Test patches, then calibration patches of the rest, then train / validation rows."""
     targets, test_mask = arrays.targets, patch_test_mask(test_fraction, seed)
-    members, parts = [], {k: [] for k in ("X_cal", "Y_cal", "X_test", "Y_test", "X_fit")}
+    members, parts = [], {k: [] for k in ("X_cal", "Y_cal", "X_test", "Y_test", "X_fit", "test_idx",
+                                                     "cal_idx", "rest_idx")}
     for u, unit in enumerate(arrays.units):
         rows = np.flatnonzero(arrays.unit == u)
         test = test_mask(arrays.patch[rows], u)
@@ -128,6 +133,9 @@ def uq_split(arrays: FleetArrays, opts: Options, test_fraction: float, val_fract
             parts[f"X_{key}"].append(arrays.pressure[idx])
             parts[f"Y_{key}"].append(targets[idx].astype(np.float64))
         parts["X_fit"].append(arrays.pressure[fit])
+        parts["test_idx"].append(rows[test])
+        parts["cal_idx"].append(rest[cal])
+        parts["rest_idx"].append(rest)
     return UQSplit(FleetBatchData.from_units(members, device), **parts)
 
 
@@ -178,6 +186,50 @@ def unit_methods(fit: EnsembleFit, u: int, split: UQSplit) -> dict[str, MethodPr
     }
 
 
+def add_cross_conformal(ctx: Context, arrays: FleetArrays, split: UQSplit, opts: Options, seed: int,
+                        methods: list[dict[str, MethodPreds]]) -> None:
+    """Add `cv+conformal` (absolute residual) and `cv+hetero+conformal` (normalised):
+    K fold models per unit, trained as one batched heteroscedastic fleet of U * K models,
+    each on the unit's non-test patches outside its fold; q from every non-test row's
+    out-of-fold score; each test row scored with a fold model drawn at random
+    (`anytip.train.cross_conformal`)."""
+    K, members, folds = opts.cv_folds, [], []
+    for u, unit in enumerate(arrays.units):
+        rest = split.rest_idx[u]
+        n_patches = len(np.unique(arrays.patch[rest]))
+        if K < 2 or n_patches < K:
+            raise AnytipError(f"options.cv_folds={K}: needs 2 or more folds and at most the {n_patches} "
+                              f"non-test patches of unit {unit}; use 0 to skip cross-conformal")
+        fold = patch_folds(arrays.patch[rest], K, seed * 7 + u + 501)
+        folds.append(fold)
+        for k in range(K):
+            train = rest[fold != k]
+            rng = np.random.default_rng(seed * 7919 + 31 * u + k)
+            if opts.max_train_rows is not None and len(train) > opts.max_train_rows:
+                train = np.sort(rng.choice(train, opts.max_train_rows, replace=False))
+            members.append(unit_tensors(arrays, *split_validation(train, ctx.spec.splits.val_fraction, rng),
+                                        f"{unit}/fold{k}"))
+    data = FleetBatchData.from_units(members, ctx.device)
+    fit = train_hetero_fleet(data, ctx.spec.model, ctx.spec.training, 1, opts.beta, seed, ctx.device)
+    ctx.provenance.setdefault("cv_train_s", []).append(round(fit.wall_s, 1))
+    y = arrays.targets.astype(np.float64)
+    for u in range(len(arrays.units)):
+        rest = split.rest_idx[u]
+        pred_r = []
+        for k in range(K):
+            m, s = predict_members(fit, u * K + k, arrays.pressure[rest])
+            pred_r.append((m[0], s[0]))
+        pred_t = []
+        for k in range(K):
+            m, s = predict_members(fit, u * K + k, split.X_test[u])
+            pred_t.append((m[0], s[0]))
+        mu_t, sig_t = pick_fold_model(pred_t, np.random.default_rng(seed * 13 + u))
+        mu_c, sig_c = out_of_fold(pred_r, folds[u])
+        for name, st, sc in (("cv+conformal", None, None), ("cv+hetero+conformal", sig_t, sig_c)):
+            methods[u][name] = MethodPreds(mu_t, st, mu_c, sc, "conformal",
+                                           pooled_scores=cp.scores_of(mu_c, y[rest], sc))
+
+
 def nll(p: MethodPreds, y: np.ndarray) -> np.ndarray | None:
     """Mean Gaussian NLL per output (5,) in physical units, for Gaussian methods."""
     if p.kind != "gaussian":
@@ -219,6 +271,36 @@ def mapie_rows(p: MethodPreds, y: np.ndarray, y_cal: np.ndarray, base: dict[str,
     return rows
 
 
+BOOTSTRAP_METHODS = ("conformal", "hetero+conformal", "ensemble+conformal")
+
+
+def bootstrap_rows(methods: dict[str, MethodPreds], y: np.ndarray, y_cal: np.ndarray, patch_t: np.ndarray,
+                   patch_c: np.ndarray, base: dict[str, Any], n_boot: int, seed: int,
+                   level: float = 0.9) -> list[dict[str, Any]]:
+    """Patch-bootstrap spread of one unit's coverage at `level`, per output, for a method
+    that is exactly calibrated: test patches drawn again (`test`), and calibration patches
+    too (`test+calibration`, the conformal methods)."""
+    rng, rows = np.random.default_rng(seed), []
+    for name in BOOTSTRAP_METHODS:
+        p = methods[name]
+        lo, hi = p.interval(level, y_cal)
+        covered = (y >= lo) & (y <= hi)
+        observed = covered.mean(0)
+        resid = np.abs(y - p.mean_t)
+        boots = {"test": boot.bootstrap_test_patches(covered, patch_t, n_boot, rng),
+                 "test+calibration": boot.conformal_patch_bootstrap(
+                     p.cal_scores(y_cal), patch_c, p.scale_t, resid, patch_t, level, n_boot, rng)}
+        for kind, b in boots.items():
+            band = boot.exact_method_band(b, observed, level, BAND)
+            for k, out in enumerate(OUTPUTS):
+                rows.append({**base, "method": name, "group": out, "bootstrap": kind,
+                             "force_rmse_n": None, "angle_rmse_rad": None,
+                             "bootstrap_level": level, "observed": float(observed[k]),
+                             **{f"exact_{key}": float(v[k]) for key, v in band.items()},
+                             "test_patches": len(np.unique(patch_t)), "cal_patches": len(np.unique(patch_c))})
+    return rows
+
+
 def curve_and_maps(methods: dict[str, MethodPreds], y: np.ndarray, y_cal: np.ndarray
                    ) -> dict[str, Any]:
     """Calibration curve per method (levels -> coverage over all outputs) and per-row
@@ -245,6 +327,8 @@ def run(ctx: Context) -> list[dict[str, Any]]:
         ctx.provenance.setdefault("train_s", []).append(round(fit.wall_s, 1))
         all_methods = [unit_methods(fit, u, split) for u in range(len(arrays.units))]
         add_pooled(all_methods, split.Y_cal)
+        if opts.cv_folds:
+            add_cross_conformal(ctx, arrays, split, opts, seed, all_methods)
         for u, unit in enumerate(arrays.units):
             base = {"unit": unit, "seed": seed, "calib_samples": int(split.data.n_train[u]),
                     "conformal_rows": len(split.Y_cal[u]), "test_rows": len(split.Y_test[u])}
@@ -253,6 +337,9 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                 rows += method_rows(name, p, y, y_cal, base, opts.nominal)
             if opts.mapie:
                 rows += mapie_rows(methods["conformal"], y, y_cal, base, opts.nominal)
+            if opts.bootstrap:
+                rows += bootstrap_rows(methods, y, y_cal, arrays.patch[split.test_idx[u]],
+                                       arrays.patch[split.cal_idx[u]], base, opts.bootstrap, seed * 1009 + u)
             if seed == spec.all_seeds[0]:
                 maps = curve_and_maps(methods, y, y_cal)
                 fig["curves"].append(maps["curves"])
@@ -264,95 +351,6 @@ def run(ctx: Context) -> list[dict[str, Any]]:
             rows += adapted_rows(ctx, arrays, opts.adapted, opts.nominal, seed)
     write_report(ctx, rows, fig, opts, CURVE_LEVELS)
     return rows
-
-
-def foreign_fleets(spec_fleet: FleetConfig) -> dict[str, FleetConfig]:
-    """Units no training unit resembles: stronger casting defects (3x direction defects,
-    4x bubble chance, stronger voids), and another sensor model (stiffer rubber, weaker
-    coupling, larger indenter, stronger direction coupling)."""
-    s = spec_fleet.spread
-    strong = SpreadParams(**{**s.model_dump(), "direction_defect_sigma": 3 * s.direction_defect_sigma,
-                             "bubble_probability": min(1.0, 4 * s.bubble_probability),
-                             "bubble_strength_max": 0.9})
-    n = spec_fleet.nominal
-    other = NominalParams(**{**n.model_dump(), "modulus_pa": 2 * n.modulus_pa, "coupling_gain": 0.8,
-                             "indenter_radius_m": 1.2 * n.indenter_radius_m, "direction_coupling": 0.5})
-    return {"strong_defects_unit": spec_fleet.model_copy(update={"spread": strong}),
-            "other_sensor_model": spec_fleet.model_copy(update={"sensor_model": "fingertip-other",
-                                                                "nominal": other})}
-
-
-def foreign_pressures(ctx: Context, opts: Options, seed: int, root: Path) -> dict[str, np.ndarray]:
-    """Tared pressures (n, C) of simulated foreign units, read back through registries
-    under `root` (the same path as any other data; the configs are in foreign_fleets)."""
-    out = {}
-    for k, (name, cfg) in enumerate(foreign_fleets(ctx.spec.fleet).items()):
-        reg = Registry(root / f"{name}_seed{seed}")
-        simulate_into(reg, cfg, opts.foreign_units, seed=10_000 + 97 * seed + k, protocols=("short",))
-        out[name] = load_arrays(reg, reg.list_runs()).pressure
-    return out
-
-
-def fault_rows(ctx: Context, arrays: FleetArrays, fit: EnsembleFit, split: UQSplit, opts: Options,
-               seed: int) -> list[dict[str, Any]]:
-    """AUROC of every signal for every fault on every unit, per row and per window: clean
-    test rows against the same rows with the fault injected (or a foreign unit's rows
-    through this unit's model). Rows are whole windows of consecutive test rows."""
-    with tempfile.TemporaryDirectory() as tmp:
-        foreign = foreign_pressures(ctx, opts, seed, Path(tmp)) if opts.foreign_units else {}
-    rows = []
-    for u, unit in enumerate(split.data.unit_ids):
-        rng = np.random.default_rng(seed * 31 + u)
-        pick = contiguous_windows(len(split.X_test[u]), max(opts.windows), opts.max_detect_rows, rng)
-        x = split.X_test[u][pick]
-        novelty = (InputNovelty.fit(split.X_fit[u]), KnnNovelty.fit(split.X_fit[u], seed=seed))
-        faults = fault_suite(x, split.X_fit[u], rng, opts.drift_pa) | {
-            k: v[contiguous_windows(len(v), max(opts.windows), opts.max_detect_rows, rng)]
-            for k, v in foreign.items()}
-        clean = _signals(fit, u, x, novelty)
-        base = {"unit": unit, "seed": seed, "calib_samples": int(split.data.n_train[u]),
-                "force_rmse_n": None, "angle_rmse_rad": None}
-        for fault, xf in faults.items():
-            bad = _signals(fit, u, xf, novelty)
-            changed = (xf != x).any(1) if fault == "saturation" else slice(None)
-            for signal in clean:
-                for w in (1, *opts.windows):
-                    c = window_means(clean[signal][changed], w)
-                    b = window_means(bad[signal][changed], w)
-                    if len(b) == 0 or (fault == "saturation" and w > 1):
-                        continue
-                    rows.append({**base, "method": f"detect:{signal}", "fault": fault, "window": w,
-                                 "fault_rows": len(xf), "auroc": auroc(c, b)})
-            if fault != "saturation":
-                rows.append({**base, "method": "detect:flatline", "fault": fault, "window": opts.windows[0],
-                             "fault_rows": len(xf), "auroc": auroc(flatline(x, opts.windows[0]),
-                                                                   flatline(xf, opts.windows[0]))})
-        rows += rest_drift_rows(ctx, arrays, u, opts, rng, base)
-    return rows
-
-
-def rest_drift_rows(ctx: Context, arrays: FleetArrays, u: int, opts: Options,
-                    rng: np.random.Generator, base: dict[str, Any]) -> list[dict[str, Any]]:
-    """Baseline drift judged where a deployed unit sees it best: its contact-free rows
-    between touches (never used for training or tare), clean against offset."""
-    rest = rest_rows(ctx.registry, [r for r in arrays.runs if r.unit == arrays.units[u]])
-    if len(rest) < 2 * opts.windows[0]:
-        return []
-    ch = np.array([int(rng.integers(rest.shape[1]))])
-    clean, rows = rest_offset(rest, opts.windows[0]), []
-    for a in opts.drift_pa:
-        for name, chans in ((f"drift_all_{a / 1000:g}kPa", None), (f"drift_one_{a / 1000:g}kPa", ch)):
-            bad = rest_offset(baseline_drift(rest, a, chans), opts.windows[0])
-            rows.append({**base, "method": "detect:rest_offset", "fault": name, "window": opts.windows[0],
-                         "fault_rows": len(rest), "auroc": auroc(clean, bad)})
-    return rows
-
-
-def _signals(fit: EnsembleFit, u: int, x: np.ndarray,
-             novelty: tuple[InputNovelty, KnnNovelty]) -> dict[str, np.ndarray]:
-    mu, sigma = predict_members(fit, u, x)
-    return unit_signals(mu, sigma, fit.out_scaler.std[u, 0].cpu().numpy(),
-                        {"novelty": novelty[0](x), "knn_novelty": novelty[1](x)})
 
 
 def summarise(rows: list[dict[str, Any]]) -> str:
@@ -375,7 +373,10 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     `val_units`: absolute residuals of the validation units (their own adapters, on their
     held-out patches), pooled; `budget`: the held-out unit's own calibration stream, the
     `calib_rows` rows after the `budget` rows that fitted its adapter. Scored on the
-    held-out units' test patches, which neither touches."""
+    held-out units' test patches, which neither touches. `+scale` variants divide the
+    residuals by a scale network's sigma, `+fscale` by a + b |F_hat| (both in
+    `anytip.train.shared_scale`, fitted on the training units' validation rows), and give
+    mu +- q sigma."""
     co = CrossOptions(calibration_protocol=a.calibration_protocol, priors=[a.prior], adapters=[a.kind],
                       sweep_adapter=a.kind)
     sd = cross_prepare(ctx, arrays, co, seed)
@@ -393,15 +394,29 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     pred_c = predict_rows(folded, stats, shared.out_scaler, arrays, some)
     y = arrays.targets.astype(np.float64)
     n_val = len(sd.split.val)
-    pooled = np.concatenate([np.abs(pred_t[m] - y[test[m]]) for m in range(n_val)])
-    rows, name = [], f"adapted:{a.kind}+conformal"
-    for m in range(n_val, len(units)):
-        base = {"unit": units[m], "seed": seed, "calib_samples": a.budget,
-                "n_train_units": len(sd.split.train), "test_rows": len(test[m])}
-        p = MethodPreds(pred_t[m], None, pred_c[m], None, "conformal")
-        rows += method_rows(f"{name}:val_units", replace(p, pooled_scores=pooled), y[test[m]], y[:0],
-                            {**base, "conformal_rows": len(pooled)}, levels)
-        if len(cal[m]):
-            rows += method_rows(f"{name}:budget", p, y[test[m]], y[cal[m]],
-                                {**base, "conformal_rows": len(cal[m])}, levels)
+    variants = {f"adapted:{a.kind}+conformal": ([None] * len(units), [None] * len(units))}
+    if a.scale_epochs:
+        net = fit_scale_network(*shared_residuals(shared, sd.train), ctx.spec.model, a.scale_epochs,
+                                seed=seed)
+
+        def sigma(rows: list[np.ndarray]) -> list[np.ndarray]:
+            return [predict_scale(net, stats.slice(m), shared.out_scaler, arrays.pressure[r])
+                    for m, r in enumerate(rows)]
+
+        variants[f"adapted:{a.kind}+scale+conformal"] = (sigma(test), sigma(some))
+    coef = fit_force_scale(shared, sd.train)
+    variants[f"adapted:{a.kind}+fscale+conformal"] = ([force_scale(p, coef) for p in pred_t],
+                                                      [force_scale(p, coef) for p in pred_c])
+    rows = []
+    for name, (sig_t, sig_c) in variants.items():
+        pooled = np.concatenate([cp.scores_of(pred_t[m], y[test[m]], sig_t[m]) for m in range(n_val)])
+        for m in range(n_val, len(units)):
+            base = {"unit": units[m], "seed": seed, "calib_samples": a.budget,
+                    "n_train_units": len(sd.split.train), "test_rows": len(test[m])}
+            p = MethodPreds(pred_t[m], sig_t[m], pred_c[m], sig_c[m], "conformal")
+            rows += method_rows(f"{name}:val_units", replace(p, pooled_scores=pooled), y[test[m]], y[:0],
+                                {**base, "conformal_rows": len(pooled)}, levels)
+            if len(cal[m]):
+                rows += method_rows(f"{name}:budget", p, y[test[m]], y[cal[m]],
+                                    {**base, "conformal_rows": len(cal[m])}, levels)
     return rows

@@ -137,21 +137,28 @@ def val_nll(model: BatchedMLP, X: Tensor, Y: Tensor, n: Tensor, chunk: int = 819
 
 
 @torch.no_grad()
-def predict_members(fit: EnsembleFit, u: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Unit u's K members on x (n, 8) Pa -> physical means and sigmas, each (K, n, d)."""
+def predict_members(fit: EnsembleFit, u: int, x: np.ndarray, members: int | None = None,
+                    chunk: int = 65536) -> tuple[np.ndarray, np.ndarray]:
+    """Unit u's first `members` (default all K) members on x (n, 8) Pa -> physical means
+    and sigmas, each (K, n, d)."""
     K = fit.n_members
+    k_use = K if members is None else members
     dev = fit.in_scaler.mean.device
-    xt = torch.as_tensor(x, dtype=torch.float32, device=dev)
-    z = fit.in_scaler.slice(u).transform(xt[None]).expand(K, -1, -1)
-    W = [(w[u * K:(u + 1) * K], b[u * K:(u + 1) * K]) for w, b in
+    W = [(w[u * K:u * K + k_use], b[u * K:u * K + k_use]) for w, b in
          zip(fit.model.weights, fit.model.biases, strict=True)]
-    for k, (w, b) in enumerate(W):
-        z = torch.baddbmm(b, z, w)
-        if k < len(W) - 1:
-            z = ACTIVATIONS[fit.model.config.activation](z)
-    mu_z, lv = split_heads(z)
-    mu, sigma = to_physical(mu_z, lv, fit.out_scaler.slice(u))
-    return mu.cpu().numpy().astype(np.float64), sigma.cpu().numpy().astype(np.float64)
+    mus, sigmas = [], []
+    for i in range(0, max(len(x), 1), chunk):
+        xt = torch.as_tensor(x[i:i + chunk], dtype=torch.float32, device=dev)
+        z = fit.in_scaler.slice(u).transform(xt[None]).expand(k_use, -1, -1)
+        for k, (w, b) in enumerate(W):
+            z = torch.baddbmm(b, z, w)
+            if k < len(W) - 1:
+                z = ACTIVATIONS[fit.model.config.activation](z)
+        mu_z, lv = split_heads(z)
+        mu, sigma = to_physical(mu_z, lv, fit.out_scaler.slice(u))
+        mus.append(mu.cpu().numpy().astype(np.float64))
+        sigmas.append(sigma.cpu().numpy().astype(np.float64))
+    return np.concatenate(mus, 1), np.concatenate(sigmas, 1)
 
 
 def mixture(mu: np.ndarray, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
