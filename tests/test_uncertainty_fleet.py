@@ -20,7 +20,7 @@ TINY_SPEC = ["seeds=[0]", "data.protocol=short", "training.epochs=2", "training.
              "options.members=2", "options.max_train_rows=3000", "options.foreign_units=1",
              "options.max_detect_rows=2000", "options.windows=[100]", "options.cv_folds=3",
              "options.rest_block_rows=300", "options.rest_reference_rows=1000",
-             "options.adapted={epochs: 1, budget: 500, calib_rows: 500}"]
+             "options.adapted={epochs: 1, budget: 500, calib_rows: 500, members: 2}"]
 
 
 def _random_roles(arrays, units, seed=0):
@@ -86,7 +86,10 @@ def test_pipeline_rows_and_stuck_channel_is_flagged(small_registry, tmp_path):
     assert len(adapted) == 4  # the held-out units of the shared model
     methods = {r["method"] for r in cov}
     assert {"cv+conformal", "cv+hetero+conformal", "adapted:input_affine+film+scale+conformal:val_units",
-            "adapted:input_affine+film+scale+conformal:budget"} <= methods
+            "adapted:input_affine+film+scale+conformal:budget", "adapted:input_affine+film+ensemble",
+            "adapted:input_affine+film+ensemble+conformal:val_units"} <= methods
+    ens = [r for r in cov if r["method"] == "adapted:input_affine+film+ensemble"]
+    assert len({r["unit"] for r in ens}) == 4 and all(r["members"] == 2 for r in ens)
     assert any(r.get("method") == "detect:rest_drift:other_runs" for r in rows)
     drift = [r for r in rows if r.get("method") == "detect:rest_drift"]
     assert {r["fault"] for r in drift} == {f"drift_{c}_{a}kPa" for c in ("all", "one") for a in (1, 3)}

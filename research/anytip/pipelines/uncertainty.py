@@ -68,6 +68,8 @@ class AdaptedOptions(BaseModel):
     prior: float = Field(10.0, ge=0)
     calibration_protocol: str | None = "short"
     scale_epochs: int = Field(10, ge=0, description="scale network epochs; 0 skips the normalised variant")
+    members: int = Field(3, ge=1, description="shared models from different seeds, each calibrated and "
+                                              "folded; 2 or more add the `+ensemble` variants")
 
 
 class Options(BaseModel):
@@ -376,25 +378,26 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     held-out units' test patches, which neither touches. `+scale` variants divide the
     residuals by a scale network's sigma, `+fscale` by a + b |F_hat| (both in
     `anytip.train.shared_scale`, fitted on the training units' validation rows), and give
-    mu +- q sigma."""
+    mu +- q sigma. With `members` >= 2, shared models trained from other seeds (each with its
+    own adapters, folded) give `+ensemble` (mean +- z spread, uncalibrated) and
+    `+ensemble+conformal` (residuals divided by the members' spread)."""
     co = CrossOptions(calibration_protocol=a.calibration_protocol, priors=[a.prior], adapters=[a.kind],
                       sweep_adapter=a.kind)
     sd = cross_prepare(ctx, arrays, co, seed)
-    recipe = ctx.spec.training.model_copy(update={"epochs": a.epochs})
-    shared = train_shared(sd.train, sd.train_stats, ctx.spec.model, a.kind, recipe, seed, ctx.device,
-                          adapter_decay=co.adapter_decay)
     units = [*sd.split.val, *sd.split.test]
     streams = [sd.evals[u].stream for u in units]
-    folded, stats = calibrate_many(shared, arrays, streams, [a.budget] * len(units), [a.prior] * len(units),
-                                   AdapterRecipe(co.adapter_steps, co.adapter_lr), seed)
     test = [sd.evals[u].test_rows for u in units]
     cal = [st.rows[a.budget:a.budget + a.calib_rows] for st in streams]
-    pred_t = predict_rows(folded, stats, shared.out_scaler, arrays, test)
     some = [c if len(c) else t[:1] for c, t in zip(cal, test, strict=True)]  # empty: no budget variant
-    pred_c = predict_rows(folded, stats, shared.out_scaler, arrays, some)
+    members = [adapted_member(ctx, arrays, sd, co, a, streams, test, some, seed * 1000 + k if k else seed)
+               for k in range(a.members)]
+    shared, stats, pred_t, pred_c = members[0]
     y = arrays.targets.astype(np.float64)
     n_val = len(sd.split.val)
     variants = {f"adapted:{a.kind}+conformal": ([None] * len(units), [None] * len(units))}
+    if a.members > 1:
+        ens_t, spread_t = ensemble_of([m[2] for m in members])
+        ens_c, spread_c = ensemble_of([m[3] for m in members])
     if a.scale_epochs:
         net = fit_scale_network(*shared_residuals(shared, sd.train), ctx.spec.model, a.scale_epochs,
                                 seed=seed)
@@ -407,16 +410,46 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     coef = fit_force_scale(shared, sd.train)
     variants[f"adapted:{a.kind}+fscale+conformal"] = ([force_scale(p, coef) for p in pred_t],
                                                       [force_scale(p, coef) for p in pred_c])
+    means = {name: (pred_t, pred_c) for name in variants}
+    if a.members > 1:
+        name = f"adapted:{a.kind}+ensemble+conformal"
+        variants[name], means[name] = (spread_t, spread_c), (ens_t, ens_c)
     rows = []
     for name, (sig_t, sig_c) in variants.items():
-        pooled = np.concatenate([cp.scores_of(pred_t[m], y[test[m]], sig_t[m]) for m in range(n_val)])
+        mu_t, mu_c = means[name]
+        pooled = np.concatenate([cp.scores_of(mu_t[m], y[test[m]], sig_t[m]) for m in range(n_val)])
         for m in range(n_val, len(units)):
             base = {"unit": units[m], "seed": seed, "calib_samples": a.budget,
                     "n_train_units": len(sd.split.train), "test_rows": len(test[m])}
-            p = MethodPreds(pred_t[m], sig_t[m], pred_c[m], sig_c[m], "conformal")
+            if name.endswith("+ensemble+conformal"):  # the uncalibrated ensemble beside it
+                rows += method_rows(f"adapted:{a.kind}+ensemble", MethodPreds(
+                    mu_t[m], sig_t[m], mu_c[m], sig_c[m], "gaussian"), y[test[m]], y[:0],
+                    {**base, "members": a.members}, levels)
+            p = MethodPreds(mu_t[m], sig_t[m], mu_c[m], sig_c[m], "conformal")
             rows += method_rows(f"{name}:val_units", replace(p, pooled_scores=pooled), y[test[m]], y[:0],
                                 {**base, "conformal_rows": len(pooled)}, levels)
             if len(cal[m]):
                 rows += method_rows(f"{name}:budget", p, y[test[m]], y[cal[m]],
                                     {**base, "conformal_rows": len(cal[m])}, levels)
     return rows
+
+
+def adapted_member(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: AdaptedOptions,
+                   streams: list, test: list[np.ndarray], cal: list[np.ndarray], seed: int):
+    """One shared model trained from `seed`, its adapters fitted on every unit's budget and
+    folded: (shared fit, unit input stats, predictions (n, 5) on `test` rows, on `cal` rows)."""
+    recipe = ctx.spec.training.model_copy(update={"epochs": a.epochs})
+    shared = train_shared(sd.train, sd.train_stats, ctx.spec.model, a.kind, recipe, seed, ctx.device,
+                          adapter_decay=co.adapter_decay)
+    n = len(streams)
+    folded, stats = calibrate_many(shared, arrays, streams, [a.budget] * n, [a.prior] * n,
+                                   AdapterRecipe(co.adapter_steps, co.adapter_lr), seed)
+    return (shared, stats, predict_rows(folded, stats, shared.out_scaler, arrays, test),
+            predict_rows(folded, stats, shared.out_scaler, arrays, cal))
+
+
+def ensemble_of(preds: list[list[np.ndarray]]) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Members' predictions [K][units] (n, 5) -> per unit the mean and the members' spread (std,
+    floored at 1e-9 so that normalised scores stay finite)."""
+    stacked = [np.stack(unit) for unit in zip(*preds, strict=True)]
+    return [p.mean(0) for p in stacked], [np.maximum(p.std(0), 1e-9) for p in stacked]

@@ -117,7 +117,7 @@ def drift_flag_table(rows: list[dict[str, Any]]) -> str:
     return table(["detector", "fault", "clean rows flagged", "faulty rows flagged"], body)
 
 
-def cost_table(members: int, sizes: tuple[int, ...]) -> str:
+def cost_table(members: int, sizes: tuple[int, ...], adapted_members: int = 1) -> str:
     """Parameters and multiply-accumulates per inference on the unit, per method."""
     from anytip.models.mlp import MLPConfig
 
@@ -136,6 +136,10 @@ def cost_table(members: int, sizes: tuple[int, ...]) -> str:
             ["hetero+conformal", het.n_params, macs(het), f"+{d} floats per level"],
             [f"ensemble ({members} members)", members * het.n_params, members * macs(het),
              f"x{members} flash and time"],
+            *([[f"adapted ensemble ({adapted_members} folded shared models)",
+                 adapted_members * base.n_params, adapted_members * macs(base),
+                 f"x{adapted_members} flash and time, +{d} floats per level"]]
+              if adapted_members > 1 else []),
             ["input novelty (Mahalanobis)", sizes[0] * (sizes[0] + 1), sizes[0] * (sizes[0] + 1), "-"],
             ["rest drift (rest model, block minima)", rest["parameters"], rest["macs"],
              f"{rest['state']} floats of state"],
@@ -216,7 +220,8 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts
         "\nRest-drift detectors at their limits (the 99.9% point of the clean calibration "
         "distances; `other_runs`: fitted on the unit's other power-ups):\n",
         drift_flag_table(rows),
-        "\n## Embedded cost\n", cost_table(opts.members, tuple(ctx.spec.model.sizes)),
+        "\n## Embedded cost\n", cost_table(opts.members, tuple(ctx.spec.model.sizes),
+                                             opts.adapted.members if opts.adapted else 1),
         "\n## Figures\n", image("calibration_curves.png", "calibration curves"),
         image("coverage_vs_force.png", "coverage against force"),
         *[image(f"coverage_map_{m}.png", m) for m in ("conformal", "ensemble_conformal", "ensemble")],
