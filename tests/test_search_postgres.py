@@ -54,7 +54,7 @@ def postgres_url():
         f"-p {port} -k {root} -c listen_addresses=127.0.0.1", "start")
     try:
         run(f"{bin_dir}/createdb", "-h", "127.0.0.1", "-p", str(port), "-U", "postgres", "anytip")
-        yield f"postgresql+psycopg2://postgres@127.0.0.1:{port}/anytip"
+        yield f"postgresql://postgres@127.0.0.1:{port}/anytip"  # the installed driver is chosen
     finally:
         run(f"{bin_dir}/pg_ctl", "-D", str(data), "-m", "fast", "stop")
         shutil.rmtree(root, ignore_errors=True)
@@ -69,7 +69,9 @@ def test_two_workers_share_a_postgresql_study(small_registry, tmp_path, postgres
     prov = json.loads((run / "provenance.json").read_text())["search"]
     assert prov["storage"] == postgres_url and prov["workers"] == 2
     assert not (run / "study.db").exists()
-    study = optuna.load_study(study_name="search", storage=postgres_url)
+    from anytip.search.study import SearchOptions, rdb_storage
+
+    study = optuna.load_study(study_name="search", storage=rdb_storage(postgres_url, SearchOptions()))
     finished = [t for t in study.trials if t.state in (optuna.trial.TrialState.COMPLETE,
                                                        optuna.trial.TrialState.PRUNED)]
     assert len(finished) == 4

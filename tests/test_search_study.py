@@ -137,3 +137,23 @@ def test_bad_options_name_the_key(small_registry, tmp_path, override, message):
     with pytest.raises(AnytipError, match=message):
         run_experiment(SPEC, small_registry, out=tmp_path / "bad", overrides=[*TINY, override],
                        progress=False)
+
+
+@pytest.mark.parametrize("url, message", [
+    ("not a url", "is not a database URL"),
+    ("journal:///tmp/study.log", "no database driver"),
+    ("sqlite:////nonexistent-dir/study.db", "cannot open the database"),
+])
+def test_bad_storage_url_names_the_option(url, message):
+    from anytip.search.study import SearchOptions, rdb_storage
+
+    with pytest.raises(AnytipError, match=f"options.storage.*{message}"):
+        rdb_storage(url, SearchOptions())
+
+
+def test_storage_error_hides_the_password():
+    from anytip.search.study import SearchOptions, rdb_storage
+
+    with pytest.raises(AnytipError) as err:
+        rdb_storage("postgresql://user:secret@127.0.0.1:1/db", SearchOptions())
+    assert "secret" not in str(err.value) and "***" in str(err.value)

@@ -12,6 +12,7 @@ study resumes where it stopped: trials whose heartbeat stopped are marked failed
 
 from __future__ import annotations
 
+import importlib.util
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -164,16 +165,45 @@ def make_objective(fit_and_score: Callable[[Candidate, TrainRecipe], list[dict[s
     return objective
 
 
-def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0) -> optuna.Study:
-    """Create or load the study; stale running trials (no heartbeat) are failed and retried.
-    Each worker samples from its own seed, so parallel workers do not propose the same trial."""
+def rdb_storage(url: str, opts: SearchOptions) -> optuna.storages.RDBStorage:
+    """The study's storage: an SQLAlchemy database URL (sqlite:///file, postgresql://user@host/db,
+    mysql://...), with heartbeats so that a killed worker's trials are failed and retried. A URL
+    that names no database SQLAlchemy can open, or one that cannot be reached, stops the run
+    with the URL (password hidden) and the reason."""
+    import sqlalchemy.exc
+    from sqlalchemy.engine import make_url
+
+    try:
+        parsed = make_url(url)
+    except sqlalchemy.exc.ArgumentError:
+        raise AnytipError(f"options.storage: {url!r} is not a database URL; use sqlite:///FILE or "
+                          "postgresql://USER@HOST/DB (journal files are not supported: resuming a "
+                          "killed study needs heartbeats)") from None
+    if parsed.drivername == "postgresql" and importlib.util.find_spec("psycopg") is None:
+        # SQLAlchemy's default PostgreSQL driver is psycopg 3; the installed one is psycopg2
+        url = parsed.set(drivername="postgresql+psycopg2").render_as_string(hide_password=False)
+    shown = parsed.render_as_string(hide_password=True)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
         # SQLite serialises writers: let concurrent workers wait for the lock instead of failing
         engine = {"connect_args": {"timeout": 60}} if url.startswith("sqlite") else None
-        storage = optuna.storages.RDBStorage(
-            url, engine_kwargs=engine, heartbeat_interval=opts.heartbeat_s, grace_period=2 * opts.heartbeat_s,
-            heartbeat_stale_trial_callback=optuna.storages.RetryHeartbeatStaleTrialCallback(max_retry=1))
+        try:
+            return optuna.storages.RDBStorage(
+                url, engine_kwargs=engine, heartbeat_interval=opts.heartbeat_s,
+                grace_period=2 * opts.heartbeat_s,
+                heartbeat_stale_trial_callback=optuna.storages.RetryHeartbeatStaleTrialCallback(max_retry=1))
+        except (sqlalchemy.exc.NoSuchModuleError, ImportError) as e:
+            raise AnytipError(f"options.storage {shown}: no database driver for it ({e}); use "
+                              "sqlite:///FILE or postgresql://USER@HOST/DB") from None
+        except sqlalchemy.exc.OperationalError as e:
+            reason = str(e.orig).strip()
+            raise AnytipError(f"options.storage {shown}: cannot open the database ({reason})") from None
+
+
+def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0) -> optuna.Study:
+    """Create or load the study; stale running trials (no heartbeat) are failed and retried.
+    Each worker samples from its own seed, so parallel workers do not propose the same trial."""
+    storage = rdb_storage(url, opts)
     sampler = optuna.samplers.TPESampler(seed=opts.seed * 1000 + worker,
                                          n_startup_trials=min(8, opts.n_trials))
     return optuna.create_study(study_name=name, storage=storage, load_if_exists=True, sampler=sampler,
