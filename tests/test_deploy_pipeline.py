@@ -50,3 +50,11 @@ def test_bad_options_name_the_key(small_registry, tmp_path):
                        small_registry, out=tmp_path / "r", progress=False)
     with pytest.raises(AnytipError, match="options"):
         run_experiment(spec(tmp_path, {"modles": []}), small_registry, out=tmp_path / "r2", progress=False)
+
+
+def test_hand_written_reading_survives_a_rerun(tmp_path):
+    from anytip.pipelines.deploy import READING, reading
+
+    assert reading(tmp_path) == ""
+    (tmp_path / READING).write_text("## Reading\n\nThe figures mean this.\n")
+    assert reading(tmp_path).endswith("## Reading\n\nThe figures mean this.\n")
