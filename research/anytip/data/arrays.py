@@ -83,7 +83,8 @@ def patch_index(angles: np.ndarray) -> np.ndarray:
     return (i * PATCH_GRID[1] + j).astype(np.int16)
 
 
-def _contact_mask(f: h5py.File, force: np.ndarray) -> np.ndarray:
+def contact_mask(f: h5py.File, force: np.ndarray) -> np.ndarray:
+    """(n,) bool: the run's recorded `in_contact` flag, else |F| >= CONTACT_FORCE_N."""
     if "in_contact" in f:
         return np.asarray(f["in_contact"][()]).astype(bool)
     return np.linalg.norm(force, axis=1) >= CONTACT_FORCE_N
@@ -108,7 +109,7 @@ def _read_payload(path: str) -> tuple[np.ndarray, ...]:
             time = f["time"][()]
             force = f["force"][()]
             angles = f["angles"][()]
-            contact = _contact_mask(f, force)
+            contact = contact_mask(f, force)
     except (OSError, KeyError) as e:
         raise RunFormatError(path, f"cannot read payload: {e}") from None
     return pressure, force, angles, contact, time - time[0]

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import h5py
 import numpy as np
 
-from anytip.data.arrays import CONTACT_FORCE_N, rest_reading
+from anytip.data.arrays import contact_mask, rest_reading
 from anytip.data.registry import Registry, RunRecord
 from anytip.errors import AnytipError
 
@@ -78,8 +78,7 @@ def rest_rows(registry: Registry, runs: Sequence[RunRecord]) -> np.ndarray:
         with h5py.File(path, "r") as f:
             pressure = f["pressure"][()]
             force = f["force"][()]
-            contact = (np.asarray(f["in_contact"][()]).astype(bool) if "in_contact" in f
-                       else np.linalg.norm(force, axis=1) >= CONTACT_FORCE_N)
+            contact = contact_mask(f, force)
         tare = rest_reading(pressure, contact, str(path))
         after = np.arange(len(contact)) > np.argmax(contact)
         parts.append((pressure[after & ~contact] - tare).astype(np.float32))
@@ -127,8 +126,7 @@ def run_streams(registry: Registry, runs: Sequence[RunRecord], indices: Sequence
             pressure = f["pressure"][()].astype(np.float64)
             temp = f["temperature"][()].astype(np.float64)
             force = f["force"][()]
-            contact = (np.asarray(f["in_contact"][()]).astype(bool) if "in_contact" in f
-                       else np.linalg.norm(force, axis=1) >= CONTACT_FORCE_N)
+            contact = contact_mask(f, force)
         first = int(np.argmax(contact)) if contact.any() else len(contact)
         temp = temp.reshape(len(temp), -1)
         if temp.shape[1] != pressure.shape[1]:  # one sensor for the board: every channel reads it

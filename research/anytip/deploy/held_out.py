@@ -96,7 +96,7 @@ def _cross_sensor(run_dir: Path, prov: dict[str, Any], seed: int | None, unit: s
 def _baseline(run_dir: Path, prov: dict[str, Any], seed: int | None, unit: str, index: int,
               registry) -> HeldOut:
     from anytip.data.arrays import load_arrays
-    from anytip.data.splits import held_out_patches
+    from anytip.pipelines.common import patch_test_mask
 
     units, seeds = list(prov.get("units") or []), list(prov.get("seeds") or [])
     seed = seed if seed is not None else (seeds[0] if len(seeds) == 1 else None)
@@ -117,8 +117,7 @@ def _baseline(run_dir: Path, prov: dict[str, Any], seed: int | None, unit: str, 
         raise AnytipError(f"registry {registry.root} holds none of the runs {run_dir} trained unit "
                           f"{unit} on")
     patch = load_arrays(registry, runs).patch
-    u = units.index(unit)  # the pipeline's per-unit seed offset (anytip.pipelines.common)
-    cells = np.unique(patch[held_out_patches(patch, fraction, seed * 100_003 + u)])
+    cells = np.unique(patch[patch_test_mask(fraction, seed)(patch, units.index(unit))])
     return HeldOut(patches=cells.tolist(), runs=[r.run_id for r in runs],
                    note=f"patches {run_dir} held out for unit {unit} in seed {seed} (baseline, "
                         f"patch_test_fraction {fraction}), re-drawn from its recorded runs")

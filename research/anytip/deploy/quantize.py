@@ -175,15 +175,7 @@ def _quantize_input(q: QuantNet, x: np.ndarray) -> np.ndarray:
 
 def _run_from(q: QuantNet, k: int, a: np.ndarray) -> np.ndarray:
     """Layers k.. of the int8 network on integer activations a (B, in_k): -> (B, out) physical."""
-    last = len(q.layers) - 1
-    for j in range(k, last + 1):
-        L = q.layers[j]
-        y = np.float32(_int_matmul(a, L.q_w)) * L.mult + L.bias
-        if L.relu:
-            y = np.maximum(y, np.float32(0))
-        if j < last:
-            a = _round_clip(y).astype(np.int64)
-    return (y + q.out_offset).astype(np.float64)
+    return _tail(q, k, _int_matmul(a, q.layers[k].q_w))
 
 
 def _inputs_of(q: QuantNet, k: int, x: np.ndarray) -> np.ndarray:

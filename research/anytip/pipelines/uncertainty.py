@@ -114,6 +114,13 @@ class UQSplit:
     rest_idx: list[np.ndarray] = field(default_factory=list)  # every non-test row's index
 
 
+def capped(rows: np.ndarray, max_rows: int | None, rng: np.random.Generator) -> np.ndarray:
+    """At most `max_rows` of `rows` (row indices), a sorted random subset; all when None or fewer."""
+    if max_rows is None or len(rows) <= max_rows:
+        return rows
+    return np.sort(rng.choice(rows, max_rows, replace=False))
+
+
 def uq_split(arrays: FleetArrays, opts: Options, test_fraction: float, val_fraction: float,
              seed: int, device: torch.device) -> UQSplit:
     """Test patches, then calibration patches of the rest, then train / validation rows."""
@@ -127,9 +134,7 @@ def uq_split(arrays: FleetArrays, opts: Options, test_fraction: float, val_fract
         cal = held_out_patches(arrays.patch[rest], opts.calib_patch_fraction, seed * 100_003 + u + 77)
         train = rest[~cal]
         rng = np.random.default_rng(seed * 7919 + u)
-        if opts.max_train_rows is not None and len(train) > opts.max_train_rows:
-            train = np.sort(rng.choice(train, opts.max_train_rows, replace=False))
-        fit, val = split_validation(train, val_fraction, rng)
+        fit, val = split_validation(capped(train, opts.max_train_rows, rng), val_fraction, rng)
         members.append(unit_tensors(arrays, fit, val, unit))
         for key, idx in (("cal", rest[cal]), ("test", rows[test])):
             parts[f"X_{key}"].append(arrays.pressure[idx])
@@ -205,10 +210,8 @@ def add_cross_conformal(ctx: Context, arrays: FleetArrays, split: UQSplit, opts:
         fold = patch_folds(arrays.patch[rest], K, seed * 7 + u + 501)
         folds.append(fold)
         for k in range(K):
-            train = rest[fold != k]
             rng = np.random.default_rng(seed * 7919 + 31 * u + k)
-            if opts.max_train_rows is not None and len(train) > opts.max_train_rows:
-                train = np.sort(rng.choice(train, opts.max_train_rows, replace=False))
+            train = capped(rest[fold != k], opts.max_train_rows, rng)
             members.append(unit_tensors(arrays, *split_validation(train, ctx.spec.splits.val_fraction, rng),
                                         f"{unit}/fold{k}"))
     data = FleetBatchData.from_units(members, ctx.device)

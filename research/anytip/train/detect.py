@@ -39,8 +39,12 @@ class InputNovelty:
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """(n, C) Pa -> (n,) Mahalanobis distance."""
-        d = x.astype(np.float64) - self.mean
-        return np.sqrt(np.einsum("ni,ij,nj->n", d, self.precision, d))
+        return mahalanobis(x.astype(np.float64) - self.mean, self.precision)
+
+
+def mahalanobis(d: np.ndarray, precision: np.ndarray) -> np.ndarray:
+    """(n,) distances sqrt(d_n^T P d_n) of offsets d (n, C) from a mean, P the precision (C, C)."""
+    return np.sqrt(np.einsum("ni,ij,nj->n", d, precision, d))
 
 
 def scale_signal(sigma: np.ndarray, out_std: np.ndarray) -> np.ndarray:

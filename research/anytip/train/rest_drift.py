@@ -35,6 +35,8 @@ import numpy as np
 from scipy.signal import lfilter
 from scipy.stats import chi2
 
+from anytip.train.detect import mahalanobis
+
 TAUS_ROWS = (20, 100, 400, 2000)  # 0.1, 0.5, 2 and 10 s at 200 Hz
 SQUARE_SCALE_PA = 10_000.0  # p^2 / this keeps the squared regressors near the linear ones
 
@@ -126,8 +128,7 @@ class RestDriftDetector:
         parts = zip(streams, feats, stat_rows, starts, strict=True)
         states = np.concatenate([det.state(s, f, k)[r] for s, f, r, k in parts])
         mean, precision = states.mean(0), np.linalg.inv(shrunk_covariance(states))
-        d = states - mean
-        dist = np.sqrt(np.einsum("ni,ij,nj->n", d, precision, d))
+        dist = mahalanobis(states - mean, precision)
         gauss = np.sqrt(chi2.ppf(cls.LIMIT_QUANTILE, len(mean)))  # the floor a short calibration gets
         return cls(w, mean, precision, block_rows, float(max(np.quantile(dist, cls.LIMIT_QUANTILE), gauss)))
 
@@ -149,8 +150,7 @@ class RestDriftDetector:
 
     def __call__(self, stream: tuple[np.ndarray, np.ndarray], start: int = 0) -> np.ndarray:
         """(n,) Mahalanobis distance of the state from its clean mean after every row."""
-        d = self.state(stream, start=start) - self.mean
-        return np.sqrt(np.einsum("ni,ij,nj->n", d, self.precision, d))
+        return mahalanobis(self.state(stream, start=start) - self.mean, self.precision)
 
     def rereferenced(self, stream: tuple[np.ndarray, np.ndarray], start: int, rows: np.ndarray
                      ) -> RestDriftDetector:

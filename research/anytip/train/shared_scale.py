@@ -22,18 +22,29 @@ from anytip.train.data import FleetBatchData
 
 
 @torch.no_grad()
-def shared_residuals(shared: SharedFit, data: FleetBatchData) -> tuple[Tensor, Tensor]:
-    """Standardised inputs (m, d_in) and standardised residuals (m, d_out) of the shared
-    model (with each training unit's own adapter) on the training units' validation rows."""
+def validation_rows(shared: SharedFit, data: FleetBatchData) -> tuple[Tensor, Tensor, Tensor]:
+    """The training units' validation rows, concatenated over units on the model's device:
+    standardised inputs (m, d_in), the shared model's standardised predictions (m, d_out)
+    (each unit through its own adapter) and the physical targets (m, d_out)."""
     device = shared.model.weights[0].device
     X = shared.in_scaler.transform(data.X_val.to(device))  # (U, N, d_in)
     was_training = shared.model.training
     pred = shared.model.eval()(X)
     shared.model.train(was_training)
-    R = shared.out_scaler.transform(data.Y_val.to(device)) - pred
     keep = [slice(0, int(n)) for n in data.n_val]
-    return (torch.cat([X[u, k] for u, k in enumerate(keep)]).cpu(),
-            torch.cat([R[u, k] for u, k in enumerate(keep)]).cpu())
+
+    def cat(t: Tensor) -> Tensor:
+        return torch.cat([t[u, k] for u, k in enumerate(keep)])
+
+    return cat(X), cat(pred), cat(data.Y_val.to(device))
+
+
+@torch.no_grad()
+def shared_residuals(shared: SharedFit, data: FleetBatchData) -> tuple[Tensor, Tensor]:
+    """Standardised inputs (m, d_in) and standardised residuals (m, d_out) of the shared
+    model (with each training unit's own adapter) on the training units' validation rows."""
+    X, pred, Y = validation_rows(shared, data)
+    return X.cpu(), (shared.out_scaler.transform(Y[None])[0] - pred).cpu()
 
 
 def fit_scale_network(x: Tensor, resid: Tensor, config: MLPConfig, epochs: int = 10, batch_size: int = 512,
@@ -70,12 +81,9 @@ def fit_force_scale(shared: SharedFit, data: FleetBatchData) -> np.ndarray:
     """Least-squares fit of |residual_k| ~ a_k + b_k |F_hat| (physical units) on the training
     units' validation rows: (2, d_out), a above b, both clipped at >= 0 and a > 0. A gain
     error of a new unit's adapter grows with the force, which this scale follows."""
-    device = shared.model.weights[0].device
-    pred = shared.out_scaler.inverse(shared.model.eval()(shared.in_scaler.transform(data.X_val.to(device))))
-    shared.model.train()
-    keep = [slice(0, int(n)) for n in data.n_val]
-    p = torch.cat([pred[u, k] for u, k in enumerate(keep)]).cpu().double().numpy()
-    y = torch.cat([data.Y_val[u, k] for u, k in enumerate(keep)]).cpu().double().numpy()
+    _, pred, Y = validation_rows(shared, data)
+    p = shared.out_scaler.inverse(pred[None])[0].cpu().double().numpy()
+    y = Y.cpu().double().numpy()
     A = np.stack([np.ones(len(p)), np.linalg.norm(p[:, :3], axis=1)], 1)
     coef = np.linalg.lstsq(A, np.abs(y - p), rcond=None)[0]  # (2, d)
     coef = np.maximum(coef, 0.0)
