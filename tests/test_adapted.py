@@ -98,3 +98,35 @@ def test_adapters_fit_a_new_unit_better_than_the_bare_shared_net():
         err = ((shared.out_scaler.inverse(adapted(test)) - y_new[200:]) ** 2).mean(dim=(1, 2))
     assert float(adapted.deviation().detach()[0]) == 0.0  # no rows, no change
     assert float(err[1]) < 0.5 * float(err[0]), err
+
+
+def test_heteroscedastic_shared_model_learns_a_new_units_noise_and_folds():
+    """Units whose targets are noisy where the first latent input is positive (noise sd
+    0.3) and nearly clean elsewhere (0.02): the shared model's scale head, adapted to a new
+    unit by beta-NLL and folded, predicts a larger sigma on the noisy half."""
+    from anytip.models.heteroscedastic import split_heads
+
+    Xs, Ys = fleet(7, 1500, seed=5)
+    g = torch.Generator().manual_seed(1)
+    for x, y in zip(Xs, Ys, strict=True):
+        sd = torch.where(x[:, :1] > 0, 0.3, 0.02)
+        y.add_(sd * torch.randn(y.shape, generator=g))
+    data = FleetBatchData.from_units(
+        [UnitTensors(x[:1200], y[:1200], x[1200:], y[1200:], f"u{i}") for i, (x, y) in
+         enumerate(zip(Xs[:6], Ys[:6], strict=True))], output_names=("a", "b", "c"))
+    config = MLPConfig(sizes=(4, 16, 16, 3), activation="tanh")
+    recipe = TrainRecipe(name="t", lr=1e-2, batch_size=64, epochs=20, schedule="onecycle", warmup_frac=0.1)
+    shared = train_shared(data, Scaler.identity(6, 4), config, "input_diag", recipe, seed=0, hetero_beta=0.5)
+    assert shared.hetero_beta == 0.5 and shared.model.config.sizes[-1] == 6
+    x_new, y_new = Xs[6], Ys[6]
+    adapted = fit_adapters(shared, x_new[None, :600], y_new[None, :600], torch.tensor([600]),
+                           Scaler.identity(1, 4), torch.tensor([1.0]), AdapterRecipe(steps=200, lr=3e-2))
+    folded = adapted.fold()
+    test = x_new[600:][None]
+    with torch.no_grad():
+        torch.testing.assert_close(folded(test), adapted(test), atol=1e-5, rtol=1e-5)
+        _, log_var = split_heads(folded(test)[0])
+    sigma = shared.out_scaler.std[0, 0] * (0.5 * log_var).exp()
+    noisy = x_new[600:, 0] > 0
+    ratio = sigma[noisy].median(0).values / sigma[~noisy].median(0).values
+    assert bool((ratio > 2).all()), ratio

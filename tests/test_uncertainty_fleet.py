@@ -88,6 +88,13 @@ def test_pipeline_rows_and_stuck_channel_is_flagged(small_registry, tmp_path):
     assert {"cv+conformal", "cv+hetero+conformal", "adapted:input_affine+film+scale+conformal:val_units",
             "adapted:input_affine+film+scale+conformal:budget", "adapted:input_affine+film+ensemble",
             "adapted:input_affine+film+ensemble+conformal:val_units"} <= methods
+    het = [r for r in cov if r["method"] == "adapted:input_affine+film+hetero"]
+    assert len({r["unit"] for r in het}) == 4 and all(r["nll"] is not None for r in het)
+    assert {"adapted:input_affine+film+hetero+conformal:val_units",
+            "adapted:input_affine+film+hetero+conformal:budget"} <= methods
+    saved = load_models(out / "models" / "adapted_hetero_seed0")
+    assert saved.model.n_models == 4 and saved.meta["scale_outputs"] == [5, 6, 7, 8, 9]
+    assert sorted(saved.meta["unit_ids"]) == sorted({r["unit"] for r in het})
     ens = [r for r in cov if r["method"] == "adapted:input_affine+film+ensemble"]
     assert len({r["unit"] for r in ens}) == 4 and all(r["members"] == 2 for r in ens)
     assert any(r.get("method") == "detect:rest_drift:other_runs" for r in rows)

@@ -23,6 +23,10 @@ from scipy.stats import norm
 from anytip.data.arrays import FleetArrays
 from anytip.data.splits import held_out_patches
 from anytip.errors import AnytipError
+from anytip.models.heteroscedastic import output_scaler_2d
+from anytip.models.io import save_models
+from anytip.models.mlp import BatchedMLP
+from anytip.models.scaler import Scaler
 from anytip.pipelines.common import (
     OUTPUTS,
     Context,
@@ -50,7 +54,7 @@ from anytip.train.shared_scale import (
     predict_scale,
     shared_residuals,
 )
-from anytip.train.uncertainty import EnsembleFit, mixture, predict_members, train_hetero_fleet
+from anytip.train.uncertainty import EnsembleFit, hetero_meta, mixture, predict_members, train_hetero_fleet
 
 GROUPS = {**{name: [k] for k, name in enumerate(OUTPUTS)}, "force": [0, 1, 2], "angle": [3, 4]}
 CURVE_LEVELS = np.round(np.linspace(0.05, 0.99, 20), 3)
@@ -70,6 +74,8 @@ class AdaptedOptions(BaseModel):
     scale_epochs: int = Field(10, ge=0, description="scale network epochs; 0 skips the normalised variant")
     members: int = Field(3, ge=1, description="shared models from different seeds, each calibrated and "
                                               "folded; 2 or more add the `+ensemble` variants")
+    hetero: bool = Field(True, description="also a shared model with heteroscedastic heads (beta-NLL "
+                                           "with options.beta), adapters fitted the same way: `+hetero`")
 
 
 class Options(BaseModel):
@@ -353,7 +359,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                 fig["force"].append(np.linalg.norm(y[:, :3], axis=1))
         rows += fault_rows(ctx, arrays, fit, split, opts, seed)
         if opts.adapted is not None:
-            rows += adapted_rows(ctx, arrays, opts.adapted, opts.nominal, seed)
+            rows += adapted_rows(ctx, arrays, opts.adapted, opts.nominal, seed, opts.beta)
     write_report(ctx, rows, fig, opts, CURVE_LEVELS)
     return rows
 
@@ -373,7 +379,7 @@ def summarise(rows: list[dict[str, Any]]) -> str:
 
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: list[float],
-                 seed: int) -> list[dict[str, Any]]:
+                 seed: int, beta: float = 0.5) -> list[dict[str, Any]]:
     """Split conformal for the adapted shared model on held-out units, two ways:
     `val_units`: absolute residuals of the validation units (their own adapters, on their
     held-out patches), pooled; `budget`: the held-out unit's own calibration stream, the
@@ -383,7 +389,10 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     `anytip.train.shared_scale`, fitted on the training units' validation rows), and give
     mu +- q sigma. With `members` >= 2, shared models trained from other seeds (each with its
     own adapters, folded) give `+ensemble` (mean +- z spread, uncalibrated) and
-    `+ensemble+conformal` (residuals divided by the members' spread)."""
+    `+ensemble+conformal` (residuals divided by the members' spread). With `hetero`, a shared
+    model with heteroscedastic heads (its adapters fitted by beta-NLL too, folded, saved with
+    its scale outputs) gives `+hetero` (mu +- z sigma, uncalibrated) and `+hetero+conformal`
+    (residuals divided by its sigma)."""
     co = CrossOptions(calibration_protocol=a.calibration_protocol, priors=[a.prior], adapters=[a.kind],
                       sweep_adapter=a.kind)
     sd = cross_prepare(ctx, arrays, co, seed)
@@ -394,7 +403,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     some = [c if len(c) else t[:1] for c, t in zip(cal, test, strict=True)]  # empty: no budget variant
     members = [adapted_member(ctx, arrays, sd, co, a, streams, test, some, seed * 1000 + k if k else seed)
                for k in range(a.members)]
-    shared, stats, pred_t, pred_c = members[0]
+    shared, stats, pred_t, pred_c, _ = members[0]
     y = arrays.targets.astype(np.float64)
     n_val = len(sd.split.val)
     variants = {f"adapted:{a.kind}+conformal": ([None] * len(units), [None] * len(units))}
@@ -414,9 +423,17 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     variants[f"adapted:{a.kind}+fscale+conformal"] = ([force_scale(p, coef) for p in pred_t],
                                                       [force_scale(p, coef) for p in pred_c])
     means = {name: (pred_t, pred_c) for name in variants}
+    gaussian = {}  # conformal variant -> the uncalibrated Gaussian method beside it
     if a.members > 1:
         name = f"adapted:{a.kind}+ensemble+conformal"
         variants[name], means[name] = (spread_t, spread_c), (ens_t, ens_c)
+        gaussian[name] = f"adapted:{a.kind}+ensemble"
+    if a.hetero:
+        het = adapted_member(ctx, arrays, sd, co, a, streams, test, some, seed, hetero_beta=beta)
+        save_hetero(ctx, het, units[n_val:], seed, beta)
+        name = f"adapted:{a.kind}+hetero+conformal"
+        means[name], variants[name] = zip(*[gaussian_heads(p) for p in (het[2], het[3])], strict=True)
+        gaussian[name] = f"adapted:{a.kind}+hetero"
     rows = []
     for name, (sig_t, sig_c) in variants.items():
         mu_t, mu_c = means[name]
@@ -424,10 +441,10 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
         for m in range(n_val, len(units)):
             base = {"unit": units[m], "seed": seed, "calib_samples": a.budget,
                     "n_train_units": len(sd.split.train), "test_rows": len(test[m])}
-            if name.endswith("+ensemble+conformal"):  # the uncalibrated ensemble beside it
-                rows += method_rows(f"adapted:{a.kind}+ensemble", MethodPreds(
+            if name in gaussian:  # the uncalibrated Gaussian beside it
+                rows += method_rows(gaussian[name], MethodPreds(
                     mu_t[m], sig_t[m], mu_c[m], sig_c[m], "gaussian"), y[test[m]], y[:0],
-                    {**base, "members": a.members}, levels)
+                    {**base, "members": a.members if "+ensemble" in name else 1}, levels)
             p = MethodPreds(mu_t[m], sig_t[m], mu_c[m], sig_c[m], "conformal")
             rows += method_rows(f"{name}:val_units", replace(p, pooled_scores=pooled), y[test[m]], y[:0],
                                 {**base, "conformal_rows": len(pooled)}, levels)
@@ -438,17 +455,44 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
 
 
 def adapted_member(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: AdaptedOptions,
-                   streams: list, test: list[np.ndarray], cal: list[np.ndarray], seed: int):
+                   streams: list, test: list[np.ndarray], cal: list[np.ndarray], seed: int,
+                   hetero_beta: float | None = None):
     """One shared model trained from `seed`, its adapters fitted on every unit's budget and
-    folded: (shared fit, unit input stats, predictions (n, 5) on `test` rows, on `cal` rows)."""
+    folded: (shared fit, unit input stats, predictions on `test` rows, on `cal` rows, the
+    folded models). Predictions are (n, 5), or with `hetero_beta` (n, 10): the physical
+    means, then log sigma^2 (the saved model's outputs, `output_scaler_2d`)."""
     recipe = ctx.spec.training.model_copy(update={"epochs": a.epochs})
     shared = train_shared(sd.train, sd.train_stats, ctx.spec.model, a.kind, recipe, seed, ctx.device,
-                          adapter_decay=co.adapter_decay)
+                          adapter_decay=co.adapter_decay, hetero_beta=hetero_beta)
     n = len(streams)
     folded, stats = calibrate_many(shared, arrays, streams, [a.budget] * n, [a.prior] * n,
                                    AdapterRecipe(co.adapter_steps, co.adapter_lr), seed)
-    return (shared, stats, predict_rows(folded, stats, shared.out_scaler, arrays, test),
-            predict_rows(folded, stats, shared.out_scaler, arrays, cal))
+    out = shared.out_scaler if hetero_beta is None else output_scaler_2d(shared.out_scaler)
+    return (shared, stats, predict_rows(folded, stats, out, arrays, test),
+            predict_rows(folded, stats, out, arrays, cal), folded)
+
+
+def gaussian_heads(preds: list[np.ndarray]) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Saved heteroscedastic outputs [(n, 2d), ...] -> means [(n, d)] and sigmas [(n, d)]."""
+    d = preds[0].shape[1] // 2
+    return [p[:, :d] for p in preds], [np.exp(0.5 * p[:, d:]) for p in preds]
+
+
+def save_hetero(ctx: Context, member: tuple, units: list[str], seed: int, beta: float) -> None:
+    """Save the held-out units' folded heteroscedastic models (the last len(units) of the
+    member's models), scale outputs included, ready for `anytip export`."""
+    shared, stats, _, _, folded = member
+    keep = list(range(folded.n_models - len(units), folded.n_models))
+    out2 = output_scaler_2d(shared.out_scaler)
+
+    def per_model(t: torch.Tensor) -> torch.Tensor:
+        return t.expand(len(units), -1, -1).contiguous()
+
+    save_models(ctx.run_dir / "models" / f"adapted_hetero_seed{seed}",
+                BatchedMLP.from_plain([folded.to_plain(m) for m in keep], folded.config),
+                Scaler(stats.mean[keep], stats.std[keep]), Scaler(per_model(out2.mean), per_model(out2.std)),
+                {"unit_ids": units, **hetero_meta(shared.out_scaler.mean.shape[-1], beta),
+                 "adapter": shared.model.kind, "seed": seed})
 
 
 def ensemble_of(preds: list[list[np.ndarray]]) -> tuple[list[np.ndarray], list[np.ndarray]]:

@@ -117,7 +117,8 @@ def drift_flag_table(rows: list[dict[str, Any]]) -> str:
     return table(["detector", "fault", "clean rows flagged", "faulty rows flagged"], body)
 
 
-def cost_table(members: int, sizes: tuple[int, ...], adapted_members: int = 1) -> str:
+def cost_table(members: int, sizes: tuple[int, ...], adapted_members: int = 1,
+               adapted_hetero: bool = False) -> str:
     """Parameters and multiply-accumulates per inference on the unit, per method."""
     from anytip.models.mlp import MLPConfig
 
@@ -140,6 +141,8 @@ def cost_table(members: int, sizes: tuple[int, ...], adapted_members: int = 1) -
                  adapted_members * base.n_params, adapted_members * macs(base),
                  f"x{adapted_members} flash and time, +{d} floats per level"]]
               if adapted_members > 1 else []),
+            *([["adapted hetero (folded shared model, beta-NLL head)", het.n_params, macs(het),
+                f"+d exp(), +{d} floats per level"]] if adapted_hetero else []),
             ["input novelty (Mahalanobis)", sizes[0] * (sizes[0] + 1), sizes[0] * (sizes[0] + 1), "-"],
             ["rest drift (rest model, block minima)", rest["parameters"], rest["macs"],
              f"{rest['state']} floats of state"],
@@ -221,7 +224,8 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts
         "distances; `other_runs`: fitted on the unit's other power-ups):\n",
         drift_flag_table(rows),
         "\n## Embedded cost\n", cost_table(opts.members, tuple(ctx.spec.model.sizes),
-                                             opts.adapted.members if opts.adapted else 1),
+                                             opts.adapted.members if opts.adapted else 1,
+                                             bool(opts.adapted and opts.adapted.hetero)),
         "\n## Figures\n", image("calibration_curves.png", "calibration curves"),
         image("coverage_vs_force.png", "coverage against force"),
         *[image(f"coverage_map_{m}.png", m) for m in ("conformal", "ensemble_conformal", "ensemble")],

@@ -5,6 +5,10 @@ rows in every step (loss = mean over units of each unit's MSE on standardised ou
 `fit_adapters`: the shared weights frozen, one adapter per (unit, budget, prior) model,
 all fitted at once; a prior pulls each adapter toward the identity with a weight that
 shrinks as the unit's calibration grows (lambda * |adapter - identity|^2 / n).
+
+With `hetero_beta` set, the shared network has heteroscedastic heads (2d outputs: d means,
+d log-variances, models/heteroscedastic.py) and both steps minimise beta-NLL instead of
+MSE, so a new unit's adapter also sets its predicted scale; it folds like any adapter.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ import torch
 from torch import Tensor
 
 from anytip.models.adapted import AdaptedMLP
+from anytip.models.heteroscedastic import beta_nll, hetero_config, split_heads
 from anytip.models.io import LoadedShared
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
@@ -43,6 +48,21 @@ class SharedFit:
     seed: int
     history: list[dict[str, Any]] = field(default_factory=list)
     wall_s: float = 0.0
+    hetero_beta: float | None = None  # heteroscedastic heads trained with this beta-NLL
+
+
+def unit_loss(out: Tensor, Y: Tensor, hetero_beta: float | None) -> Tensor:
+    """Each model's loss (M,) on standardised outputs out (M, B, d or 2d) and targets
+    Y (M, B, d): MSE, or beta-NLL for heteroscedastic heads."""
+    if hetero_beta is None:
+        return ((out - Y) ** 2).mean(dim=(1, 2))
+    mu, log_var = split_heads(out)
+    return beta_nll(mu, log_var, Y, hetero_beta).mean(dim=(1, 2))
+
+
+def mean_head(model: AdaptedMLP, d_out: int):
+    """The model's first d_out outputs (the means), for accuracy evaluation."""
+    return lambda x: model(x)[..., :d_out]
 
 
 def pooled_scaler(x: Tensor, n: Tensor) -> Scaler:
@@ -65,14 +85,16 @@ def _std_floor(p: Tensor) -> Tensor:
 def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | None = None,
                  kind: str = "none", recipe: TrainRecipe = FAST, seed: int = 0,
                  device: torch.device | str | None = None, progress: bool = False,
-                 adapter_decay: float = 0.0) -> SharedFit:
+                 adapter_decay: float = 0.0, hetero_beta: float | None = None) -> SharedFit:
     """Fit the shared weights and each training unit's adapter together.
 
     data: the training units' rows (physical units); in_scaler: their input statistics,
     (U, 1, d_in) per unit or (1, 1, d_in) pooled. `adapter_decay` adds
     adapter_decay * mean over units of |adapter - identity|^2 to the loss, so the identity
     adapter stays a typical unit (the zero-shot starting point of a new unit). Model
-    selection (recipe.keep_best) uses the mean validation loss over units.
+    selection (recipe.keep_best) uses the mean validation loss over units (MSE of the
+    means, also for heteroscedastic heads). `hetero_beta` trains heteroscedastic heads
+    with that beta-NLL (module docstring).
     """
     start = time.perf_counter()
     device = torch.device(device) if device is not None else data.device
@@ -81,7 +103,9 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     out_scaler = pooled_scaler(data.Y_train, data.n_train)
     X, Y = in_scaler.transform(data.X_train), out_scaler.transform(data.Y_train)
     rows_of = torch.arange(U, device=device)[:, None]
-    model = AdaptedMLP(U, config or MLPConfig(), kind, seed).to(device)
+    config = config or MLPConfig()
+    d_out = config.sizes[-1]
+    model = AdaptedMLP(U, config if hetero_beta is None else hetero_config(config), kind, seed).to(device)
     opt = make_optimizer(model.parameters(), recipe)
     sampler = UnitSampler(data.n_train, recipe.batch_size, seed, device)
     total = recipe.epochs * sampler.steps_per_epoch
@@ -94,7 +118,7 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
             order = sampler.epoch()
         set_lr(opt, lr_at(step, total, recipe))
         idx = order[step % sampler.steps_per_epoch]
-        loss = ((model(X[rows_of, idx]) - Y[rows_of, idx]) ** 2).mean()
+        loss = unit_loss(model(X[rows_of, idx]), Y[rows_of, idx], hetero_beta).mean()
         if adapter_decay > 0:
             loss = loss + adapter_decay * model.deviation().mean()
         opt.zero_grad(set_to_none=True)
@@ -104,7 +128,8 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
         if step % sampler.steps_per_epoch + 1 not in eval_at and step + 1 < total:
             continue
         train_s += _lap(tick, device)
-        val = evaluate(model.eval(), in_scaler, out_scaler, data.X_val, data.Y_val, data.n_val)
+        val = evaluate(mean_head(model.eval(), d_out), in_scaler, out_scaler, data.X_val, data.Y_val,
+                       data.n_val)
         model.train()
         history.append({"epoch": (step + 1) / sampler.steps_per_epoch, "step": step + 1,
                         "elapsed_s": train_s, "val_loss": val["loss"].tolist(),
@@ -118,7 +143,7 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     if recipe.keep_best and best is not None:
         model.load_state_dict(best)
     return SharedFit(model, in_scaler, out_scaler, list(data.unit_ids), recipe, seed, history,
-                     time.perf_counter() - start)
+                     time.perf_counter() - start, hetero_beta)
 
 
 @dataclass(frozen=True)
@@ -140,8 +165,10 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
     `kind` fits another adapter kind than the shared model was trained with (e.g. with
     `+delta` added); new units start at the identity either way. Returns a model with the
     shared weights and the M fitted adapters. n[m] == 0 leaves model m at the identity.
+    A heteroscedastic shared model's adapters are fitted by its beta-NLL.
     """
     device = shared.model.weights[0].device
+    hetero_beta = getattr(shared, "hetero_beta", None)
     model = copy.deepcopy(shared.model)
     if kind is not None and kind != model.kind:
         fresh = AdaptedMLP(1, model.config, kind)
@@ -167,8 +194,8 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
             order = sampler.epoch()
         set_lr(opt, lr_at(step, recipe.steps, constant))
         idx = order[step % sampler.steps_per_epoch]
-        mse = ((model(Xs[rows_of, idx]) - Ys[rows_of, idx]) ** 2).mean(dim=(1, 2))
-        loss = (weight * (mse + prior * model.deviation())).sum()
+        fit_loss = unit_loss(model(Xs[rows_of, idx]), Ys[rows_of, idx], hetero_beta)
+        loss = (weight * (fit_loss + prior * model.deviation())).sum()
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()

@@ -58,18 +58,20 @@ class EnsembleFit:
     def save(self, path: str | Path) -> Path:
         """Save all members as plain MLPs; meta names which outputs are scales."""
         mu = self.member_unit()
-        d = self.out_scaler.mean.shape[-1]
         out2 = output_scaler_2d(self.out_scaler)
         meta = {"unit_ids": [self.unit_ids[u] for u in mu.tolist()],
                 "member": [m % self.n_members for m in range(len(mu))],
-                "n_members": self.n_members,
-                "output_names": ["fx", "fy", "fz", "theta", "phi"][:d],
-                "mean_outputs": list(range(d)), "scale_outputs": list(range(d, 2 * d)),
-                "scale_kind": "log-variance in physical units (N^2, rad^2): "
-                              "sigma_k = exp(0.5 * output[d + k])",
-                "loss": f"beta-NLL, beta={self.beta}", "recipe": self.recipe.model_dump(mode="json"),
-                "seed": self.seed}
+                "n_members": self.n_members, **hetero_meta(self.out_scaler.mean.shape[-1], self.beta),
+                "recipe": self.recipe.model_dump(mode="json"), "seed": self.seed}
         return save_models(path, self.model, _take(self.in_scaler, mu), _take(out2, mu), meta)
+
+
+def hetero_meta(d: int, beta: float) -> dict[str, Any]:
+    """Model-file meta of a heteroscedastic model with d means: which outputs are scales."""
+    return {"output_names": ["fx", "fy", "fz", "theta", "phi"][:d],
+            "mean_outputs": list(range(d)), "scale_outputs": list(range(d, 2 * d)),
+            "scale_kind": "log-variance in physical units (N^2, rad^2): sigma_k = exp(0.5 * output[d + k])",
+            "loss": f"beta-NLL, beta={beta}"}
 
 
 def _take(s: Scaler, idx: Tensor) -> Scaler:
