@@ -13,7 +13,7 @@ trained or calibrated on.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import torch
@@ -74,6 +74,10 @@ class AdaptedOptions(BaseModel):
     scale_epochs: int = Field(10, ge=0, description="scale network epochs; 0 skips the normalised variant")
     members: int = Field(3, ge=1, description="shared models from different seeds, each calibrated and "
                                               "folded; 2 or more add the `+ensemble` variants")
+    test: Literal["patches", "unseen"] = Field(
+        "unseen", description="test rows: the held-out patches of cross_sensor, or every row of "
+                              "the unit that neither its adapter nor its conformal set saw")
+    max_test_rows: int = Field(60000, ge=100, description="per unit, a random subset of `unseen` rows")
     hetero: bool = Field(True, description="also a shared model with heteroscedastic heads (beta-NLL "
                                            "with options.beta), adapters fitted the same way: `+hetero`")
 
@@ -250,18 +254,25 @@ def nll(p: MethodPreds, y: np.ndarray) -> np.ndarray | None:
 
 
 def method_rows(name: str, p: MethodPreds, y: np.ndarray, y_cal: np.ndarray, base: dict[str, Any],
-                levels: list[float]) -> list[dict[str, Any]]:
-    """One row per (nominal level, output group)."""
+                levels: list[float], patches: np.ndarray | None = None, n_boot: int = 0,
+                seed: int = 0) -> list[dict[str, Any]]:
+    """One row per (nominal level, output group). Given the test rows' patch ids (n,) and
+    n_boot > 0, `coverage_sd` is the spread of the group's coverage over test patches drawn
+    again with replacement (how well the test set pins this unit's coverage down)."""
     rows, point, n = [], scores(p.mean_t, y), nll(p, y)
+    rng = np.random.default_rng(seed)
     for level in levels:
         lo, hi = p.interval(level, y_cal)
         cov, wid = cp.coverage(lo, hi, y), cp.width(lo, hi)
+        boots = (boot.bootstrap_test_patches((y >= lo) & (y <= hi), patches, n_boot, rng)
+                 if patches is not None and n_boot else None)
         for group, cols in GROUPS.items():
+            extra = {} if boots is None else {"coverage_sd": float(boots[:, cols].mean(1).std())}
             rows.append({**base, "method": name, "nominal_coverage": level, "group": group,
                          "coverage": float(cov[cols].mean()), "interval_width": float(wid[cols].mean()),
                          "nll": None if n is None else float(n[cols].mean()),
                          "force_rmse_n": point["force_rmse_n"],
-                         "angle_rmse_rad": point["angle_rmse_rad"]})
+                         "angle_rmse_rad": point["angle_rmse_rad"], **extra})
     return rows
 
 
@@ -359,7 +370,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                 fig["force"].append(np.linalg.norm(y[:, :3], axis=1))
         rows += fault_rows(ctx, arrays, fit, split, opts, seed)
         if opts.adapted is not None:
-            rows += adapted_rows(ctx, arrays, opts.adapted, opts.nominal, seed, opts.beta)
+            rows += adapted_rows(ctx, arrays, opts.adapted, opts.nominal, seed, opts.beta, opts.bootstrap)
     write_report(ctx, rows, fig, opts, CURVE_LEVELS)
     return rows
 
@@ -379,7 +390,7 @@ def summarise(rows: list[dict[str, Any]]) -> str:
 
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: list[float],
-                 seed: int, beta: float = 0.5) -> list[dict[str, Any]]:
+                 seed: int, beta: float = 0.5, bootstrap: int = 0) -> list[dict[str, Any]]:
     """Split conformal for the adapted shared model on held-out units, two ways:
     `val_units`: absolute residuals of the validation units (their own adapters, on their
     held-out patches), pooled; `budget`: the held-out unit's own calibration stream, the
@@ -389,7 +400,10 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     `anytip.train.shared_scale`, fitted on the training units' validation rows), and give
     mu +- q sigma. With `members` >= 2, shared models trained from other seeds (each with its
     own adapters, folded) give `+ensemble` (mean +- z spread, uncalibrated) and
-    `+ensemble+conformal` (residuals divided by the members' spread). With `hetero`, a shared
+    `+ensemble+conformal` (residuals divided by the members' spread). Test rows are the
+    held-out patches (`test: patches`) or every row of the unit the adapter and the
+    conformal set did not read (`unseen`, many more patches: per-unit coverage is then
+    decidable to about 0.01). With `hetero`, a shared
     model with heteroscedastic heads (its adapters fitted by beta-NLL too, folded, saved with
     its scale outputs) gives `+hetero` (mu +- z sigma, uncalibrated) and `+hetero+conformal`
     (residuals divided by its sigma)."""
@@ -398,8 +412,12 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     sd = cross_prepare(ctx, arrays, co, seed)
     units = [*sd.split.val, *sd.split.test]
     streams = [sd.evals[u].stream for u in units]
-    test = [sd.evals[u].test_rows for u in units]
     cal = [st.rows[a.budget:a.budget + a.calib_rows] for st in streams]
+    if a.test == "patches":
+        test = [sd.evals[u].test_rows for u in units]
+    else:
+        test = [unseen_rows(arrays, st, a.budget + a.calib_rows, a.max_test_rows, seed * 4099 + m)
+                for m, st in enumerate(streams)]
     some = [c if len(c) else t[:1] for c, t in zip(cal, test, strict=True)]  # empty: no budget variant
     members = [adapted_member(ctx, arrays, sd, co, a, streams, test, some, seed * 1000 + k if k else seed)
                for k in range(a.members)]
@@ -439,18 +457,21 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
         mu_t, mu_c = means[name]
         pooled = np.concatenate([cp.scores_of(mu_t[m], y[test[m]], sig_t[m]) for m in range(n_val)])
         for m in range(n_val, len(units)):
-            base = {"unit": units[m], "seed": seed, "calib_samples": a.budget,
-                    "n_train_units": len(sd.split.train), "test_rows": len(test[m])}
+            patches = arrays.patch[test[m]]  # cells, as in the per-unit patch bootstrap
+            base = {"unit": units[m], "seed": seed, "calib_samples": a.budget, "test": a.test,
+                    "n_train_units": len(sd.split.train), "test_rows": len(test[m]),
+                    "test_patches": len(np.unique(patches))}
+            boot_args = (patches, bootstrap, seed * 1009 + m)
             if name in gaussian:  # the uncalibrated Gaussian beside it
                 rows += method_rows(gaussian[name], MethodPreds(
                     mu_t[m], sig_t[m], mu_c[m], sig_c[m], "gaussian"), y[test[m]], y[:0],
-                    {**base, "members": a.members if "+ensemble" in name else 1}, levels)
+                    {**base, "members": a.members if "+ensemble" in name else 1}, levels, *boot_args)
             p = MethodPreds(mu_t[m], sig_t[m], mu_c[m], sig_c[m], "conformal")
             rows += method_rows(f"{name}:val_units", replace(p, pooled_scores=pooled), y[test[m]], y[:0],
-                                {**base, "conformal_rows": len(pooled)}, levels)
+                                {**base, "conformal_rows": len(pooled)}, levels, *boot_args)
             if len(cal[m]):
                 rows += method_rows(f"{name}:budget", p, y[test[m]], y[cal[m]],
-                                    {**base, "conformal_rows": len(cal[m])}, levels)
+                                    {**base, "conformal_rows": len(cal[m])}, levels, *boot_args)
     return rows
 
 
@@ -470,6 +491,15 @@ def adapted_member(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: A
     out = shared.out_scaler if hetero_beta is None else output_scaler_2d(shared.out_scaler)
     return (shared, stats, predict_rows(folded, stats, out, arrays, test),
             predict_rows(folded, stats, out, arrays, cal), folded)
+
+
+def unseen_rows(arrays: FleetArrays, stream, seen: int, max_rows: int, seed: int) -> np.ndarray:
+    """Every row of the stream's unit except the first `seen` rows of its stream (what the
+    adapter and the conformal set read), at most `max_rows` of them drawn at random: all its
+    patches stay represented, each in proportion to its rows."""
+    mine = np.flatnonzero(arrays.unit == arrays.units.index(stream.unit))
+    rest = np.setdiff1d(mine, stream.first(seen))
+    return capped(rest, max_rows, np.random.default_rng(seed))
 
 
 def gaussian_heads(preds: list[np.ndarray]) -> tuple[list[np.ndarray], list[np.ndarray]]:

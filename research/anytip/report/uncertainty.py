@@ -50,9 +50,13 @@ def target_table(rows: list[dict[str, Any]]) -> str:
     for (method,), rs in sorted(_group(sel, "method").items()):
         c = np.array([r["coverage"] for r in rs])
         inside = (c >= BAND[0]) & (c <= BAND[1])
+        sd = [r["coverage_sd"] for r in rs if "coverage_sd" in r]
+        patches = [r["test_patches"] for r in rs if "test_patches" in r]
         body.append([method, f"{int(inside.sum())}/{len(c)}", float(c.min()), float(c.max()),
+                     f"{np.mean(patches):.0f}" if patches else "-", f"{np.mean(sd):.3f}" if sd else "-",
                      "yes" if inside.all() else "no"])
-    return table(["method", "unit-outputs in 0.87-0.93", "min", "max", "target met"], body)
+    return table(["method", "unit-outputs in 0.87-0.93", "min", "max", "test patches",
+                  "sd of a unit-output's coverage (patch bootstrap)", "target met"], body)
 
 
 def bootstrap_table(rows: list[dict[str, Any]]) -> str:
