@@ -391,22 +391,13 @@ def summarise(rows: list[dict[str, Any]]) -> str:
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: list[float],
                  seed: int, beta: float = 0.5, bootstrap: int = 0) -> list[dict[str, Any]]:
-    """Split conformal for the adapted shared model on held-out units, two ways:
-    `val_units`: absolute residuals of the validation units (their own adapters, on their
-    held-out patches), pooled; `budget`: the held-out unit's own calibration stream, the
-    `calib_rows` rows after the `budget` rows that fitted its adapter. Scored on the
-    held-out units' test patches, which neither touches. `+scale` variants divide the
-    residuals by a scale network's sigma, `+fscale` by a + b |F_hat| (both in
-    `anytip.train.shared_scale`, fitted on the training units' validation rows), and give
-    mu +- q sigma. With `members` >= 2, shared models trained from other seeds (each with its
-    own adapters, folded) give `+ensemble` (mean +- z spread, uncalibrated) and
-    `+ensemble+conformal` (residuals divided by the members' spread). Test rows are the
-    held-out patches (`test: patches`) or every row of the unit the adapter and the
-    conformal set did not read (`unseen`, many more patches: per-unit coverage is then
-    decidable to about 0.01). With `hetero`, a shared
-    model with heteroscedastic heads (its adapters fitted by beta-NLL too, folded, saved with
-    its scale outputs) gives `+hetero` (mu +- z sigma, uncalibrated) and `+hetero+conformal`
-    (residuals divided by its sigma)."""
+    """Intervals of the adapted shared model on held-out units (variants in
+    `adapted_variants`), split conformal two ways: `val_units` pools the validation units'
+    scores (each through its own folded model, on its own test rows); `budget` uses the
+    held-out unit's own stream, the `calib_rows` rows after the `budget` rows that fitted its
+    adapter. Test rows are the held-out patches (`test: patches`) or every row of the unit
+    that the adapter and the conformal set did not read (`unseen`: about 70 patch cells, so
+    one unit's coverage is pinned to about 0.01-0.03, `coverage_sd`)."""
     co = CrossOptions(calibration_protocol=a.calibration_protocol, priors=[a.prior], adapters=[a.kind],
                       sweep_adapter=a.kind)
     sd = cross_prepare(ctx, arrays, co, seed)
@@ -419,39 +410,9 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
         test = [unseen_rows(arrays, st, a.budget + a.calib_rows, a.max_test_rows, seed * 4099 + m)
                 for m, st in enumerate(streams)]
     some = [c if len(c) else t[:1] for c, t in zip(cal, test, strict=True)]  # empty: no budget variant
-    members = [adapted_member(ctx, arrays, sd, co, a, streams, test, some, seed * 1000 + k if k else seed)
-               for k in range(a.members)]
-    shared, stats, pred_t, pred_c, _ = members[0]
+    variants, means, gaussian = adapted_variants(ctx, arrays, sd, co, a, streams, test, some, seed, beta)
     y = arrays.targets.astype(np.float64)
     n_val = len(sd.split.val)
-    variants = {f"adapted:{a.kind}+conformal": ([None] * len(units), [None] * len(units))}
-    if a.members > 1:
-        ens_t, spread_t = ensemble_of([m[2] for m in members])
-        ens_c, spread_c = ensemble_of([m[3] for m in members])
-    if a.scale_epochs:
-        net = fit_scale_network(*shared_residuals(shared, sd.train), ctx.spec.model, a.scale_epochs,
-                                seed=seed)
-
-        def sigma(rows: list[np.ndarray]) -> list[np.ndarray]:
-            return [predict_scale(net, stats.slice(m), shared.out_scaler, arrays.pressure[r])
-                    for m, r in enumerate(rows)]
-
-        variants[f"adapted:{a.kind}+scale+conformal"] = (sigma(test), sigma(some))
-    coef = fit_force_scale(shared, sd.train)
-    variants[f"adapted:{a.kind}+fscale+conformal"] = ([force_scale(p, coef) for p in pred_t],
-                                                      [force_scale(p, coef) for p in pred_c])
-    means = {name: (pred_t, pred_c) for name in variants}
-    gaussian = {}  # conformal variant -> the uncalibrated Gaussian method beside it
-    if a.members > 1:
-        name = f"adapted:{a.kind}+ensemble+conformal"
-        variants[name], means[name] = (spread_t, spread_c), (ens_t, ens_c)
-        gaussian[name] = f"adapted:{a.kind}+ensemble"
-    if a.hetero:
-        het = adapted_member(ctx, arrays, sd, co, a, streams, test, some, seed, hetero_beta=beta)
-        save_hetero(ctx, het, units[n_val:], seed, beta)
-        name = f"adapted:{a.kind}+hetero+conformal"
-        means[name], variants[name] = zip(*[gaussian_heads(p) for p in (het[2], het[3])], strict=True)
-        gaussian[name] = f"adapted:{a.kind}+hetero"
     rows = []
     for name, (sig_t, sig_c) in variants.items():
         mu_t, mu_c = means[name]
@@ -473,6 +434,52 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
                 rows += method_rows(f"{name}:budget", p, y[test[m]], y[cal[m]],
                                     {**base, "conformal_rows": len(cal[m])}, levels, *boot_args)
     return rows
+
+
+def adapted_variants(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: AdaptedOptions,
+                     streams: list, test: list[np.ndarray], cal: list[np.ndarray], seed: int,
+                     beta: float) -> tuple[dict[str, tuple], dict[str, tuple], dict[str, str]]:
+    """The conformal variants of the adapted model: per name, the scales (None: absolute
+    residual) and the means, each as ([per unit on test rows], [per unit on `cal` rows]),
+    and for some the name of the uncalibrated Gaussian method beside it.
+
+    `+conformal`: absolute residual. `+scale`: a scale network's sigma; `+fscale`:
+    a + b |F_hat| (both `anytip.train.shared_scale`, fitted on the training units'
+    validation rows). `+ensemble` (members >= 2): shared models from other seeds, each with
+    its own adapters, folded; their mean, scaled by their spread. `+hetero`: a shared model
+    with heteroscedastic heads, its adapters fitted by beta-NLL too, folded and saved with
+    its scale outputs; scaled by its own sigma."""
+    members = [adapted_member(ctx, arrays, sd, co, a, streams, test, cal, seed * 1000 + k if k else seed)
+               for k in range(a.members)]
+    shared, stats, pred_t, pred_c, _ = members[0]
+    n = len(streams)
+    variants = {f"adapted:{a.kind}+conformal": ([None] * n, [None] * n)}
+    if a.scale_epochs:
+        net = fit_scale_network(*shared_residuals(shared, sd.train), ctx.spec.model, a.scale_epochs,
+                                seed=seed)
+
+        def sigma(rows: list[np.ndarray]) -> list[np.ndarray]:
+            return [predict_scale(net, stats.slice(m), shared.out_scaler, arrays.pressure[r])
+                    for m, r in enumerate(rows)]
+
+        variants[f"adapted:{a.kind}+scale+conformal"] = (sigma(test), sigma(cal))
+    coef = fit_force_scale(shared, sd.train)
+    variants[f"adapted:{a.kind}+fscale+conformal"] = ([force_scale(p, coef) for p in pred_t],
+                                                      [force_scale(p, coef) for p in pred_c])
+    means = {name: (pred_t, pred_c) for name in variants}
+    gaussian = {}
+    if a.members > 1:
+        name = f"adapted:{a.kind}+ensemble+conformal"
+        (ens_t, spread_t), (ens_c, spread_c) = (ensemble_of([m[i] for m in members]) for i in (2, 3))
+        variants[name], means[name] = (spread_t, spread_c), (ens_t, ens_c)
+        gaussian[name] = f"adapted:{a.kind}+ensemble"
+    if a.hetero:
+        het = adapted_member(ctx, arrays, sd, co, a, streams, test, cal, seed, hetero_beta=beta)
+        save_hetero(ctx, het, list(sd.split.test), seed, beta)
+        name = f"adapted:{a.kind}+hetero+conformal"
+        means[name], variants[name] = zip(*[gaussian_heads(p) for p in (het[2], het[3])], strict=True)
+        gaussian[name] = f"adapted:{a.kind}+hetero"
+    return variants, means, gaussian
 
 
 def adapted_member(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: AdaptedOptions,
