@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from anytip.analysis.budget import measure_chains
-from anytip.analysis.latency import estimate_delay, hold_delay_s, inference_time_s, mlp_macs
+from anytip.analysis.latency import estimate_delay, hold_delay_s
 from anytip.analysis.stream import Stream
 from anytip.errors import AnytipError
 
@@ -63,9 +63,21 @@ def test_chains_add_hold_inference_and_causal_filter_delays():
 
 
 def test_budget_parts():
-    assert mlp_macs((8, 12, 64, 64, 5)) == 96 + 768 + 4096 + 320
-    assert inference_time_s(5280, 3.0, 72e6) == pytest.approx(0.22e-3)
     assert hold_delay_s(200.0) == pytest.approx(2.5e-3)
+
+
+def test_inference_time_of_the_paper_mlp_on_the_microcontroller():
+    """Instructions of the compiled export (emulated, or estimated where the toolchain is
+    missing) times the budget's cycles per instruction, at its clock."""
+    from types import SimpleNamespace
+
+    from anytip.models.mlp import MLPConfig
+    from anytip.pipelines.impulse_ratio import Options, inference_cost
+
+    ctx = SimpleNamespace(spec=SimpleNamespace(model=MLPConfig()))
+    inf = inference_cost(ctx, Options())
+    assert inf["macs"] == 5280 and 2.5 < inf["instructions"] / inf["macs"] < 3.5
+    assert inf["seconds"] == pytest.approx(inf["instructions"] * 1.2 / 72e6, rel=1e-3)
 
 
 def test_bad_input_is_named():

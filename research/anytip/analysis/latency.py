@@ -10,7 +10,6 @@ precision for signals much slower than the truth's rate. Times in seconds.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Literal
 
 import numpy as np
@@ -100,20 +99,6 @@ def _parabola_peak(c: np.ndarray) -> float:
     if denom >= 0:  # not a maximum (flat or convex): keep the sample
         return 0.0
     return float(np.clip(0.5 * (c[0] - c[2]) / denom, -1.0, 1.0))
-
-
-def mlp_macs(sizes: Sequence[int]) -> int:
-    """Multiply-accumulates of one forward pass of a dense MLP with these layer widths."""
-    return int(sum(a * b for a, b in zip(sizes[:-1], sizes[1:], strict=True)))
-
-
-def inference_time_s(macs: int, cycles_per_mac: float = 3.0, clock_hz: float = 72e6) -> float:
-    """An estimate, not a measurement: macs * cycles_per_mac / clock_hz seconds.
-
-    About 3 cycles per float32 MAC (load, load, fused multiply-add) on a Cortex-M4F at 72 MHz,
-    activation and loop overhead included only through that constant.
-    """
-    return macs * _positive(cycles_per_mac, "cycles_per_mac") / _positive(clock_hz, "clock_hz")
 
 
 def hold_delay_s(rate_hz: float) -> float:

@@ -173,7 +173,7 @@ on how fast the force changes (here presses of 0.3 to 1.2 s).
 
 Budget of the online chains, parts against the measurement:
 
-{table(['chain', 'sampling [ms]', 'sensor physics [ms]', 'inference, estimate [ms]', 'filter [ms]',
+{table(['chain', 'sampling [ms]', 'sensor physics [ms]', 'inference [ms]', 'filter [ms]',
         'sum [ms]', 'measured [ms]'], budgets, '.2f')}
 
 **End-to-end latency of the device output: {device.latency_s * MS:.2f} ms, implying eta =
@@ -188,9 +188,20 @@ def _unit_summary(opts: Any, st: dict[str, Any]) -> list[Any]:
             *(d[f"device + causal MA {w}"] * MS for w in opts.filter_windows)]
 
 
+def _inference_text(study: dict[str, Any]) -> str:
+    inf = study["inference"]
+    how = ("executed by the model's float32 C export on the emulated Cortex-M4F (measured, "
+           "`anytip.search.budget`)" if inf["measured"] else
+           "estimated from the measured cost of the paper's MLP (no cross toolchain or emulator here)")
+    return (f"{inf['instructions']} instructions per inference of the "
+            f"{'-'.join(map(str, study['sizes']))} MLP ({inf['macs']} MACs), {how}, x "
+            f"{inf['cycles_per_instruction']:g} cycles per instruction (an estimate: the emulator counts "
+            f"instructions, not cycles) / {inf['clock_hz'] / 1e6:g} MHz = {study['inference_s'] * MS:.3f} ms "
+            f"on the {inf['mcu']}. The barometer conversions and the bus read-out are not counted.")
+
+
 def _latency(opts: Any, res: dict[str, Any]) -> str:
     first = next(iter(res["studies"].values()))
-    lat = opts.latency
     sections = "\n\n".join(_unit_section(opts, res, seed, st) for seed, st in res["studies"].items())
     header = ["unit", "sensor [ms]", "device [ms]", "eta", *(f"device + causal MA {w} [ms]"
                                                              for w in opts.filter_windows)]
@@ -198,10 +209,7 @@ def _latency(opts: Any, res: dict[str, Any]) -> str:
     return f"""## End-to-end latency
 
 Sampling: a 200 Hz output held until the next one is on average half a period old (2.5 ms).
-Inference time is an **estimate**, not a measurement: {first['macs']} multiply-accumulates for the
-MLP's weights ({'-'.join(map(str, first['sizes']))}) x {lat.cycles_per_mac:g} cycles each /
-{lat.clock_hz / 1e6:g} MHz = {first['inference_s'] * MS:.3f} ms on the Cortex-M4F (float32; bias adds,
-activations, the barometer conversions and the bus read-out are not counted). Filters: see above.
+Inference: {_inference_text(first)} Filters: see above.
 The paper's {opts.nominal.t_l * MS:g} ms also holds communication, which this stream does not model.
 
 Per unit (one unit per seed; eta at the nominal collision, paper's {opts.nominal.t_l * MS:g} ms: eta =

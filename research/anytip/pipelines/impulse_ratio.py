@@ -25,11 +25,13 @@ from scipy.signal import filtfilt
 from anytip.analysis import budget
 from anytip.analysis import impulse as imp
 from anytip.analysis.filters import causal_delay_s, zero_phase_lookahead_s, zero_phase_moving_average
-from anytip.analysis.latency import hold_delay_s, inference_time_s, mlp_macs
+from anytip.analysis.latency import hold_delay_s
 from anytip.analysis.report import write_report
 from anytip.analysis.stream import estimate, press_trajectory, sense, train_unit_model
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, validate_options
+from anytip.search.budget import cost as mcu_cost
+from anytip.search.budget import load_budget
 from anytip.sensor.simulate import unit_rng, unit_sensor_id
 from anytip.sensor.variation import draw_unit
 
@@ -56,8 +58,8 @@ class Latency(Strict):
     truth_rate_hz: float = Field(1000.0, gt=0)
     decimate: int = Field(5, ge=1, description="truth samples per sensor sample")
     protocols: list[str] = Field(["quick", "short"], min_length=1)
-    cycles_per_mac: float = Field(3.0, gt=0)
-    clock_hz: float = Field(72e6, gt=0)
+    budget: str = Field("stm32f334", description="the microcontroller (configs/budgets/): clock and "
+                                                 "cycles per instruction of the inference time")
     max_delay_ms: float = Field(100.0, gt=0)
 
 
@@ -142,7 +144,18 @@ def v0_study(opts: Options) -> list[dict[str, float]]:
     return out
 
 
-def latency_study(ctx: Context, opts: Options, seed: int) -> dict[str, Any]:
+def inference_cost(ctx: Context, opts: Options) -> dict[str, Any]:
+    """Inference time of the spec's model on the microcontroller: instructions executed by its
+    float32 C export on the emulated Cortex-M4F where the cross toolchain and emulator are
+    installed (else estimated, and marked so), times the budget's cycles per instruction."""
+    mcu = load_budget(opts.latency.budget)
+    c = mcu_cost(tuple(ctx.spec.model.sizes), mcu, activation=ctx.spec.model.activation)
+    return {"instructions": c.instructions, "measured": c.measured_instructions, "macs": c.macs,
+            "cycles_per_instruction": mcu.cycles_per_instruction, "clock_hz": mcu.clock_hz,
+            "mcu": mcu.mcu or mcu.name, "seconds": c.cycles / mcu.clock_hz}
+
+
+def latency_study(ctx: Context, opts: Options, seed: int, inference: dict[str, Any]) -> dict[str, Any]:
     """One unit's stream, its model, the delays of its chains and of its physics' parts."""
     lat = opts.latency
     unit = draw_unit(ctx.spec.fleet, unit_rng(seed, 0))
@@ -151,11 +164,10 @@ def latency_study(ctx: Context, opts: Options, seed: int) -> dict[str, Any]:
     traj = press_trajectory(lat.presses, lat.truth_rate_hz, np.random.default_rng([seed, 1]))
     stream = sense(unit, traj, lat.truth_rate_hz, lat.decimate, seed)
     est = estimate(fit, stream.pressure)
-    macs = mlp_macs(ctx.spec.model.sizes)
-    t_inf = inference_time_s(macs, lat.cycles_per_mac, lat.clock_hz)
+    t_inf = inference["seconds"]
     max_delay = lat.max_delay_ms / 1e3
     return {"unit": unit_sensor_id(seed, 0), "calib_samples": n_calib, "stream": stream, "est": est,
-            "errors": budget.stream_errors(stream, est), "macs": macs, "inference_s": t_inf,
+            "errors": budget.stream_errors(stream, est), "inference": inference, "inference_s": t_inf,
             "sizes": ctx.spec.model.sizes,
             "chains": budget.measure_chains(stream, est, t_inf, opts.filter_windows, max_delay),
             "physics": budget.physics_delays(unit, traj, fit, lat.truth_rate_hz, lat.decimate, seed,
@@ -189,7 +201,7 @@ def budget_table(study: dict[str, Any], rate_hz: float) -> list[dict[str, Any]]:
     sensor = next(c.latency_s for c in study["chains"] if c.name == "sensor")
     parts = {"sampling (zero-order hold, half a period)": hold_delay_s(rate_hz),
              "sensor physics (measured, `sensor` chain)": sensor,
-             "inference on the Cortex-M4F (estimate)": study["inference_s"]}
+             "inference on the Cortex-M4F": study["inference_s"]}
     out = []
     for c in study["chains"]:
         if not c.online or c.name == "sensor":
@@ -211,9 +223,9 @@ def run(ctx: Context) -> list[dict[str, Any]]:
             _row("impulse:closed_vs_numeric", seed, max_abs_diff=check["max_abs_diff"],
                  grid_points=check["points"], x_max_abs_diff_m=check["x_max_abs_diff_m"])]
     rows += [_row("impulse:v0", seed, **r) for r in v0s]
-    studies = {}
+    studies, inference = {}, inference_cost(ctx, opts)
     for s in ctx.spec.all_seeds:
-        studies[s] = latency_study(ctx, opts, s)
+        studies[s] = latency_study(ctx, opts, s, inference)
         rows += latency_rows(studies[s], opts, s)
     filters = filter_check(studies[ctx.spec.all_seeds[0]]["est"], opts.filter_windows)
     rows += [_row("filter:zero_phase_vs_filtfilt", seed, window=w, max_abs_diff=d,
