@@ -26,7 +26,7 @@ from anytip.sensor.variation import UnitParams
 from anytip.train.fleet import FitResult
 
 FZ = 2  # normal force column of the model's outputs
-UPSAMPLE = 10  # compare on a 0.1 ms grid so the hold's mean age is resolved
+UPSAMPLE = 100  # compare on a 0.01 ms grid so the hold's mean age and the inference time are resolved
 # the simulator's effects with memory, switched off one at a time
 PHYSICS = {"memoryless": {"relax_fraction": 0.0, "hysteresis": 0.0},
            "hysteresis only": {"relax_fraction": 0.0}, "relaxation only": {"hysteresis": 0.0}}
