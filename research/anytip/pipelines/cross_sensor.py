@@ -42,6 +42,7 @@ from anytip.pipelines.common import (
 )
 from anytip.report.cross_sensor import full_set_rows, summary, write_report
 from anytip.train.adapt import (
+    ADAPTER_DECAY,
     AdapterRecipe,
     SharedFit,
     calibrate_and_fold,
@@ -67,9 +68,9 @@ class Options(BaseModel):
     adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
     priors: list[float] = Field(default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
     calibration_protocol: str | None = "short"
-    adapter_steps: int = Field(default=400, ge=1)
-    adapter_lr: float = Field(default=1e-2, gt=0)
-    adapter_decay: float = Field(default=0.01, ge=0)  # pulls training units' adapters to identity
+    adapter_steps: int = Field(default=AdapterRecipe.steps, ge=1)
+    adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0)
+    adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0)  # pulls training units' adapters to identity
     scratch: TrainRecipe = SCRATCH
     train_unit_counts: list[int] = [4, 8, 16]
     sweep_adapter: str = "input_affine+film"

@@ -26,6 +26,7 @@ from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.features import FEATURES
 from anytip.search.budget import ACTIVATION_INSTRUCTIONS, Budget, constraints, cost
+from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
 from anytip.train.recipe import TrainRecipe
 
 CONSTRAINT_NAMES = ("flash", "ram", "time")
@@ -74,9 +75,9 @@ class SearchOptions(BaseModel):
     calib_samples: int = Field(default=1000, ge=1)  # labeled rows per search or test unit's adapter
     calibration_protocol: str = "short"
     prior: float = Field(default=100.0, ge=0)  # pull of a new unit's adapter toward the identity
-    adapter_steps: int = Field(default=400, ge=1)
-    adapter_lr: float = Field(default=1e-2, gt=0)
-    adapter_decay: float = Field(default=0.01, ge=0)
+    adapter_steps: int = Field(default=AdapterRecipe.steps, ge=1)
+    adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0)
+    adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0)
 
     @field_validator("activations")
     @classmethod

@@ -146,6 +146,11 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
                      time.perf_counter() - start, hetero_beta)
 
 
+# Pull of the training units' adapters toward the identity in `train_shared` (adapter_decay):
+# the default of every pipeline that trains a shared model.
+ADAPTER_DECAY = 0.01
+
+
 @dataclass(frozen=True)
 class AdapterRecipe:
     """How a new unit's adapter is fitted: Adam steps on its calibration rows."""
