@@ -38,8 +38,8 @@ def test_int8_meets_the_budget_and_matches_on_the_m4(paper_model, tmp_path):
     m4 = r["cortex_m4"]
     assert m4["flash_bytes"] <= 8 * KB and m4["ram_bytes"] <= 2 * KB
     assert m4["instructions_per_mac"] <= 3.0
-    # the emulated int8 code gives the host's numbers (up to float32 fused multiply-adds)
-    assert m4["emulated_vs_host"]["max_rel_err"] <= 1e-5
+    # the int8 C turns off contraction, so the device rounds every step like the host and numpy
+    assert m4["emulated_vs_host"]["max_rel_err"] == 0.0
 
 
 def test_folded_model_measures_like_the_baseline(tmp_path):

@@ -164,3 +164,22 @@ def test_cli_export_all_formats(tmp_path):
     for fmt in ("onnx", "c", "c-int8", "firmware"):
         assert json.loads((tmp_path / "all" / fmt / "verification.json").read_text())["unit"] == "N2"
     assert main(["export", str(path), "--unit", "nope", "--format", "c", "--out", str(tmp_path / "x")]) == 2
+
+
+def test_heteroscedastic_model_is_scored_on_its_means_against_registry_rows(small_registry, tmp_path):
+    """A model with 5 means and 5 log-variance outputs: RMSE uses the means, int8 calibrates
+    the scale outputs by their own spread, and every output is verified."""
+    from anytip.models.heteroscedastic import hetero_config, output_scaler_2d
+    from anytip.models.io import save_models
+    from anytip.models.mlp import BatchedMLP, MLPConfig
+    from anytip.train.uncertainty import hetero_meta
+    from test_deploy_helpers import scalers
+
+    unit = small_registry.units()[0]
+    in_s, out_s = scalers(1, 0)
+    path = save_models(tmp_path / "h" / "model.safetensors", BatchedMLP(1, hetero_config(MLPConfig()), seed=3),
+                       in_s, output_scaler_2d(out_s), {"unit_ids": [unit], **hetero_meta(5, 0.5)})
+    for fmt in ("c", "c-int8"):
+        r = export_model(path, fmt, tmp_path / fmt, registry=small_registry, rows=500, embedded_checks=False)
+        assert r["passed"] and r["reference"]["source"] == "registry", fmt
+        assert len(r["output_scale"]) == 10 and r["scores"]["force_rmse_n"] > 0

@@ -59,7 +59,9 @@ def errors(y: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> dict[str, Any]:
 
 
 def rmse(y: np.ndarray, t: np.ndarray) -> dict[str, float]:
-    e = (y - t) ** 2
+    """Force and angle RMSE of outputs y (n, d or 2d) against targets t (n, d). A
+    heteroscedastic model's d means come first (its scale outputs follow), so they are scored."""
+    e = (y[:, : t.shape[1]] - t) ** 2
     return {"force_rmse_n": float(np.sqrt(e[:, :3].mean())),
             "angle_rmse_rad": float(np.sqrt(e[:, 3:].mean()))}
 
@@ -192,11 +194,14 @@ def _c(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
 
 def quantize_reference(net: DeployNet, ref: Reference, y_model: np.ndarray):
     """The int8 network calibrated on the reference's calibration rows (disjoint from the scored
-    rows); its rounding weighs each output by the float model's RMSE there when there are targets."""
+    rows); its rounding weighs each output by the float model's RMSE there when there are targets
+    (a heteroscedastic model's scale outputs, which have no target, by their own spread)."""
     require_relu(net, "c-int8")
     err_scale = None
     if ref.targets is not None:  # the float model's RMSE per output on the calibration rows
-        err_scale = np.sqrt(((y_model[ref.cal] - ref.targets[ref.cal]) ** 2).mean(0))
+        y, d = y_model[ref.cal], ref.targets.shape[1]
+        spread = np.maximum(y[:, d:].std(0), 1e-6)
+        err_scale = np.concatenate([np.sqrt(((y[:, :d] - ref.targets[ref.cal]) ** 2).mean(0)), spread])
     return quantize(net, ref.x[ref.cal], err_scale)
 
 
