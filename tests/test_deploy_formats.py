@@ -177,8 +177,9 @@ def test_heteroscedastic_model_is_scored_on_its_means_against_registry_rows(smal
 
     unit = small_registry.units()[0]
     in_s, out_s = scalers(1, 0)
-    path = save_models(tmp_path / "h" / "model.safetensors", BatchedMLP(1, hetero_config(MLPConfig()), seed=3),
-                       in_s, output_scaler_2d(out_s), {"unit_ids": [unit], **hetero_meta(5, 0.5)})
+    model = BatchedMLP(1, hetero_config(MLPConfig()), seed=3)
+    path = save_models(tmp_path / "h" / "model.safetensors", model, in_s, output_scaler_2d(out_s),
+                       {"unit_ids": [unit], **hetero_meta(5, 0.5)})
     for fmt in ("c", "c-int8"):
         r = export_model(path, fmt, tmp_path / fmt, registry=small_registry, rows=500, embedded_checks=False)
         assert r["passed"] and r["reference"]["source"] == "registry", fmt
