@@ -47,6 +47,9 @@ class Protocol(BaseModel):
     order: Literal["serpentine", "spread"] = Field(
         "serpentine", description="patch order: neighbours in turn, or spread over the region "
         "from the first press on (a subset of patches is always spread)")
+    layer_cycle: bool = Field(
+        False, description="one press per patch, its force layer cycling through layers_n from "
+        "patch to patch (else every patch is pressed once per layer)")
 
     @model_validator(mode="after")
     def _on_grid(self) -> Protocol:
@@ -59,19 +62,25 @@ class Protocol(BaseModel):
         return self
 
     def to_json(self) -> dict:
-        """The protocol as stored in a run. `order` is left out at its default, so runs made
-        before it existed keep their content (and their registry hash)."""
+        """The protocol as stored in a run. `order` and `layer_cycle` are left out at their
+        defaults, so runs made before they existed keep their content (and their registry hash)."""
         data = self.model_dump(mode="json")
         if data["order"] == "serpentine":
             del data["order"]
+        if not data["layer_cycle"]:
+            del data["layer_cycle"]
         return data
+
+    @property
+    def presses_per_patch(self) -> int:
+        return 1 if self.layer_cycle else len(self.layers_n)
 
     def rows_per_press(self) -> int:
         return int(self.segment_samples().sum())
 
     def rows_per_orientation(self) -> int:
         rest = self.samples(self.patch_rest_s)
-        return self.patches * (rest + len(self.layers_n) * self.rows_per_press())
+        return self.patches * (rest + self.presses_per_patch * self.rows_per_press())
 
     @property
     def duration_s(self) -> float:
@@ -98,11 +107,16 @@ PROTOCOLS: dict[str, Protocol] = {
     # spread over the region, so the first seconds already cover it.
     "quick": Protocol(name="quick", layers_n=(15.0,), directions=2, ramp_s=0.25, hold_s=0.05,
                       shear_s=0.12, gap_s=0.1, patch_rest_s=0.25, order="spread"),
+    # As quick, but each press takes the next of four force layers and shears in four
+    # directions, so the first seconds spread over the region and over force together.
+    "sweep": Protocol(name="sweep", layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=True, directions=4,
+                      ramp_s=0.25, hold_s=0.05, shear_s=0.12, gap_s=0.1, patch_rest_s=0.25,
+                      order="spread"),
 }
 
 
 def get_protocol(protocol: str | Protocol | dict) -> Protocol:
-    """A built-in protocol by name ('full', 'short', 'quick'), or a Protocol / its dict as given."""
+    """A built-in protocol by name ('full', 'short', 'quick', 'sweep'), or a Protocol / its dict as given."""
     if isinstance(protocol, Protocol):
         return protocol
     if isinstance(protocol, dict):
@@ -160,8 +174,9 @@ def _press_points(cells: np.ndarray, n_layers: int, margin: float, rng: np.rando
 
 
 def _waypoints(protocol: Protocol, n_presses: int, rng: np.random.Generator) -> np.ndarray:
-    """(Q, K + 1, 3) N contact-frame force at the segment ends of each of Q presses."""
-    layers = np.tile(np.asarray(protocol.layers_n, float), n_presses // len(protocol.layers_n))
+    """(Q, K + 1, 3) N contact-frame force at the segment ends of each of Q presses: the layers
+    in turn (every layer per patch, or one per patch with `layer_cycle`)."""
+    layers = np.resize(np.asarray(protocol.layers_n, float), n_presses)
     fn = layers * rng.uniform(0.9, 1.0, layers.shape)
     d = protocol.directions
     angle = 2 * np.pi * np.arange(d) / d + rng.uniform(0, 2 * np.pi / d, (n_presses, 1))
@@ -189,7 +204,7 @@ def build_trajectory(
 ) -> Trajectory:
     """The rig's commanded trajectory for one orientation; row count is deterministic."""
     cells = patch_cells(protocol, orientation_deg)
-    n_layers, n_patch = len(protocol.layers_n), cells.shape[0]
+    n_layers, n_patch = protocol.presses_per_patch, cells.shape[0]
     points = _press_points(cells, n_layers, protocol.margin_deg, rng)
     force = _interpolate(_waypoints(protocol, n_patch * n_layers, rng), protocol.segment_samples())
     rows = force.shape[1]
