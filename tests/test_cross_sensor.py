@@ -149,3 +149,19 @@ def test_runs_on_a_registry_of_short_runs_only(small_registry, tmp_path):
     rows = json.loads((run / "metrics.json").read_text())["results"]
     assert {"per_unit", "pooled", "adapted:input_stats", "adapted:input_diag"} <= {r["method"] for r in rows}
     assert all(np.isfinite(r["force_rmse_n"]) for r in rows)
+
+
+def test_interleaved_stream_takes_the_orientations_in_turn(small_registry):
+    """The same rows and robot time as the runs one after the other, but the first visits
+    already come from every run (orientation)."""
+    from anytip.data.calibration import calibration_stream
+
+    arrays = load_arrays(small_registry, small_registry.list_runs())
+    unit = arrays.units[0]
+    plain = calibration_stream(arrays, unit, "short")
+    mixed = calibration_stream(arrays, unit, "short", interleave=True)
+    assert sorted(plain.rows.tolist()) == sorted(mixed.rows.tolist())
+    assert mixed.seconds[-1] == pytest.approx(plain.seconds[-1]) and np.all(np.diff(mixed.seconds) >= 0)
+    n_runs = len(plain.runs)
+    assert n_runs > 1 and len(np.unique(arrays.run[plain.first(len(plain.rows) // n_runs)])) == 1
+    assert len(np.unique(arrays.run[mixed.first(len(mixed.rows) // n_runs)])) == n_runs

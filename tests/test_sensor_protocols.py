@@ -57,3 +57,17 @@ def test_rest_rows_are_out_of_contact_with_zero_force():
 def test_protocol_rejects_off_grid_orientation():
     with pytest.raises(ValueError, match="grid"):
         Protocol(name="bad", orientations_deg=(10.0,))
+
+
+def test_sweep_cycles_force_layers_over_spread_patches():
+    """One press per patch; consecutive presses take the four layers in turn, so the first
+    four patches already span 6-25 N, and `layer_cycle` is stored only when set."""
+    sweep = PROTOCOLS["sweep"]
+    traj = build_trajectory(sweep, 0.0, np.random.default_rng(3))
+    assert len(traj.force) == sweep.rows_per_orientation()
+    assert traj.press.max() + 1 == sweep.patches == len(np.unique(traj.patch))
+    peaks = np.array([-traj.force[traj.press == p, 2].min() for p in range(8)])
+    np.testing.assert_allclose(peaks / np.tile(sweep.layers_n, 2), 1.0, atol=0.1)
+    assert len(np.unique(traj.cells[:4, 0])) >= 3  # spread, not neighbours
+    np.testing.assert_array_equal(_bins(traj.angles.astype(np.float32)), traj.cells[traj.patch])
+    assert sweep.to_json()["layer_cycle"] is True and "layer_cycle" not in PROTOCOLS["full"].to_json()

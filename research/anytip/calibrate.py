@@ -104,7 +104,8 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         raise AnytipError(f"unit {unit} is a {models} sensor; the shared model {shared_path} was "
                           f"trained on {want!r}")
     arrays = load_arrays(registry, records)
-    stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"))
+    stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"),
+                                interleave=bool(meta.get("calibration_interleave", False)))
     n = budget_rows(stream, budget_samples, budget_seconds)
     prior = prior_for(meta, n)
     labeled = stream.first(n)

@@ -10,6 +10,7 @@ protocol time until the N-th row.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import zip_longest
 
 import numpy as np
 
@@ -40,11 +41,14 @@ class CalibrationStream:
 
 
 def calibration_stream(arrays: FleetArrays, unit: str, protocol: str | None,
-                       exclude: np.ndarray | None = None) -> CalibrationStream:
+                       exclude: np.ndarray | None = None, interleave: bool = False) -> CalibrationStream:
     """The unit's calibration stream, without rows where `exclude` (N,) bool is True.
 
     Excluded rows (a held-out unit's test patches) still take robot time: they are
-    dropped, not skipped over in the clock.
+    dropped, not skipped over in the clock. The runs follow each other in recorded order,
+    or with `interleave` their patch visits take turns (visit 1 of every run, then visit 2,
+    ...), as a robot that presses the unit from every orientation in turn would play them;
+    each visit keeps its own robot time (from the end of the run's previous visit).
     """
     if arrays.time is None:
         raise AnytipError("calibration streams need row times; load the runs with load_arrays")
@@ -53,17 +57,35 @@ def calibration_stream(arrays: FleetArrays, unit: str, protocol: str | None,
     mine = [k for k, r in enumerate(arrays.runs) if r.unit == unit]
     chosen = [k for k in mine if arrays.runs[k].protocol == protocol] or mine
     chosen.sort(key=lambda k: (arrays.runs[k].created, arrays.runs[k].run_id))
+    pieces = [_visits(arrays, k) for k in chosen]  # per run: [(rows, seconds into the visit)]
+    if interleave:
+        order = [v for turn in zip_longest(*pieces) for v in turn if v is not None]
+    else:
+        order = [v for run in pieces for v in run]
     rows, seconds, offset = [], [], 0.0
-    for k in chosen:
-        r = np.flatnonzero(arrays.run == k)
-        if len(r) == 0:
-            continue
-        t = arrays.time[r]
+    for r, t, duration in order:
         keep = np.ones(len(r), bool) if exclude is None else ~exclude[r]
         rows.append(r[keep])
         seconds.append(offset + t[keep])
-        offset += float(t[-1])
+        offset += duration
     used = protocol if any(arrays.runs[k].protocol == protocol for k in chosen) else None
     return CalibrationStream(unit, np.concatenate(rows) if rows else np.zeros(0, np.int64),
                              np.concatenate(seconds) if seconds else np.zeros(0),
                              tuple(arrays.runs[k].run_id for k in chosen), used)
+
+
+def _visits(arrays: FleetArrays, run: int) -> list[tuple[np.ndarray, np.ndarray, float]]:
+    """A run's rows cut where its patch changes, in time order: (rows, seconds from the end of
+    the previous visit, the visit's robot seconds) per visit."""
+    r = np.flatnonzero(arrays.run == run)
+    if len(r) == 0:
+        return []
+    r = r[np.argsort(arrays.time[r], kind="stable")]
+    t, patch = arrays.time[r], arrays.patch[r]
+    cuts = np.flatnonzero(np.diff(patch) != 0) + 1
+    out, start_t = [], 0.0
+    for idx in np.split(np.arange(len(r)), cuts):
+        end_t = float(t[idx[-1]])
+        out.append((r[idx], t[idx] - start_t, end_t - start_t))
+        start_t = end_t
+    return out

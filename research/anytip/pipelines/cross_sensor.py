@@ -68,6 +68,9 @@ class Options(BaseModel):
     adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
     priors: list[float] = Field(default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
     calibration_protocol: str | None = "short"
+    calibration_interleave: bool = Field(
+        default=False, description="the calibration protocol's runs (orientations) take turns, "
+                                   "patch visit by patch visit, instead of following each other")
     adapter_steps: int = Field(default=AdapterRecipe.steps, ge=1)
     adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0)
     adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0)  # pulls training units' adapters to identity
@@ -191,13 +194,15 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> Seed
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
         evals[unit] = EvalUnit(unit, own[exclude[own]],
-                               calibration_stream(arrays, unit, opts.calibration_protocol, exclude))
+                               calibration_stream(arrays, unit, opts.calibration_protocol, exclude,
+                                                  opts.calibration_interleave))
     members, stats = [], []
     for u, unit in enumerate(split.train):
         mine = unit_main_rows(arrays, unit, main)
         fit, val = split_validation(mine, s.val_fraction, np.random.default_rng(seed * 7919 + u))
         members.append(unit_tensors(arrays, fit, val, unit))
-        stream = calibration_stream(arrays, unit, opts.calibration_protocol)
+        stream = calibration_stream(arrays, unit, opts.calibration_protocol,
+                                    interleave=opts.calibration_interleave)
         stats.append(torch.from_numpy(arrays.pressure[stream.rows]))
     train = FleetBatchData.from_units(members, ctx.device)
     return SeedData(split, train, input_stats(stats, ctx.device), evals)
@@ -368,4 +373,5 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[int, float], seed
             "default_prior": default_prior(opts),
             "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
             "calibration_protocol": opts.calibration_protocol,
+            "calibration_interleave": opts.calibration_interleave,
             "output_names": ["fx", "fy", "fz", "theta", "phi"]}
