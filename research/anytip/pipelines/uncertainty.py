@@ -71,6 +71,8 @@ class AdaptedOptions(BaseModel):
     calib_rows: int = Field(5000, ge=1, description="the next stream rows: the budget's conformal set")
     prior: float = Field(10.0, ge=0)
     calibration_protocol: str | None = "short"
+    calibration_interleave: bool = Field(False, description="the protocol's orientations in turn "
+                                                           "(cross_sensor's calibration_interleave)")
     scale_epochs: int = Field(10, ge=0, description="scale network epochs; 0 skips the normalised variant")
     members: int = Field(3, ge=1, description="shared models from different seeds, each calibrated and "
                                               "folded; 2 or more add the `+ensemble` variants")
@@ -399,7 +401,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     that the adapter and the conformal set did not read (`unseen`: about 70 patch cells, so
     one unit's coverage is pinned to about 0.01-0.03, `coverage_sd`)."""
     co = CrossOptions(calibration_protocol=a.calibration_protocol, priors=[a.prior], adapters=[a.kind],
-                      sweep_adapter=a.kind)
+                      sweep_adapter=a.kind, calibration_interleave=a.calibration_interleave)
     sd = cross_prepare(ctx, arrays, co, seed)
     units = [*sd.split.val, *sd.split.test]
     streams = [sd.evals[u].stream for u in units]
