@@ -46,7 +46,7 @@ def _figures(out: Path, opts: Any, res: dict[str, Any]) -> None:
     stream, est = study["stream"], study["est"]
     rate = stream.sensor_rate_hz
     t_truth = np.arange(len(stream.truth)) / stream.truth_rate_hz
-    t_est = np.arange(len(est)) / rate + study["inference_s"]
+    t_est = np.arange(len(est)) / rate + study["inference"]["seconds"]
     sel_t, sel_e = (t_truth >= 2.0) & (t_truth < 5.0), (t_est >= 2.0) & (t_est < 5.0)
     w_max = max(opts.filter_windows)
     curves = {"model, 200 Hz": est[:, 2], f"causal MA {w_max}": causal_moving_average(est[:, 2], w_max),
@@ -196,7 +196,7 @@ def _inference_text(study: dict[str, Any]) -> str:
     return (f"{inf['instructions']} instructions per inference of the "
             f"{'-'.join(map(str, study['sizes']))} MLP ({inf['macs']} MACs), {how}, x "
             f"{inf['cycles_per_instruction']:g} cycles per instruction (an estimate: the emulator counts "
-            f"instructions, not cycles) / {inf['clock_hz'] / 1e6:g} MHz = {study['inference_s'] * MS:.3f} ms "
+            f"instructions, not cycles) / {inf['clock_hz'] / 1e6:g} MHz = {inf['seconds'] * MS:.3f} ms "
             f"on the {inf['mcu']}. The barometer conversions and the bus read-out are not counted.")
 
 

@@ -44,6 +44,15 @@ def beta_nll(mu: Tensor, log_var: Tensor, y: Tensor, beta: float = 0.5) -> Tenso
     return weight * gaussian_nll(mu, log_var, y)
 
 
+def unit_loss(out: Tensor, Y: Tensor, hetero_beta: float | None) -> Tensor:
+    """Each model's loss (M,) on standardised outputs out (M, B, d or 2d) and targets
+    Y (M, B, d): MSE, or beta-NLL for heteroscedastic heads."""
+    if hetero_beta is None:
+        return ((out - Y) ** 2).mean(dim=(1, 2))
+    mu, log_var = split_heads(out)
+    return beta_nll(mu, log_var, Y, hetero_beta).mean(dim=(1, 2))
+
+
 def output_scaler_2d(out_scaler: Scaler) -> Scaler:
     """The (U, 1, 2d) scaler a heteroscedastic model is saved with: the means use the
     original scaler; a log-variance output z is shifted by 2 log std, so the saved model

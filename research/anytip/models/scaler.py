@@ -49,6 +49,12 @@ class Scaler:
         """Standardised (U, B, d) -> physical (U, B, d)."""
         return z * self.std + self.mean
 
+    def take(self, idx) -> Scaler:
+        """The scalers of models idx (indices, a sequence or tensor): shapes (len(idx), 1, d).
+        A one-model scaler (1, 1, d) taken at [0, 0, ...] repeats for every model."""
+        idx = torch.as_tensor(idx, dtype=torch.long, device=self.mean.device)
+        return Scaler(self.mean[idx], self.std[idx])
+
     def slice(self, i: int) -> Scaler:
         """The scaler of model i alone, shapes (1, 1, d)."""
         return Scaler(self.mean[i : i + 1].clone(), self.std[i : i + 1].clone())

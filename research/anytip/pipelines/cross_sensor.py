@@ -164,15 +164,11 @@ def pooled_rows(pooled: SharedFit, arrays: FleetArrays, sd: SeedData) -> list[di
     """One network and one input scaling for every unit: the held-out units get tare only."""
     units = list(sd.split.test)
     folded = pooled.model.fold([0] * len(units))
-    preds = predict_rows(folded, _repeat(pooled.in_scaler, len(units)), pooled.out_scaler, arrays,
+    preds = predict_rows(folded, pooled.in_scaler.take([0] * len(units)), pooled.out_scaler, arrays,
                          [sd.evals[u].test_rows for u in units])
     return [{"method": "pooled", "unit": u, "calib_samples": 0, "calib_seconds": 0.0,
              **scores(p, arrays.targets[sd.evals[u].test_rows])}
             for u, p in zip(units, preds, strict=True)]
-
-
-def _repeat(s: Scaler, n: int) -> Scaler:
-    return Scaler(s.mean.expand(n, -1, -1).contiguous(), s.std.expand(n, -1, -1).contiguous())
 
 
 def _slug(kind: str) -> str:
@@ -350,7 +346,7 @@ def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
             continue
         keep = sorted(order[:k])
         sub = sd.train.subset(keep)
-        stats = Scaler(sd.train_stats.mean[keep], sd.train_stats.std[keep])
+        stats = sd.train_stats.take(keep)
         shared = train_shared(sub, stats, ctx.spec.model, opts.sweep_adapter, ctx.spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay)
         fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b > 0}

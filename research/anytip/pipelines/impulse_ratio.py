@@ -164,12 +164,12 @@ def latency_study(ctx: Context, opts: Options, seed: int, inference: dict[str, A
     traj = press_trajectory(lat.presses, lat.truth_rate_hz, np.random.default_rng([seed, 1]))
     stream = sense(unit, traj, lat.truth_rate_hz, lat.decimate, seed)
     est = estimate(fit, stream.pressure)
-    t_inf = inference["seconds"]
     max_delay = lat.max_delay_ms / 1e3
     return {"unit": unit_sensor_id(seed, 0), "calib_samples": n_calib, "stream": stream, "est": est,
-            "errors": budget.stream_errors(stream, est), "inference": inference, "inference_s": t_inf,
+            "errors": budget.stream_errors(stream, est), "inference": inference,
             "sizes": ctx.spec.model.sizes,
-            "chains": budget.measure_chains(stream, est, t_inf, opts.filter_windows, max_delay),
+            "chains": budget.measure_chains(stream, est, inference["seconds"], opts.filter_windows,
+                                            max_delay),
             "physics": budget.physics_delays(unit, traj, fit, lat.truth_rate_hz, lat.decimate, seed,
                                              max_delay),
             "unit_params": {"relax_fraction": unit.relax_fraction, "relax_tau_s": unit.relax_tau_s,
@@ -201,7 +201,7 @@ def budget_table(study: dict[str, Any], rate_hz: float) -> list[dict[str, Any]]:
     sensor = next(c.latency_s for c in study["chains"] if c.name == "sensor")
     parts = {"sampling (zero-order hold, half a period)": hold_delay_s(rate_hz),
              "sensor physics (measured, `sensor` chain)": sensor,
-             "inference on the Cortex-M4F": study["inference_s"]}
+             "inference on the Cortex-M4F": study["inference"]["seconds"]}
     out = []
     for c in study["chains"]:
         if not c.online or c.name == "sensor":

@@ -26,7 +26,6 @@ from anytip.errors import AnytipError
 from anytip.models.heteroscedastic import output_scaler_2d
 from anytip.models.io import save_models
 from anytip.models.mlp import BatchedMLP
-from anytip.models.scaler import Scaler
 from anytip.pipelines.common import (
     OUTPUTS,
     Context,
@@ -232,14 +231,11 @@ def add_cross_conformal(ctx: Context, arrays: FleetArrays, split: UQSplit, opts:
     y = arrays.targets.astype(np.float64)
     for u in range(len(arrays.units)):
         rest = split.rest_idx[u]
-        pred_r = []
+        pred_r, pred_t = [], []
         for k in range(K):
-            m, s = predict_members(fit, u * K + k, arrays.pressure[rest])
-            pred_r.append((m[0], s[0]))
-        pred_t = []
-        for k in range(K):
-            m, s = predict_members(fit, u * K + k, split.X_test[u])
-            pred_t.append((m[0], s[0]))
+            for out, x in ((pred_r, arrays.pressure[rest]), (pred_t, split.X_test[u])):
+                m, s = predict_members(fit, u * K + k, x)
+                out.append((m[0], s[0]))
         mu_t, sig_t = pick_fold_model(pred_t, np.random.default_rng(seed * 13 + u))
         mu_c, sig_c = out_of_fold(pred_r, folds[u])
         for name, st, sc in (("cv+conformal", None, None), ("cv+hetero+conformal", sig_t, sig_c)):
@@ -522,14 +518,9 @@ def save_hetero(ctx: Context, member: tuple, units: list[str], seed: int, beta: 
     member's models), scale outputs included, ready for `anytip export`."""
     shared, stats, _, _, folded = member
     keep = list(range(folded.n_models - len(units), folded.n_models))
-    out2 = output_scaler_2d(shared.out_scaler)
-
-    def per_model(t: torch.Tensor) -> torch.Tensor:
-        return t.expand(len(units), -1, -1).contiguous()
-
     save_models(ctx.run_dir / "models" / f"adapted_hetero_seed{seed}",
                 BatchedMLP.from_plain([folded.to_plain(m) for m in keep], folded.config),
-                Scaler(stats.mean[keep], stats.std[keep]), Scaler(per_model(out2.mean), per_model(out2.std)),
+                stats.take(keep), output_scaler_2d(shared.out_scaler).take([0] * len(units)),
                 {"unit_ids": units, **hetero_meta(shared.out_scaler.mean.shape[-1], beta),
                  "adapter": shared.model.kind, "seed": seed})
 

@@ -22,7 +22,7 @@ import torch
 from torch import Tensor
 
 from anytip.models.adapted import AdaptedMLP
-from anytip.models.heteroscedastic import beta_nll, hetero_config, split_heads
+from anytip.models.heteroscedastic import hetero_config, unit_loss
 from anytip.models.io import LoadedShared
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
@@ -49,15 +49,6 @@ class SharedFit:
     history: list[dict[str, Any]] = field(default_factory=list)
     wall_s: float = 0.0
     hetero_beta: float | None = None  # heteroscedastic heads trained with this beta-NLL
-
-
-def unit_loss(out: Tensor, Y: Tensor, hetero_beta: float | None) -> Tensor:
-    """Each model's loss (M,) on standardised outputs out (M, B, d or 2d) and targets
-    Y (M, B, d): MSE, or beta-NLL for heteroscedastic heads."""
-    if hetero_beta is None:
-        return ((out - Y) ** 2).mean(dim=(1, 2))
-    mu, log_var = split_heads(out)
-    return beta_nll(mu, log_var, Y, hetero_beta).mean(dim=(1, 2))
 
 
 def mean_head(model: AdaptedMLP, d_out: int):

@@ -20,12 +20,12 @@ import torch
 from torch import Tensor
 
 from anytip.models.heteroscedastic import (
-    beta_nll,
     gaussian_nll,
     hetero_config,
     output_scaler_2d,
     split_heads,
     to_physical,
+    unit_loss,
 )
 from anytip.models.io import save_models
 from anytip.models.mlp import ACTIVATIONS, BatchedMLP, MLPConfig
@@ -63,7 +63,7 @@ class EnsembleFit:
                 "member": [m % self.n_members for m in range(len(mu))],
                 "n_members": self.n_members, **hetero_meta(self.out_scaler.mean.shape[-1], self.beta),
                 "recipe": self.recipe.model_dump(mode="json"), "seed": self.seed}
-        return save_models(path, self.model, _take(self.in_scaler, mu), _take(out2, mu), meta)
+        return save_models(path, self.model, self.in_scaler.take(mu), out2.take(mu), meta)
 
 
 def hetero_meta(d: int, beta: float) -> dict[str, Any]:
@@ -73,10 +73,6 @@ def hetero_meta(d: int, beta: float) -> dict[str, Any]:
             "scale_kind": "log-variance in physical units (N^2, rad^2): sigma_k = exp(0.5 * output[d + k])",
             "loss": f"beta-NLL, beta={beta}"}
 
-
-def _take(s: Scaler, idx: Tensor) -> Scaler:
-    idx = idx.to(s.mean.device)
-    return Scaler(s.mean[idx], s.std[idx])
 
 
 def train_hetero_fleet(data: FleetBatchData, config: MLPConfig | None = None,
@@ -109,8 +105,7 @@ def train_hetero_fleet(data: FleetBatchData, config: MLPConfig | None = None,
             order = sampler.epoch()  # (steps, M, B)
         set_lr(opt, lr_at(step, total, recipe))
         idx = order[step % sampler.steps_per_epoch]
-        mu, log_var = split_heads(model(X[unit_of, idx]))
-        loss_m = beta_nll(mu, log_var, Y[unit_of, idx], beta).mean(dim=(1, 2))  # (M,)
+        loss_m = unit_loss(model(X[unit_of, idx]), Y[unit_of, idx], beta)  # (M,)
         opt.zero_grad(set_to_none=True)
         loss_m.sum().backward()
         opt.step()
