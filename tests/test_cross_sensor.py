@@ -89,7 +89,7 @@ def test_run_rows_follow_the_contract(cross_run):
 
 
 def test_saved_shared_model_folds_like_it_predicts(cross_run):
-    shared = load_shared(find_shared(cross_run, "input_affine+film"))
+    shared = load_shared(find_shared(cross_run, "input_affine+film")[0])
     model = shared.model
     x = torch.randn(model.n_units, 50, 8)
     torch.testing.assert_close(model.fold()(x), model(x), atol=1e-5, rtol=1e-5)

@@ -45,8 +45,12 @@ def test_default_registry_path(monkeypatch, tmp_path):
 
 
 def test_missing_registry_without_create(tmp_path):
-    with pytest.raises(AnytipError, match="no registry"):
+    with pytest.raises(AnytipError, match="not a registry"):
         Registry(tmp_path / "absent", create=False)
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(AnytipError, match="not a registry"):  # a directory is not a registry
+        Registry(tmp_path / "empty", create=False)
+    assert not (tmp_path / "absent").exists() and not any((tmp_path / "empty").iterdir())
 
 
 @pytest.mark.parametrize(("orientation", "created", "expected"), [

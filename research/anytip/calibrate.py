@@ -10,22 +10,23 @@ score the result when there are any.
 
 from __future__ import annotations
 
-import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import torch
-import yaml
 
+from anytip.config import read_yaml
 from anytip.data.arrays import load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
-from anytip.models.io import load_shared, save_models
+from anytip.models.io import SHARED_FORMAT, load_shared, model_paths, read_header, save_models
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import scores
+from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.metrics import predict
 
@@ -41,42 +42,94 @@ class Calibrated:
     unlabeled_samples: int
     prior: float
     check: dict[str, float] | None  # RMSE on the unit's other runs, when it has any
+    notes: list[str]  # which shared model and why, clipped budgets, warnings
 
 
-def find_shared(model: str | Path, adapter: str | None = None, seed: int | None = None) -> Path:
-    """A shared model file: `model` itself, or the one a cross_sensor run directory holds for
-    `adapter` (default: the run's sweep adapter) and `seed` (default: its first seed)."""
+def find_shared(model: str | Path, adapter: str | None = None,
+                seed: int | None = None) -> tuple[Path, str]:
+    """A shared model file and why it was picked: `model` itself, or the one a cross_sensor run
+    directory holds for `adapter` and `seed` (default: the run's first seed).
+
+    Without `adapter`, the run's shared model with the lowest validation-unit loss recorded
+    in its metadata (mean over budgets) is taken; a run that recorded none falls back to
+    its `sweep_adapter`.
+    """
     model = Path(model)
     if model.suffix in (".safetensors", ".json"):
-        return model.with_suffix(".safetensors")
-    config_path = model / "config.yaml"
+        return model.with_suffix(".safetensors"), "the model file given"
+    config = _run_config(model)
+    seeds = config.get("seeds") or [config.get("seed", 0)]
+    seed = seeds[0] if seed is None else seed
+    have = {p.stem: p for p in sorted((model / "models").glob(f"shared_*_seed{seed}.safetensors"))}
+    if adapter is not None:
+        path = model / "models" / f"shared_{adapter.replace('+', '-')}_seed{seed}.safetensors"
+        if not path.is_file():
+            raise AnytipError(f"{path}: no shared model for adapter {adapter!r}, seed {seed}; "
+                              f"the run holds: {', '.join(have) or 'none'}")
+        return path, f"adapter {adapter!r} as asked"
+    losses = {stem: _mean_val_loss(path) for stem, path in have.items()}
+    scored = {stem: v for stem, v in losses.items() if v is not None}
+    if scored:
+        best = min(scored, key=scored.__getitem__)
+        return have[best], (f"lowest validation-unit loss of the run ({scored[best]:.3g} standardised MSE; "
+                            + ", ".join(f"{k}: {v:.3g}" for k, v in sorted(scored.items())) + ")")
+    fallback = str(config.get("options", {}).get("sweep_adapter", "input_affine+film"))
+    stem = f"shared_{fallback.replace('+', '-')}_seed{seed}"
+    if stem not in have:
+        raise AnytipError(f"{model}: no shared model of seed {seed} with a recorded validation loss, "
+                          f"and none for the run's sweep adapter {fallback!r}; the run holds: "
+                          f"{', '.join(have) or 'none'}")
+    return have[stem], f"the run's sweep adapter {fallback!r} (the run recorded no validation loss)"
+
+
+def _run_config(run_dir: Path) -> dict[str, Any]:
+    """The resolved spec of a cross_sensor run directory, checked enough to be used here."""
+    config_path = run_dir / "config.yaml"
     if not config_path.is_file():
-        raise AnytipError(f"{model}: neither a shared model file nor a cross_sensor run directory "
+        raise AnytipError(f"{run_dir}: neither a shared model file nor a cross_sensor run directory "
                           "(no config.yaml)")
-    config = yaml.safe_load(config_path.read_text()) or {}
+    config = read_yaml(config_path)
     if config.get("pipeline") != "cross_sensor":
         raise AnytipError(f"{config_path}: pipeline {config.get('pipeline')!r} holds no shared model; "
                           "calibrate needs a cross_sensor run")
-    adapter = adapter or config.get("options", {}).get("sweep_adapter", "input_affine+film")
-    seeds = config.get("seeds") or [config.get("seed", 0)]
-    seed = seeds[0] if seed is None else seed
-    path = model / "models" / f"shared_{adapter.replace('+', '-')}_seed{seed}.safetensors"
-    if not path.is_file():
-        have = sorted(p.stem for p in (model / "models").glob("shared_*.safetensors"))
-        raise AnytipError(f"{path}: no shared model for adapter {adapter!r}, seed {seed}; "
-                          f"the run holds: {', '.join(have) or 'none'}")
-    return path
+    if not isinstance(config.get("options", {}), dict):
+        raise AnytipError(f"{config_path}: key 'options' must be a mapping, got {config['options']!r}")
+    seeds = config.get("seeds")
+    if seeds is not None and not (isinstance(seeds, list) and all(type(x) is int for x in seeds)):
+        raise AnytipError(f"{config_path}: key 'seeds' must be a list of integers, got {seeds!r}")
+    if type(config.get("seed", 0)) is not int:
+        raise AnytipError(f"{config_path}: key 'seed' must be an integer, got {config['seed']!r}")
+    return config
 
 
-def budget_rows(stream: CalibrationStream, samples: int | None, seconds: float | None) -> int:
-    """Labeled rows a budget grants: a sample count, or all rows within `seconds` of robot time
-    (the caller makes sure at most one is given)."""
+def _mean_val_loss(path: Path) -> float | None:
+    """Mean of `val_loss_by_budget` in a shared model's metadata, or None if it has none."""
+    meta = read_header(model_paths(path)[1], SHARED_FORMAT).get("meta", {})
+    losses = meta.get("val_loss_by_budget") if isinstance(meta, dict) else None
+    if not isinstance(losses, dict) or not losses:
+        return None
+    values = [v for v in losses.values() if isinstance(v, (int, float)) and math.isfinite(v)]
+    return float(np.mean(values)) if values else None
+
+
+def budget_rows(stream: CalibrationStream, samples: int | None, seconds: float | None) -> tuple[int, str]:
+    """Labeled rows a budget grants, and a note when the budget was clipped to the stream: a
+    sample count, or all rows within `seconds` of robot time (at most one is given)."""
     if seconds is not None:
-        return int(np.searchsorted(stream.seconds, seconds, side="right"))
+        if not math.isfinite(seconds) or seconds < 0:
+            raise AnytipError(f"--budget-seconds must be a finite number >= 0, got {seconds}")
+        n = int(np.searchsorted(stream.seconds, seconds, side="right"))
+        total = float(stream.seconds[-1]) if len(stream.seconds) else 0.0
+        clipped = seconds > total
+        note = f"--budget-seconds {seconds:g} clipped to the stream's {total:.1f} robot-s" if clipped else ""
+        return n, note
     n = 1000 if samples is None else samples
     if n < 0:
         raise AnytipError(f"--budget-samples must be >= 0, got {n}")
-    return min(n, len(stream.rows))
+    if n > len(stream.rows):
+        return len(stream.rows), (f"--budget-samples {n} clipped to the {len(stream.rows)} labeled rows "
+                                  "of the unit's calibration stream")
+    return n, ""
 
 
 def prior_for(meta: dict[str, Any], n: int) -> float:
@@ -92,7 +145,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     """Fit, fold and save one unit's model; see the module docstring."""
     if budget_samples is not None and budget_seconds is not None:
         raise AnytipError("give --budget-samples or --budget-seconds, not both")
-    shared_path = find_shared(model, adapter, seed)
+    shared_path, choice = find_shared(model, adapter, seed)
     shared = load_shared(shared_path)
     meta = shared.meta
     records = registry.list_runs(unit=unit)
@@ -106,7 +159,11 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     arrays = load_arrays(registry, records)
     stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"),
                                 interleave=bool(meta.get("calibration_interleave", False)))
-    n = budget_rows(stream, budget_samples, budget_seconds)
+    n, clipped = budget_rows(stream, budget_samples, budget_seconds)
+    notes = [f"shared model {shared_path.name}: {choice}"] + ([clipped] if clipped else [])
+    if unit in meta.get("unit_ids", []):
+        notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
+                     "calibration check is not an unseen-unit result")
     prior = prior_for(meta, n)
     labeled = stream.first(n)
     unlabeled = [torch.from_numpy(arrays.pressure[stream.rows])]
@@ -120,13 +177,13 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
         check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other])}
-    result = Calibrated(Path(out), unit, n, stream.seconds_for(n), len(stream.rows), prior, check)
+    result = Calibrated(Path(out), unit, n, stream.seconds_for(n), len(stream.rows), prior, check, notes)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
         "adapter": shared.model.kind, "calib_samples": n, "calib_seconds": result.calib_seconds,
         "unlabeled_samples": result.unlabeled_samples, "prior": prior,
         "calibration_runs": list(stream.runs), "check_on_other_runs": check,
     })
-    (Path(out) / "calibration.json").write_text(json.dumps(
-        {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()}, indent=2) + "\n")
+    write_json(Path(out) / "calibration.json",
+               {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()})
     return result

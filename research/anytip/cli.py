@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 import time
@@ -11,12 +10,21 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from anytip.errors import AnytipError
+from anytip.rundir import dumps_json
+from anytip.validation import mask_secrets
 
 
-def _registry(args: argparse.Namespace):
-    from anytip.data.registry import Registry, default_registry_path
+def _registry_path(args: argparse.Namespace) -> Path:
+    from anytip.data.registry import default_registry_path
 
-    return Registry(Path(args.registry) if args.registry else default_registry_path())
+    return Path(args.registry) if args.registry else default_registry_path()
+
+
+def _registry(args: argparse.Namespace, create: bool = False):
+    """The registry of `--registry`; only `data import` and `data simulate` create one."""
+    from anytip.data.registry import Registry
+
+    return Registry(_registry_path(args), create=create)
 
 
 def _print_runs(records, as_json: bool) -> None:
@@ -25,7 +33,7 @@ def _print_runs(records, as_json: bool) -> None:
 
     if as_json:
         for rec in records:
-            print(json.dumps(rec.to_json(), sort_keys=True))
+            print(dumps_json(rec.to_json(), indent=None, sort_keys=True), end="")
         return
     table = Table(title=f"{len(records)} runs, {len({r.unit for r in records})} units")
     for col in ("run_id", "unit", "model", "orient.", "protocol", "source", "rows", "robot s"):
@@ -43,7 +51,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from anytip.sensor.fleet import FleetConfig, load_fleet_config
 
     config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
-    registry = _registry(args)
+    if args.units < 1 or args.seed < 0:
+        raise AnytipError(f"--units must be >= 1 and --seed >= 0, got {args.units} and {args.seed}")
+    registry = _registry(args, create=True)
     protocols = [p for p in args.protocols.split(",") if p]
     start = time.perf_counter()
     added, unchanged = simulate_into(registry, config, args.units, args.seed, protocols,
@@ -54,14 +64,17 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def cmd_import(args: argparse.Namespace) -> int:
-    registry = _registry(args)
+    registry = _registry(args, create=True)
     report = registry.import_paths([Path(p) for p in args.paths], column_map=args.csv_map)
     print(report.summary())
     return 0
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    paths = _registry(args).export(args.target, Path(args.out))
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise AnytipError(f"--out {out}: exists and is not a directory")
+    paths = _registry(args).export(args.target, out, overwrite=args.force)
     for p in paths:
         print(p)
     return 0
@@ -69,6 +82,11 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 def cmd_list(args: argparse.Namespace) -> int:
     records = _registry(args).list_runs(unit=args.unit, sensor_model=args.model)
+    if not records:
+        filters = (("unit", args.unit), ("sensor model", args.model))
+        wanted = " and ".join(f"{k} {v!r}" for k, v in filters if v)
+        print(f"no runs{' of ' + wanted if wanted else ''} in {_registry_path(args)}", file=sys.stderr)
+        return 1
     _print_runs(records, args.json)
     return 0
 
@@ -100,16 +118,21 @@ def quickstart_spec() -> Path:
 def cmd_run(args: argparse.Namespace) -> int:
     from anytip.runner import run_experiment
 
-    run_experiment(args.spec, _registry(args), out=args.out, overrides=args.set,
-                   progress=sys.stderr.isatty())
+    run_experiment(args.spec, _registry_path(args), out=args.out, overrides=args.set,
+                   progress=sys.stderr.isatty(), force=args.force)
     return 0
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
     from anytip.calibrate import calibrate_unit
 
-    r = calibrate_unit(args.model, args.unit, _registry(args), args.out, args.budget_samples,
+    out = Path(args.out)
+    if (out / "model.safetensors").exists() and not args.force:
+        raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
+    r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
                        args.budget_seconds, args.adapter, args.seed)
+    for note in r.notes:
+        print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
     print(f"calibrated {r.unit}: {r.calib_samples} labeled samples ({r.calib_seconds:.1f} robot-s), "
           f"{r.unlabeled_samples} unlabeled{f', prior {r.prior:g}' if r.calib_samples else ''}; "
           f"folded model in {r.path / 'model.safetensors'}")
@@ -121,11 +144,16 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
 
 def cmd_export_model(args: argparse.Namespace) -> int:
     """`anytip export MODEL --format F --out DIR`: export one unit and verify it."""
-    from anytip.data.registry import Registry, default_registry_path
+    from anytip.data.registry import Registry
     from anytip.deploy.export import FORMATS, export_model
 
-    root = Path(args.registry) if args.registry else default_registry_path()
-    registry = Registry(root, create=False) if root.is_dir() else None
+    root = _registry_path(args)
+    registry = Registry(root, create=False) if (root / "catalog.sqlite").is_file() else None
+    out_root = Path(args.out)
+    if out_root.exists() and not out_root.is_dir():
+        raise AnytipError(f"--out {out_root}: exists and is not a directory")
+    if (out_root / "verification.json").exists() and not args.force:
+        raise AnytipError(f"--out {out_root}: already holds an export; choose another or pass --force")
     formats = [f for f in FORMATS if f != "model"] if args.format == "all" else [args.format]
     held_out = args.held_out or "auto"
     failed = 0
@@ -151,14 +179,15 @@ def cmd_search(args: argparse.Namespace) -> int:
         overrides.append(f"options.storage={args.storage}")
     if args.workers:
         overrides.append(f"options.workers={args.workers}")
-    run_experiment(args.spec, _registry(args), out=args.out, overrides=overrides,
-                   progress=sys.stderr.isatty())
+    run_experiment(args.spec, _registry_path(args), out=args.out, overrides=overrides,
+                   progress=sys.stderr.isatty(), force=args.force)
     return 0
 
 
 def cmd_main_job(args: argparse.Namespace) -> int:
     """The README's main job: the quickstart experiment (simulates a fleet into an empty registry)."""
-    ns = argparse.Namespace(spec=str(quickstart_spec()), registry=args.registry, out=None, set=[])
+    ns = argparse.Namespace(spec=str(quickstart_spec()), registry=args.registry, out=None, set=[],
+                            force=False)
     return cmd_run(ns)
 
 
@@ -177,6 +206,7 @@ def _add_spec_parser(sub, name: str, help_: str, spec_help: str,
     p.add_argument("--out", default=None, help="run directory (default runs/<spec>/<UTC time>/)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a spec key, e.g. --set training.epochs=3 (repeatable)")
+    p.add_argument("--force", action="store_true", help="overwrite a run already in --out")
     p.set_defaults(func=func)
     return p
 
@@ -190,8 +220,9 @@ def build_parser() -> argparse.ArgumentParser:
     search = _add_spec_parser(sub, "search", "run an architecture search spec (an Optuna study)",
                               "experiments/search.yaml or another `pipeline: search` spec", cmd_search)
     search.add_argument("--storage", default=None,
-                        help="Optuna storage URL, e.g. postgresql://user@host/db "
-                             "(default: sqlite in the run directory)")
+                        help="Optuna storage URL, e.g. postgresql://user@host/db (default: "
+                             "$ANYTIP_SEARCH_STORAGE, else sqlite in the run directory); give the "
+                             "password through $ANYTIP_SEARCH_STORAGE or PGPASSWORD, not here")
     search.add_argument("--workers", type=int, default=None, help="processes sharing the study here")
     cal = sub.add_parser("calibrate", help="fit a new unit's adapter and save its folded model")
     _add_registry_opt(cal)
@@ -207,6 +238,7 @@ def build_parser() -> argparse.ArgumentParser:
     cal.add_argument("--adapter", default=None, help="adapter kind of the run's shared models")
     cal.add_argument("--seed", type=int, default=None, help="which seed's shared model of the run")
     cal.add_argument("--out", required=True, help="directory for the folded per-unit model")
+    cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",
                          help="export one unit of a model (ONNX, C, int8 C, firmware struct), verified")
@@ -216,7 +248,8 @@ def build_parser() -> argparse.ArgumentParser:
                      help="what to write ('model': an anytip model file, e.g. of an imported firmware net)")
     exp.add_argument("--out", required=True, help="output directory (one sub-directory per format for 'all')")
     exp.add_argument("--unit", default=None, help="which unit of the model file (default: the first)")
-    exp.add_argument("--rows", type=int, default=20000, help="reference rows to verify on")
+    exp.add_argument("--rows", type=int, default=20000, help="reference rows to verify on (default 20000)")
+    exp.add_argument("--force", action="store_true", help="overwrite an export already in --out")
     exp.add_argument("--held-out", default=None, metavar="RUN_DIR[:SEED]",
                      help="score RMSE on the rows this cross_sensor or baseline run held out from the "
                           "model (default: found from the model file's run directory or metadata)")
@@ -234,22 +267,26 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = verb("simulate", cmd_simulate, "simulate a fleet into the registry")
     p.add_argument("--fleet", help="fleet config YAML (default: the built-in default fleet)")
-    p.add_argument("--units", type=int, default=8)
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--protocols", default="full,short", help="comma-separated protocol names")
+    p.add_argument("--units", type=int, default=8, help="units to simulate (default 8)")
+    p.add_argument("--seed", type=int, default=0,
+                   help="fleet seed (>= 0, default 0): the same seed gives the same units and runs")
+    p.add_argument("--protocols", default="full,short",
+                   help="comma-separated calibration protocols to run on each unit (default full,short)")
     p = verb("import", cmd_import, "import interchange HDF5 files or CSV rig logs")
-    p.add_argument("paths", nargs="+")
-    p.add_argument("--csv-map", default=None, help="column map YAML for CSV logs")
+    p.add_argument("paths", nargs="+", help="run files (.h5, .hdf5), CSV logs (.csv) or directories of them")
+    p.add_argument("--csv-map", default=None,
+                   help="column map YAML for CSV logs (default: the built-in rig34 map)")
     p = verb("export", cmd_export, "write a unit's or a run's interchange files")
-    p.add_argument("target", metavar="UNIT_OR_RUN")
-    p.add_argument("--out", required=True)
-    p = verb("list", cmd_list, "list runs")
+    p.add_argument("target", metavar="UNIT_OR_RUN", help="a unit serial or a run id")
+    p.add_argument("--out", required=True, help="directory for the <run_id>.h5 files")
+    p.add_argument("--force", action="store_true", help="overwrite files already in --out")
+    p = verb("list", cmd_list, "list runs (exit status 1 when none match)")
     p.add_argument("--json", action="store_true", help="one JSON object per run")
-    p.add_argument("--unit", default=None)
-    p.add_argument("--model", default=None, help="sensor model")
+    p.add_argument("--unit", default=None, help="only the runs of this unit serial")
+    p.add_argument("--model", default=None, help="only the runs of this sensor model")
     verb("verify", cmd_verify, "re-hash payloads, find missing and orphaned files")
     p = verb("remove", cmd_remove, "remove a unit's or a run's runs")
-    p.add_argument("target", metavar="UNIT_OR_RUN")
+    p.add_argument("target", metavar="UNIT_OR_RUN", help="a unit serial or a run id")
     return parser
 
 
@@ -260,11 +297,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return args.func(args)
     except AnytipError as e:
-        print(f"anytip: error: {e}", file=sys.stderr)
+        print(f"anytip: error: {mask_secrets(str(e))}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("anytip: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader went away (`anytip data list | head`): stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141
 
 
 if __name__ == "__main__":

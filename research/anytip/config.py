@@ -11,25 +11,29 @@ key and what is allowed.
 from __future__ import annotations
 
 import copy
+import re
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.errors import AnytipError
 from anytip.models.mlp import MLPConfig
 from anytip.sensor.fleet import FleetConfig
 from anytip.train.recipe import FAST, TrainRecipe
-from anytip.validation import format_validation_error
+from anytip.validation import NAME_PATTERN, load_yaml, mask_secrets, validate_strict
 
 BLOCK_DIRS = {"fleet": "fleets", "model": "models", "training": "training"}
 Pipeline = Literal["baseline", "cross_sensor", "deploy", "fleet_speed", "impulse_ratio", "realism",
                    "search", "uncertainty"]
 
 
+MAX_SEED = 2**32 - 1
+Seed = Annotated[int, Field(ge=0, le=MAX_SEED)]
+
+
 class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 class DataConfig(Strict):
@@ -42,23 +46,23 @@ class DataConfig(Strict):
     @property
     def protocols(self) -> list[str] | None:
         return [self.protocol] if isinstance(self.protocol, str) else self.protocol
-    max_units: int | None = Field(default=None, ge=1)  # cap on units used, chosen by seed
+    max_units: int | None = Field(default=None, ge=1, le=100_000)  # cap on units used, chosen by seed
 
 
 class SimulateIfEmpty(Strict):
     """Fill an empty registry with a simulated fleet before running (the quickstart)."""
 
-    units: int = Field(default=8, ge=1)
-    seed: int = 0
+    units: int = Field(default=8, ge=1, le=10_000)
+    seed: Seed = 0
     protocols: list[str] = ["full", "short"]
 
 
 class SplitConfig(Strict):
     """Unit roles and row splits."""
 
-    n_val_units: int = Field(default=0, ge=0)
-    n_test_units: int = Field(default=0, ge=0)
-    n_train_units: int | None = Field(default=None, ge=1)
+    n_val_units: int = Field(default=0, ge=0, le=100_000)
+    n_test_units: int = Field(default=0, ge=0, le=100_000)
+    n_train_units: int | None = Field(default=None, ge=1, le=100_000)
     random_test_fraction: float = Field(default=0.1, gt=0, lt=1)  # the paper's 90/10 rows
     patch_test_fraction: float = Field(default=0.2, gt=0, lt=1)  # whole held-out patches
     val_fraction: float = Field(default=0.1, gt=0, lt=1)  # of training rows, for early stopping
@@ -67,14 +71,14 @@ class SplitConfig(Strict):
 class ExperimentSpec(Strict):
     """One experiment: what runs, on what data, with which model and recipe."""
 
-    name: str
+    name: str = Field(pattern=NAME_PATTERN, description="a directory name under runs/")
     pipeline: Pipeline
     description: str = ""
-    seed: int = 0
-    seeds: list[int] | None = None  # several seeds: one result row per seed
+    seed: Seed = 0
+    seeds: list[Seed] | None = Field(None, min_length=1, max_length=1000)  # one result row per seed
     device: Literal["auto", "cpu", "cuda"] = "auto"
     # torch CPU threads; tiny per-unit nets run fastest on one (None: torch's default)
-    threads: int | None = Field(default=1, ge=1)
+    threads: int | None = Field(default=1, ge=1, le=1024)
     data: DataConfig = DataConfig()
     simulate_if_empty: SimulateIfEmpty | None = None
     fleet: FleetConfig = FleetConfig()
@@ -98,13 +102,14 @@ def find_configs_dir(spec_path: Path) -> Path | None:
 
 
 def read_yaml(path: Path) -> dict[str, Any]:
-    """A YAML mapping from `path`, or an AnytipError naming the file."""
+    """A YAML mapping from `path` (safe, no aliases), or an AnytipError naming the file."""
     try:
-        data = yaml.safe_load(path.read_text())
+        text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise AnytipError(f"{path}: no such file") from None
-    except yaml.YAMLError as e:
-        raise AnytipError(f"{path}: not valid YAML: {e}") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise AnytipError(f"{path}: cannot read ({e})") from None
+    data = load_yaml(text, str(path))
     if data is None:
         return {}
     if not isinstance(data, dict):
@@ -121,6 +126,9 @@ def _resolve_block(kind: str, value: Any, configs: Path | None, spec_path: Path)
     name = value.pop("use", None)
     if name is None:
         return value
+    if not isinstance(name, str) or not re.fullmatch(NAME_PATTERN, name):
+        raise AnytipError(f"{spec_path}: key '{kind}.use' must name a block in configs/{BLOCK_DIRS[kind]}/ "
+                          f"(letters, digits, '_', '-', '.'; no path), got {name!r}")
     if configs is None:
         raise AnytipError(f"{spec_path}: key '{kind}' names {name!r} but no configs/ directory was found")
     block_file = configs / BLOCK_DIRS[kind] / f"{name}.yaml"
@@ -136,12 +144,19 @@ def apply_override(data: dict[str, Any], assignment: str) -> None:
         raise AnytipError(f"--set {assignment!r}: expected key=value")
     key, raw = assignment.split("=", 1)
     parts = key.strip().split(".")
+    if not all(parts):
+        raise AnytipError(f"--set {assignment!r}: {key!r} is not a dotted key like training.epochs")
     node = data
     for part in parts[:-1]:
         node = node.setdefault(part, {})
         if not isinstance(node, dict):
             raise AnytipError(f"--set {assignment!r}: {part!r} is not a mapping")
-    node[parts[-1]] = yaml.safe_load(raw)
+    node[parts[-1]] = load_yaml(raw, f"--set {assignment!r}")
+
+
+def public_config(spec: ExperimentSpec) -> dict[str, Any]:
+    """The resolved spec as written to a run's config.yaml: plain values, URL passwords masked."""
+    return mask_secrets(spec.model_dump(mode="json"))
 
 
 def load_spec(path: str | Path, overrides: list[str] | None = None) -> ExperimentSpec:
@@ -156,8 +171,5 @@ def load_spec(path: str | Path, overrides: list[str] | None = None) -> Experimen
             data[kind] = _resolve_block(kind, data[kind], configs, path)
     for assignment in overrides or []:
         apply_override(data, assignment)
-    try:
-        return ExperimentSpec.model_validate(data)
-    except ValidationError as e:
-        source = f"{path}" + (f" (with --set {' '.join(overrides)})" if overrides else "")
-        raise AnytipError(format_validation_error(e, source, ExperimentSpec)) from None
+    source = f"{path}" + (f" (with --set {' '.join(overrides)})" if overrides else "")
+    return validate_strict(ExperimentSpec, data, source)

@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import platform
 import subprocess
@@ -19,6 +20,7 @@ from typing import Any
 import yaml
 
 import anytip
+from anytip.errors import AnytipError
 
 METRIC_KEYS = ("method", "unit", "calib_samples", "seed", "force_rmse_n", "angle_rmse_rad")
 
@@ -27,8 +29,19 @@ def utc_stamp() -> str:
     return datetime.now(UTC).strftime("%Y%m%dT%H%M%SZ")
 
 
-def new_run_dir(spec_name: str, out: str | Path | None, root: str | Path = "runs") -> Path:
+
+
+def new_run_dir(spec_name: str, out: str | Path | None, root: str | Path = "runs",
+                force: bool = False) -> Path:
+    """`out`, or `<root>/<spec_name>/<UTC time>/`, created. A directory that holds a finished
+    run (its metrics.json) is refused unless `force`, so results are never overwritten by
+    mistake; an interrupted run (no metrics yet) may be resumed in place."""
     path = Path(out) if out else Path(root) / spec_name / utc_stamp()
+    if path.exists() and not path.is_dir():
+        raise AnytipError(f"{path}: exists and is not a directory")
+    if (path / "metrics.json").exists() and not force:
+        raise AnytipError(f"{path}: already holds a finished run (metrics.json); choose another --out "
+                          "or pass --force to overwrite it")
     path.mkdir(parents=True, exist_ok=True)
     return path
 
@@ -59,21 +72,45 @@ def machine() -> dict[str, Any]:
     }
 
 
-def write_json(path: Path, data: Any) -> None:
-    """Write JSON atomically (temporary file, then rename)."""
+def finite(data: Any) -> Any:
+    """`data` with every NaN or infinite float replaced by None (JSON has no such numbers)
+    and numpy scalars and arrays turned into plain Python values."""
+    if isinstance(data, dict):
+        return {k: finite(v) for k, v in data.items()}
+    if isinstance(data, (list, tuple)):
+        return [finite(v) for v in data]
+    if hasattr(data, "tolist") and not isinstance(data, (str, bytes)):
+        return finite(data.tolist())
+    if isinstance(data, float) and not math.isfinite(data):
+        return None
+    return data
+
+
+def dumps_json(data: Any, indent: int | None = 2, sort_keys: bool = False) -> str:
+    """The one JSON writer: strict JSON (non-finite numbers become null), newline-terminated."""
+    return json.dumps(finite(data), indent=indent, sort_keys=sort_keys, allow_nan=False) + "\n"
+
+
+def write_json(path: Path, data: Any, indent: int | None = 2) -> None:
+    """Write `dumps_json(data)` atomically (temporary file, then rename), readable like any
+    file the process writes (the umask decides, as for open())."""
+    path = Path(path)
+    text = dumps_json(data, indent)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
-    with os.fdopen(fd, "w") as f:
-        json.dump(data, f, indent=2, sort_keys=False, default=_json_default)
-        f.write("\n")
-    os.replace(tmp, path)
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
 
 
-def _json_default(value: Any) -> Any:
-    if hasattr(value, "item"):
-        return value.item()
-    if hasattr(value, "tolist"):
-        return value.tolist()
-    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
 
 
 def write_config(run_dir: Path, spec_dict: dict[str, Any]) -> None:

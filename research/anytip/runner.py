@@ -14,9 +14,10 @@ import numpy as np
 import torch
 
 from anytip import rundir
-from anytip.config import ExperimentSpec, load_spec
+from anytip.config import ExperimentSpec, load_spec, public_config
 from anytip.data.registry import Registry
-from anytip.pipelines.common import Context, resolve_device
+from anytip.pipelines.common import Context, check_options, check_registry, resolve_device
+from anytip.validation import mask_secrets
 
 
 def fill_if_empty(spec: ExperimentSpec, registry: Registry, progress: bool) -> bool:
@@ -44,19 +45,34 @@ def summarise(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def run_experiment(spec_path: str | Path, registry: Registry, out: str | Path | None = None,
-                   overrides: list[str] | None = None, progress: bool = True) -> Path:
-    """Run one spec against `registry`; returns the run directory."""
+def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: str | Path | None = None,
+                   overrides: list[str] | None = None, progress: bool = True, force: bool = False) -> Path:
+    """Run one spec against `registry` (a Registry, or its directory: created only for a spec
+    that simulates into an empty registry or a pipeline that reads none); returns the run
+    directory.
+
+    Everything a user can get wrong is checked before the run directory is made: the spec
+    and its options, and whether the registry holds enough units. `out` must not hold a
+    run already unless `force`.
+    """
     spec = load_spec(spec_path, overrides)
     device = resolve_device(spec.device)
+    module = importlib.import_module(f"anytip.pipelines.{spec.pipeline}")
+    use = getattr(module, "REGISTRY", "required")  # "required", "optional" (any units) or "unused"
+    if not isinstance(registry, Registry):
+        registry = Registry(registry, create=spec.simulate_if_empty is not None or use == "unused")
+    ctx = Context(spec, registry, Path(), device, progress)
+    ctx.provenance["spec_file"] = str(spec_path)
+    check_options(ctx, module)
+    run_dir = rundir.new_run_dir(spec.name, out, force=force)
     if spec.threads is not None:
         torch.set_num_threads(spec.threads)
-    module = importlib.import_module(f"anytip.pipelines.{spec.pipeline}")
     fill_if_empty(spec, registry, progress)
-    run_dir = rundir.new_run_dir(spec.name, out)
-    rundir.write_config(run_dir, spec.model_dump(mode="json"))
-    ctx = Context(spec, registry, run_dir, device, progress)
-    ctx.provenance.update(spec_file=str(spec_path), overrides=overrides or [], seeds=spec.all_seeds,
+    if use == "required":
+        check_registry(spec, registry, module.min_units(ctx) if hasattr(module, "min_units") else 1)
+    ctx.run_dir = run_dir
+    rundir.write_config(run_dir, public_config(spec))
+    ctx.provenance.update(overrides=[mask_secrets(o) for o in overrides or []], seeds=spec.all_seeds,
                           code=rundir.code_version(), machine=rundir.machine(), device=str(device))
     start = time.perf_counter()
     rows = module.run(ctx)

@@ -12,11 +12,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import h5py
 import numpy as np
 
 from anytip.data.registry import Registry, RunRecord
-from anytip.data.runfile import RunFormatError
+from anytip.data.runfile import CalibrationRun
 from anytip.errors import AnytipError
 
 PATCH_DEG = 15.0
@@ -64,10 +63,6 @@ class FleetArrays:
             None if self.time is None else self.time[mask],
         )
 
-    def rows_of_units(self, unit_ids: Sequence[str]) -> np.ndarray:
-        """(N,) bool mask of the rows of the named units."""
-        idx = [self.units.index(u) for u in unit_ids]
-        return np.isin(self.unit, idx)
 
 
 def patch_index(angles: np.ndarray) -> np.ndarray:
@@ -83,11 +78,11 @@ def patch_index(angles: np.ndarray) -> np.ndarray:
     return (i * PATCH_GRID[1] + j).astype(np.int16)
 
 
-def contact_mask(f: h5py.File, force: np.ndarray) -> np.ndarray:
+def contact_mask(run: CalibrationRun) -> np.ndarray:
     """(n,) bool: the run's recorded `in_contact` flag, else |F| >= CONTACT_FORCE_N."""
-    if "in_contact" in f:
-        return np.asarray(f["in_contact"][()]).astype(bool)
-    return np.linalg.norm(force, axis=1) >= CONTACT_FORCE_N
+    if run.in_contact is not None:
+        return run.in_contact.astype(bool)
+    return np.linalg.norm(run.force, axis=1) >= CONTACT_FORCE_N
 
 
 def rest_reading(pressure: np.ndarray, contact: np.ndarray, path: str) -> np.ndarray:
@@ -102,19 +97,6 @@ def rest_reading(pressure: np.ndarray, contact: np.ndarray, path: str) -> np.nda
     return rest.astype(np.float64).mean(axis=0)
 
 
-def _read_payload(path: str) -> tuple[np.ndarray, ...]:
-    try:
-        with h5py.File(path, "r") as f:
-            pressure = f["pressure"][()]
-            time = f["time"][()]
-            force = f["force"][()]
-            angles = f["angles"][()]
-            contact = contact_mask(f, force)
-    except (OSError, KeyError) as e:
-        raise RunFormatError(path, f"cannot read payload: {e}") from None
-    return pressure, force, angles, contact, time - time[0]
-
-
 def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
     """Load `runs` (catalog records of one sensor model) into flat tared rows."""
     if not runs:
@@ -122,13 +104,18 @@ def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
     models = {r.sensor_model for r in runs}
     if len(models) > 1:
         raise AnytipError(f"runs mix sensor models {sorted(models)}; load one model at a time")
+    channels = {r.channels for r in runs}
+    if len(channels) > 1:
+        raise AnytipError(f"{registry.root}: runs of sensor model {runs[0].sensor_model!r} have "
+                          f"{sorted(channels)} pressure channels; a sensor model has one layout")
     units = sorted({r.unit for r in runs})
     parts: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "f", "a", "u", "r", "t")}
     tares = []
     for k, rec in enumerate(runs):
-        path = str(registry.payload_path(rec.run_id))
-        pressure, force, angles, contact, time = _read_payload(path)
-        tare = rest_reading(pressure, contact, path)
+        run = registry.open_run(rec.run_id)  # validated, and hashed against the catalog
+        pressure, force, angles, contact = run.pressure, run.force, run.angles, contact_mask(run)
+        time = run.time - run.time[0]
+        tare = rest_reading(pressure, contact, str(registry.payload_path(rec.run_id)))
         tares.append(tare)
         n = int(contact.sum())
         parts["p"].append((pressure[contact] - tare).astype(np.float32))

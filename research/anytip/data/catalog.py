@@ -13,11 +13,10 @@ import sqlite3
 import time
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass, fields
-from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from anytip.data.runfile import CalibrationRun, check_sensor_id
+from anytip.data.runfile import CalibrationRun, check_sensor_id, parse_created
 from anytip.errors import AnytipError
 
 SCHEMA_VERSION = 1
@@ -84,10 +83,9 @@ def compact_time(created: str) -> str:
     A time without a zone is taken as UTC, as the format prescribes.
     """
     try:
-        t = datetime.fromisoformat(created)
-    except (TypeError, ValueError):
-        raise AnytipError(f"'created' {created!r} is not an ISO 8601 time") from None
-    t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
+        t = parse_created(created)
+    except ValueError as e:
+        raise AnytipError(str(e)) from None
     frac = f".{t.microsecond:06d}" if t.microsecond else ""
     return t.strftime("%Y%m%dT%H%M%S") + frac + "Z"
 
@@ -158,8 +156,24 @@ def _enable_wal(conn: sqlite3.Connection, db_path: Path) -> None:
 
 
 def connect(db_path: Path) -> sqlite3.Connection:
-    """Open (creating if needed) the catalog in autocommit mode; transactions are explicit."""
+    """Open (creating if needed) the catalog in autocommit mode; transactions are explicit.
+
+    A file that is not an SQLite database, or one without the runs table, is refused
+    with an AnytipError naming it.
+    """
     conn = sqlite3.connect(db_path, timeout=BUSY_TIMEOUT_S, isolation_level=None)
+    try:
+        _prepare(conn, db_path)
+    except sqlite3.DatabaseError as e:
+        conn.close()
+        raise AnytipError(f"{db_path}: not a registry catalog ({e})") from None
+    except BaseException:
+        conn.close()
+        raise
+    return conn
+
+
+def _prepare(conn: sqlite3.Connection, db_path: Path) -> None:
     conn.execute(f"PRAGMA busy_timeout = {int(BUSY_TIMEOUT_S * 1000)}")
     _enable_wal(conn, db_path)
     conn.execute("PRAGMA synchronous = FULL")
@@ -174,9 +188,10 @@ def connect(db_path: Path) -> sqlite3.Connection:
             version = SCHEMA_VERSION
         conn.execute("COMMIT")
     elif version != SCHEMA_VERSION:
-        conn.close()
         raise AnytipError(f"{db_path}: catalog schema version {version}; this code knows {SCHEMA_VERSION}")
-    return conn
+    columns = [row[1] for row in conn.execute("PRAGMA table_info(runs)")]
+    if columns != list(COLUMNS):
+        raise AnytipError(f"{db_path}: table 'runs' has columns {columns}, expected {list(COLUMNS)}")
 
 
 def _record(row: tuple) -> RunRecord:

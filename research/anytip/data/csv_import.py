@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Mapping
-from datetime import UTC, datetime
+from datetime import datetime
 from pathlib import Path
 from typing import Any, Literal
 
@@ -23,7 +23,7 @@ import numpy as np
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from anytip.data.runfile import CalibrationRun
+from anytip.data.runfile import CalibrationRun, parse_created
 from anytip.errors import AnytipError
 from anytip.validation import describe_error, format_validation_error
 
@@ -129,8 +129,7 @@ class Sidecar(_Strict):
     @classmethod
     def _utc_iso(cls, value: Any) -> str:
         """Any ISO 8601 time (or a YAML timestamp) -> ISO 8601 UTC with 'Z'; naive means UTC."""
-        t = value if isinstance(value, datetime) else datetime.fromisoformat(str(value))
-        t = t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
+        t = parse_created(value.isoformat() if isinstance(value, datetime) else str(value))
         return t.isoformat().replace("+00:00", "Z")
 
 

@@ -10,12 +10,15 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import h5py
 import numpy as np
 
 from anytip.data.arrays import contact_mask, rest_reading
 from anytip.data.registry import Registry, RunRecord
 from anytip.errors import AnytipError
+
+
+class MissingData(AnytipError):
+    """A run lacks an optional dataset that one analysis needs; the analysis is skipped."""
 
 
 def dead_channel(x: np.ndarray, channel: int) -> np.ndarray:
@@ -74,15 +77,12 @@ def rest_rows(registry: Registry, runs: Sequence[RunRecord]) -> np.ndarray:
     touches; the rows before the first contact (the tare itself) are left out."""
     parts = []
     for rec in runs:
-        path = registry.payload_path(rec.run_id)
-        with h5py.File(path, "r") as f:
-            pressure = f["pressure"][()]
-            force = f["force"][()]
-            contact = contact_mask(f, force)
-        tare = rest_reading(pressure, contact, str(path))
+        run = registry.open_run(rec.run_id)
+        pressure, contact = run.pressure, contact_mask(run)
+        tare = rest_reading(pressure, contact, rec.run_id)
         after = np.arange(len(contact)) > np.argmax(contact)
         parts.append((pressure[after & ~contact] - tare).astype(np.float32))
-    return np.concatenate(parts) if parts else np.zeros((0, 8), np.float32)
+    return np.concatenate(parts) if parts else np.zeros((0, runs[0].channels if runs else 0), np.float32)
 
 
 @dataclass
@@ -119,18 +119,15 @@ def run_streams(registry: Registry, runs: Sequence[RunRecord], indices: Sequence
     training rows; `indices` are the runs' positions in the loaded FleetArrays."""
     out = []
     for rec, k in zip(runs, indices, strict=True):
-        path = registry.payload_path(rec.run_id)
-        with h5py.File(path, "r") as f:
-            if "temperature" not in f:
-                raise AnytipError(f"{path}: no 'temperature' dataset; the rest-drift detector needs it")
-            pressure = f["pressure"][()].astype(np.float64)
-            temp = f["temperature"][()].astype(np.float64)
-            force = f["force"][()]
-            contact = contact_mask(f, force)
+        run = registry.open_run(rec.run_id)
+        if run.temperature is None:
+            raise MissingData(f"run {rec.run_id} has no 'temperature' dataset")
+        pressure, temp = run.pressure.astype(np.float64), run.temperature.astype(np.float64)
+        contact = contact_mask(run)
         first = int(np.argmax(contact)) if contact.any() else len(contact)
         temp = temp.reshape(len(temp), -1)
         if temp.shape[1] != pressure.shape[1]:  # one sensor for the board: every channel reads it
             temp = np.repeat(temp[:, :1], pressure.shape[1], 1)
         t0 = temp[:max(first, 1)].mean(0)
-        out.append(RunStream(pressure - rest_reading(pressure, contact, str(path)), temp - t0, contact, k))
+        out.append(RunStream(pressure - rest_reading(pressure, contact, rec.run_id), temp - t0, contact, k))
     return out

@@ -14,8 +14,8 @@ only ever see whole imports.
 
 from __future__ import annotations
 
+import logging
 import os
-import shutil
 import sqlite3
 from collections.abc import Iterable, Iterator, Sequence
 from contextlib import closing, contextmanager
@@ -33,6 +33,7 @@ ENV_VAR = "ANYTIP_REGISTRY"
 DEFAULT_ROOT = Path("data/registry")
 RUN_SUFFIXES = (".h5", ".hdf5")
 CSV_SUFFIXES = (".csv",)
+log = logging.getLogger(__name__)
 
 
 def default_registry_path() -> Path:
@@ -95,12 +96,19 @@ class Registry:
     """A directory of calibration runs with a SQLite catalog; safe for concurrent processes."""
 
     def __init__(self, root: str | Path | None = None, *, create: bool = True):
+        """Open the registry at `root`; with `create`, make it if it does not exist yet.
+
+        Without `create`, a directory that holds no catalog is refused (a mistyped path
+        must not become an empty registry).
+        """
         self.root = Path(root) if root is not None else default_registry_path()
-        if not self.root.is_dir():
-            if not create:
-                raise AnytipError(f"{self.root}: no registry here")
-            self.root.mkdir(parents=True, exist_ok=True)
         self.db_path = self.root / "catalog.sqlite"
+        if not create and not self.db_path.is_file():
+            raise AnytipError(f"{self.root}: not a registry (no catalog.sqlite); create one with "
+                              "`anytip data import` or `anytip data simulate`")
+        if self.root.exists() and not self.root.is_dir():
+            raise AnytipError(f"{self.root}: not a directory")
+        self.root.mkdir(parents=True, exist_ok=True)
         (self.root / "runs").mkdir(exist_ok=True)
         with closing(self._connect()):
             pass
@@ -218,14 +226,21 @@ class Registry:
             raise AnytipError(f"{path}: payload of run {run_id!r} changed since import (hash differs)")
         return run
 
-    def export(self, unit_or_run_id: str, out_dir: str | Path) -> list[Path]:
+    def export(self, unit_or_run_id: str, out_dir: str | Path, overwrite: bool = False) -> list[Path]:
         """Write interchange files `<out_dir>/<run_id>.h5` for a run or a whole unit.
 
-        Each file holds the same values as the import (same `content_hash()`).
+        Each file holds the same values as the import (same `content_hash()`). Files already
+        there are refused unless `overwrite`, before anything is written.
         """
         with closing(self._connect()) as conn:
             records = self._resolve(conn, unit_or_run_id)
         out_dir = Path(out_dir)
+        if out_dir.exists() and not out_dir.is_dir():
+            raise AnytipError(f"{out_dir}: exists and is not a directory")
+        taken = [str(out_dir / f"{r.run_id}.h5") for r in records if (out_dir / f"{r.run_id}.h5").exists()]
+        if taken and not overwrite:
+            raise AnytipError(f"{taken[0]}: already exists ({len(taken)} of {len(records)} files); "
+                              "pass --force to overwrite")
         out_dir.mkdir(parents=True, exist_ok=True)
         written = []
         for rec in records:
@@ -258,8 +273,8 @@ class Registry:
         # inside their transaction); the slow re-hashing happens after releasing it.
         with self._write() as conn:
             records = catalog.query(conn)
-            known = {r.path for r in records}
-            orphans = [p for p in self._payload_files() if p not in known]
+            named = self._named_paths(records)
+            orphans = [p for p in self._payload_files() if p not in named]
         report = VerifyReport(checked=len(records), orphans=orphans)
         for rec in records:
             self._verify_one(rec, report)
@@ -300,6 +315,7 @@ class Registry:
         with self._write(placed) as conn:
             self._sweep_orphans(conn)
             existing, new = self._split_existing(conn, staged)
+            _check_layouts(conn, new, self.db_path)
             for s in new:
                 dest = self.root / s.record.path
                 dest.parent.mkdir(parents=True, exist_ok=True)
@@ -376,20 +392,40 @@ class Registry:
                 out.append(unit_dir.relative_to(self.root).as_posix())
         return out
 
+    def _named_paths(self, records: Iterable[RunRecord]) -> set[str]:
+        """Every payload path a row names: its `path` column and the path its ids give."""
+        named = set()
+        for rec in records:
+            named.add(rec.path)
+            try:
+                named.add(catalog.payload_relpath(rec.unit, rec.run_id))
+            except (ValueError, AnytipError):
+                pass
+        return named
+
     def _sweep_orphans(self, conn: sqlite3.Connection) -> list[str]:
-        """Delete files under runs/ that no row names. Call only inside a write transaction."""
-        known = {r.path for r in catalog.query(conn)}
-        orphans = [p for p in self._payload_files() if p not in known]
-        for rel in orphans:
+        """Delete payload files under runs/ that no row names, logging each; return them.
+
+        Only regular files inside the registry's own runs/ and links there (the link, never
+        its target) are ever removed; a file that any row names, by its path column or by
+        the path its ids give, is kept. Call only inside a write transaction.
+        """
+        named = self._named_paths(catalog.query(conn))
+        runs = (self.root / "runs").resolve()
+        removed = []
+        for rel in self._payload_files():
             path = self.root / rel
-            if path.is_dir() and not path.is_symlink():
-                shutil.rmtree(path, ignore_errors=True)
-            else:
-                path.unlink(missing_ok=True)
-        for unit_dir in (self.root / "runs").iterdir():
-            if unit_dir.is_dir() and not any(unit_dir.iterdir()):
+            # a link is removed itself, never followed; a file only if it really lies in runs/
+            inside = path.is_file() and runs in path.resolve().parents
+            if rel in named or not (path.is_symlink() or inside):
+                continue
+            path.unlink(missing_ok=True)
+            removed.append(rel)
+            log.warning("%s: removed %s, a payload no catalog row names", self.root, rel)
+        for unit_dir in runs.iterdir():
+            if unit_dir.is_dir() and not unit_dir.is_symlink() and not any(unit_dir.iterdir()):
                 unit_dir.rmdir()
-        return orphans
+        return removed
 
     def _verify_one(self, rec: RunRecord, report: VerifyReport) -> None:
         try:
@@ -411,6 +447,24 @@ class Registry:
         elif expected_id != rec.run_id or run.sensor_id != rec.unit:
             problem = f"{path}: holds run {expected_id!r} of unit {run.sensor_id!r}"
             report.corrupt.append((rec.run_id, problem))
+
+
+def _check_layouts(conn: sqlite3.Connection, staged: Sequence[_Staged], db_path: Path) -> None:
+    """Refuse runs whose channel count disagrees with the runs of their sensor model already
+    in the catalog, or with the other runs of the same import."""
+    layout: dict[str, tuple[int, str]] = {}
+    for model, channels, run_id in conn.execute(
+            "SELECT sensor_model, channels, MIN(run_id) FROM runs GROUP BY sensor_model, channels"):
+        layout.setdefault(model, (channels, f"run {run_id} in {db_path}"))
+    problems = []
+    for s in staged:
+        rec = s.record
+        channels, where = layout.setdefault(rec.sensor_model, (rec.channels, s.source))
+        if channels != rec.channels:
+            problems.append(f"{s.source}: sensor model {rec.sensor_model!r} has {channels} "
+                            f"pressure channels ({where}), this run has {rec.channels}")
+    if problems:
+        raise AnytipError(f"{db_path.parent}: nothing imported:\n  " + "\n  ".join(problems))
 
 
 def _stage(run: CalibrationRun, temp: Path, source: str) -> _Staged:

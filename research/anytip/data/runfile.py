@@ -11,8 +11,10 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 import re
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -36,6 +38,21 @@ DTYPES = {
     "time": np.float64, "pressure": np.float32, "force": np.float32, "angles": np.float32,
     "temperature": np.float32, "in_contact": np.bool_,
 }
+
+
+def parse_created(created: object) -> datetime:
+    """An ISO 8601 time as an aware UTC datetime; a time without a zone is UTC.
+
+    Raises ValueError for text that is not a time, or one that leaves the range a
+    datetime holds once moved to UTC (year 1 with a positive offset, for example).
+    """
+    if not isinstance(created, str):
+        raise ValueError(f"'created' must be an ISO 8601 string, got {created!r}")
+    try:
+        t = datetime.fromisoformat(created)
+        return t.replace(tzinfo=UTC) if t.tzinfo is None else t.astimezone(UTC)
+    except (ValueError, OverflowError):
+        raise ValueError(f"'created' {created!r} is not a valid ISO 8601 date and time") from None
 
 
 class RunFormatError(AnytipError):
@@ -130,9 +147,6 @@ class CalibrationRun:
             h.update(arr.tobytes())
         return h.hexdigest()
 
-    def with_source(self, source: str) -> CalibrationRun:
-        return replace(self, source=source)
-
     def validate(self, path: str | Path = "<memory>") -> CalibrationRun:
         """Check the run against the format; raise RunFormatError naming `path`."""
         _validate(self, path)
@@ -157,10 +171,13 @@ def _validate(run: CalibrationRun, path: str | Path) -> None:
         number = isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool)
         if not number or not math.isfinite(value):
             raise _problem(path, f"attribute {name!r} must be a finite number, got {value!r}")
-    if not run.sample_rate_hz > 0:
-        raise _problem(path, f"attribute 'sample_rate_hz' must be > 0, got {run.sample_rate_hz}")
-    if not isinstance(run.created, str) or not run.created:
-        raise _problem(path, "attribute 'created' must be an ISO 8601 string")
+    if not run.sample_rate_hz > 0 or not math.isfinite(run.n_rows / run.sample_rate_hz):
+        raise _problem(path, f"attribute 'sample_rate_hz' must be > 0 and give a finite duration, "
+                             f"got {run.sample_rate_hz}")
+    try:
+        parse_created(run.created)
+    except ValueError as e:
+        raise _problem(path, f"attribute {e}") from None
     for key, value in run.extra.items():
         if key not in OPTIONAL_ATTRS or not isinstance(value, str):
             raise _problem(
@@ -241,12 +258,59 @@ def read_run(path: str | Path) -> CalibrationRun:
         raise _problem(path, "no such file")
     try:
         with h5py.File(path, "r") as f:
+            check_self_contained(f, path)
             return _read_open(f, path)
     except RunFormatError:
         raise
+    except MemoryError:
+        raise _problem(path, "the run does not fit in memory") from None
     except (OSError, KeyError, RuntimeError, ValueError) as e:
         # h5py reports damaged headers as KeyError or RuntimeError, not only OSError.
         raise _problem(path, f"not a readable HDF5 file (truncated or corrupt?): {e}") from None
+
+
+def check_self_contained(f: h5py.File, path: str | Path) -> None:
+    """Refuse a file any of whose objects lives outside it: soft or external links, datasets
+    with external raw storage, virtual datasets. A run file is read from itself alone."""
+    problems: list[str] = []
+
+    def visit(name: str, link: h5py.HardLink | h5py.SoftLink | h5py.ExternalLink) -> None:
+        if isinstance(link, h5py.ExternalLink):
+            problems.append(f"{name!r} is an external link (to {link.filename!r}); data must be in the file")
+        elif isinstance(link, h5py.SoftLink):
+            problems.append(f"{name!r} is a soft link (to {link.path!r}); links are not allowed")
+        elif not problems:
+            node = f.get(name)
+            if isinstance(node, h5py.Dataset) and node.external:
+                problems.append(f"dataset {name!r} uses external raw storage; data must live in the file")
+            elif isinstance(node, h5py.Dataset) and node.is_virtual:
+                problems.append(f"dataset {name!r} is a virtual dataset; data must live in the file")
+
+    f.visititems_links(visit)
+    if problems:
+        raise _problem(path, problems[0])
+
+
+def _free_memory_bytes() -> int:
+    """Memory the process could still take (physical pages available), in bytes."""
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 2**40
+
+
+def _check_size(f: h5py.File, path: Path) -> None:
+    """Refuse datasets that would not fit in memory before reading any (a crafted file can
+    declare 10^11 rows in a few bytes)."""
+    total = 0
+    for name in REQUIRED_DATASETS + OPTIONAL_DATASETS:
+        node = f.get(name)
+        if isinstance(node, h5py.Dataset):
+            total += int(node.size) * np.dtype(DTYPES[name]).itemsize
+    free = _free_memory_bytes()
+    if total > free:
+        raise _problem(path, f"datasets declare {total / 1e9:.3g} GB, more than the "
+                             f"{free / 1e9:.3g} GB of memory available")
 
 
 def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
@@ -267,6 +331,7 @@ def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
     for key in ("sensor_id", "sensor_model", "source", "created"):
         if not isinstance(attrs[key], str):
             raise _problem(path, f"attribute {key!r} must be a string, got {attrs[key]!r}")
+    _check_size(f, path)
     arrays: dict[str, np.ndarray | None] = {}
     for name in REQUIRED_DATASETS + OPTIONAL_DATASETS:
         if name not in f:
@@ -339,7 +404,3 @@ def _write_dataset(f: h5py.File, name: str, arr: np.ndarray, compression: str | 
         compression_opts=1 if compression == "gzip" else None,
         shuffle=compression is not None, fletcher32=True,
     )
-
-
-def run_fields() -> list[str]:
-    return [f.name for f in fields(CalibrationRun)]

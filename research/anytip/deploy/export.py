@@ -28,6 +28,7 @@ from anytip.deploy.quantize import quantize, simulate
 from anytip.deploy.reference import Reference, registry_reference, synthetic_reference
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, save_models
+from anytip.rundir import write_json
 
 FORMATS = ("onnx", "c", "c-int8", "firmware", "model")
 REL_TOL = 1e-5
@@ -158,7 +159,7 @@ def export_prepared(p: Prepared, fmt: str, out_dir: str | Path,
                               "params": net.n_params, "macs": net.macs, "reference": p.ref.describe()}
     report |= EXPORTERS[fmt](p.loaded, p.index, net, p.ref, p.y_model, out_dir, embedded_checks)
     report["passed"] = _all_passed(report)
-    (out_dir / "verification.json").write_text(json.dumps(report, indent=2) + "\n")
+    write_json(out_dir / "verification.json", report)
     return report
 
 

@@ -28,6 +28,7 @@ from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
+from anytip.rundir import write_json
 
 KEYS_W, KEYS_B = ("w1", "w2", "w3", "w4"), ("b1", "b2", "b3", "b4")
 SIZES = (8, 12, 64, 64, 5)
@@ -213,7 +214,7 @@ def write_firmware_json(path: str | Path, nets: dict[str, dict[str, np.ndarray]]
            "units": {n: {k: net[k].tolist() for k in order} for n, net in nets.items()}}
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(doc) + "\n")
+    write_json(path, doc, indent=None)
     return path
 
 

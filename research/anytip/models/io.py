@@ -21,6 +21,7 @@ from anytip.errors import AnytipError
 from anytip.models.adapted import AdaptedMLP
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
+from anytip.rundir import write_json
 
 FORMAT = "anytip.batched_mlp"
 FORMAT_VERSION = 1
@@ -66,14 +67,14 @@ def save_models(path: str | Path, model: BatchedMLP, in_scaler: Scaler, out_scal
     header = {"format": FORMAT, "format_version": FORMAT_VERSION,
               "config": model.config.model_dump(mode="json"), "n_models": model.n_models,
               "meta": meta}
-    json_path.write_text(json.dumps(header, indent=2) + "\n")
+    write_json(json_path, header)
     return tensors_path
 
 
 def load_models(path: str | Path, device: torch.device | str = "cpu") -> LoadedModels:
     """Read what `save_models` wrote; any mismatch raises ModelFileError naming the file."""
     tensors_path, json_path = model_paths(path)
-    header = _read_header(json_path)
+    header = read_header(json_path)
     try:
         config = MLPConfig(**header["config"])
         n_models = int(header["n_models"])
@@ -127,7 +128,7 @@ def _read_tensors(tensors_path: Path, device: torch.device | str) -> dict[str, T
         raise ModelFileError(tensors_path, f"not a readable safetensors file: {e}") from e
 
 
-def _read_header(json_path: Path, fmt: str = FORMAT) -> dict[str, Any]:
+def read_header(json_path: Path, fmt: str = FORMAT) -> dict[str, Any]:
     if not json_path.exists():
         raise ModelFileError(json_path, "metadata file not found")
     try:
@@ -170,14 +171,14 @@ def save_shared(path: str | Path, model: AdaptedMLP, in_scaler: Scaler, out_scal
     header = {"format": SHARED_FORMAT, "format_version": FORMAT_VERSION,
               "config": model.config.model_dump(mode="json"), "kind": model.kind,
               "n_units": model.n_units, "meta": dict(meta or {})}
-    json_path.write_text(json.dumps(header, indent=2) + "\n")
+    write_json(json_path, header)
     return tensors_path
 
 
 def load_shared(path: str | Path, device: torch.device | str = "cpu") -> LoadedShared:
     """Read what `save_shared` wrote; any mismatch raises ModelFileError naming the file."""
     tensors_path, json_path = model_paths(path)
-    header = _read_header(json_path, SHARED_FORMAT)
+    header = read_header(json_path, SHARED_FORMAT)
     try:
         config, kind, n_units = MLPConfig(**header["config"]), str(header["kind"]), int(header["n_units"])
         model = AdaptedMLP(n_units, config, kind)

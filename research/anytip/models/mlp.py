@@ -14,7 +14,7 @@ from typing import Literal
 import numpy as np
 import torch
 import torch.nn.functional as F
-from pydantic import BaseModel, ConfigDict, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 from torch import Tensor, nn
 
 # leaky_relu (negative slope 0.01, torch's default) and hardswish (x * clamp(x + 3, 0, 6) / 6) need
@@ -25,6 +25,7 @@ ACTIVATIONS = {"relu": torch.relu, "tanh": torch.tanh, "gelu": F.gelu, "silu": F
 ACTIVATION_MODULES = {"relu": nn.ReLU, "tanh": nn.Tanh, "gelu": nn.GELU, "silu": nn.SiLU,
                       "leaky_relu": nn.LeakyReLU, "hardswish": nn.Hardswish}
 
+MAX_WIDTH, MAX_LAYERS = 4096, 32  # far beyond a microcontroller; bounds a typo's memory
 Plain = list[tuple[Tensor, Tensor]]  # one model as [(W (in, out), b (out,)), ...]
 
 
@@ -33,15 +34,16 @@ class MLPConfig(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    sizes: tuple[int, ...] = (8, 12, 64, 64, 5)
+    sizes: tuple[int, ...] = Field((8, 12, 64, 64, 5), min_length=2, max_length=MAX_LAYERS + 1)
     activation: Activation = "relu"
     output_activation: Activation | None = None
 
     @field_validator("sizes")
     @classmethod
     def _check_sizes(cls, sizes: tuple[int, ...]) -> tuple[int, ...]:
-        if len(sizes) < 2 or min(sizes) < 1:
-            raise ValueError(f"sizes {sizes} needs at least an input and an output width, all >= 1")
+        if len(sizes) < 2 or min(sizes) < 1 or max(sizes) > MAX_WIDTH:
+            raise ValueError(f"sizes {sizes} needs at least an input and an output width, "
+                             f"all in 1..{MAX_WIDTH}")
         return sizes
 
     @property

@@ -12,7 +12,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 import torch
-from pydantic import BaseModel, ValidationError
+from pydantic import BaseModel
 
 from anytip.config import DataConfig, ExperimentSpec
 from anytip.data.arrays import FleetArrays, load_arrays
@@ -22,7 +22,7 @@ from anytip.errors import AnytipError
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import FitResult
 from anytip.train.metrics import predict
-from anytip.validation import format_validation_error
+from anytip.validation import validate_strict
 
 OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
 
@@ -45,11 +45,20 @@ M = TypeVar("M", bound=BaseModel)
 def validate_options(ctx: Context, model: type[M], raw: dict[str, Any] | None = None) -> M:
     """The spec's `options:` (or `raw`) as the pipeline's options model; a bad key or value
     stops the run with the spec file, the key and what is allowed."""
-    try:
-        return model.model_validate(dict(ctx.spec.options) if raw is None else raw)
-    except ValidationError as e:
-        source = f"{ctx.provenance.get('spec_file', ctx.spec.name)}: options"
-        raise AnytipError(format_validation_error(e, source, model)) from None
+    source = str(ctx.provenance.get("spec_file", ctx.spec.name))
+    return validate_strict(model, dict(ctx.spec.options) if raw is None else raw, source, "options")
+
+
+def check_options(ctx: Context, module: Any) -> None:
+    """Validate the spec's options the way `module` (a pipeline) will, before any work: its
+    `parse_options(ctx)`, else its `Options` model, else it takes none."""
+    if hasattr(module, "parse_options"):
+        module.parse_options(ctx)
+    elif hasattr(module, "Options"):
+        validate_options(ctx, module.Options)
+    elif ctx.spec.options:
+        raise AnytipError(f"{ctx.provenance.get('spec_file', ctx.spec.name)}: pipeline "
+                          f"{ctx.spec.pipeline!r} takes no options; got {sorted(ctx.spec.options)}")
 
 
 def resolve_device(name: str) -> torch.device:
@@ -95,6 +104,26 @@ def select_runs(registry: Registry, cfg: DataConfig, seed: int,
         keep = set(np.random.default_rng(seed).choice(units, cfg.max_units, replace=False))
         records = [r for r in records if r.unit in keep]
     return model, records
+
+
+def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1) -> None:
+    """Stop before any work when the registry cannot serve the spec: fewer units than the
+    spec's unit roles (validation + held-out + training) or the pipeline's `min_units`, or
+    a model whose input or output width disagrees with the sensor model's channels and
+    targets."""
+    s = spec.splits
+    roles = 1
+    if s.n_val_units or s.n_test_units:
+        roles = s.n_val_units + s.n_test_units + (s.n_train_units or 1)
+    model, records = select_runs(registry, spec.data, spec.seed, max(min_units, roles))
+    channels = {r.channels for r in records}
+    sizes = spec.model.sizes
+    if channels != {sizes[0]}:
+        raise AnytipError(f"key 'model.sizes' {list(sizes)}: the input width {sizes[0]} must equal the "
+                          f"pressure channels of sensor model {model!r}: {sorted(channels)}")
+    if sizes[-1] != len(OUTPUTS):
+        raise AnytipError(f"key 'model.sizes' {list(sizes)}: the output width {sizes[-1]} must equal "
+                          f"the {len(OUTPUTS)} targets of sensor model {model!r} ({', '.join(OUTPUTS)})")
 
 
 def load(ctx: Context, min_units: int = 1) -> FleetArrays:

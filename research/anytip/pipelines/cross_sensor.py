@@ -110,9 +110,14 @@ class SeedData:
     evals: dict[str, EvalUnit]  # validation and held-out units
 
 
+def min_units(ctx: Context) -> int:
+    """Training, validation and held-out units, with at least a few to train on."""
+    return 8
+
+
 def run(ctx: Context) -> list[dict[str, Any]]:
     opts = parse_options(ctx)
-    arrays = load(ctx, min_units=8)
+    arrays = load(ctx, min_units=min_units(ctx))
     rows: list[dict[str, Any]] = []
     for k, seed in enumerate(ctx.spec.all_seeds):
         rows += run_seed(ctx, arrays, opts, seed, sweep=k < opts.sweep_seeds)
@@ -144,10 +149,11 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     for kind in ["none", *opts.adapters]:
         shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay)
-        kind_rows, chosen = adapted_rows(ctx, arrays, sd, opts, shared, seed, opts.budgets)
+        kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, opts.budgets)
         rows += [dict(base, **r) for r in kind_rows]
         priors_chosen[kind] = chosen
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"))
+        meta["val_loss_by_budget"] = {str(b): v for b, v in sorted(val_loss.items())}
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
@@ -286,9 +292,11 @@ def calibrate_many(shared: SharedFit, arrays: FleetArrays, streams: list[Calibra
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
                  seed: int, budgets: list[int], fixed_priors: dict[int, float] | None = None,
-                 fit_kind: str | None = None) -> tuple[list[dict[str, Any]], dict[int, float]]:
-    """Rows of one shared model on the held-out units at every budget, and the prior chosen
-    per budget on the validation units (given `fixed_priors`, those are used instead)."""
+                 fit_kind: str | None = None
+                 ) -> tuple[list[dict[str, Any]], dict[int, float], dict[int, float]]:
+    """Rows of one shared model on the held-out units at every budget, the prior chosen
+    per budget on the validation units (given `fixed_priors`, those are used instead), and
+    the validation units' mean standardised MSE per budget at that prior (empty when fixed)."""
     kind = fit_kind or shared.model.kind
     method = "adapted:input_stats" if kind == "none" else f"adapted:{kind}"
     fits = kind != "none"
@@ -305,9 +313,11 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                                    fit_kind)
     preds = predict_rows(folded, stats, shared.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
-    chosen = dict(fixed_priors or {})
+    chosen, val_loss = dict(fixed_priors or {}), {}
     if fixed_priors is None:
-        chosen = choose_priors(jobs, preds, sd, arrays, set(sd.split.val), shared.out_scaler)
+        loss = validation_losses(jobs, preds, sd, arrays, set(sd.split.val), shared.out_scaler)
+        chosen = choose_priors(loss)
+        val_loss = {b: float(np.mean(v)) for (b, p), v in loss.items() if p == chosen.get(b, p)}
     rows = []
     for (u, b, p), pred in zip(jobs, preds, strict=True):
         if u not in sd.split.test or (b > 0 and p != chosen.get(b, p)):
@@ -316,20 +326,28 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         rows.append({"method": method, "unit": u, "calib_samples": min(b, len(stream.rows)),
                      "calib_seconds": stream.seconds_for(b), "unlabeled_samples": len(stream.rows),
                      "prior": p if b > 0 else None, **scores(pred, arrays.targets[sd.evals[u].test_rows])})
-    return rows, chosen
+    return rows, chosen, val_loss
 
 
-def choose_priors(jobs: list[tuple[str, int, float]], preds: list[np.ndarray], sd: SeedData,
-                  arrays: FleetArrays, val_units: set[str], out_scaler: Scaler) -> dict[int, float]:
-    """Per budget, the prior with the lowest mean standardised MSE on the validation units."""
+def validation_losses(jobs: list[tuple[str, int, float]], preds: list[np.ndarray], sd: SeedData,
+                      arrays: FleetArrays, val_units: set[str],
+                      out_scaler: Scaler) -> dict[tuple[int, float], list[float]]:
+    """(budget, prior) -> each validation unit's standardised MSE on its test patches."""
     std = out_scaler.std.reshape(-1).cpu().numpy()
     loss: dict[tuple[int, float], list[float]] = {}
     for (u, b, p), pred in zip(jobs, preds, strict=True):
-        if u in val_units and b > 0:
+        if u in val_units:
             err = (pred - arrays.targets[sd.evals[u].test_rows]) / std
             loss.setdefault((b, p), []).append(float((err**2).mean()))
+    return loss
+
+
+def choose_priors(loss: dict[tuple[int, float], list[float]]) -> dict[int, float]:
+    """Per budget > 0, the prior with the lowest mean validation loss."""
     chosen: dict[int, float] = {}
     for (b, p), v in sorted(loss.items()):
+        if b == 0:
+            continue
         if b not in chosen or np.mean(v) < np.mean(loss[(b, chosen[b])]):
             chosen[b] = p
     return chosen
@@ -350,7 +368,7 @@ def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
         shared = train_shared(sub, stats, ctx.spec.model, opts.sweep_adapter, ctx.spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay)
         fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b > 0}
-        kind_rows, _ = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed)
+        kind_rows, _, _ = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed)
         rows += [dict(r, seed=seed, split="patches", n_train_units=k) for r in kind_rows]
     return rows
 

@@ -10,7 +10,6 @@ held-out patches when `held_out` names the cross_sensor run that recorded them).
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +24,9 @@ from anytip.deploy.peers import PEERS, measure_peer
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, validate_options
 from anytip.report.markdown import table
+from anytip.rundir import write_json
+
+REGISTRY = "optional"  # how the runner treats the registry (anytip.runner)
 
 FORMATS = ("onnx", "c", "c-int8", "firmware")
 READING = "reading.md"
@@ -132,7 +134,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
             rep = measure_peer(peer, p.loaded, p.index, p.net, p.ref, p.y_model, out / peer)
             rep["passed"] = bool(rep.get("gcc_host", {}).get("passed"))
             (out / peer).mkdir(parents=True, exist_ok=True)
-            (out / peer / "verification.json").write_text(json.dumps(rep, indent=2) + "\n")
+            write_json(out / peer / "verification.json", rep)
             rows.append(_row(name, peer.replace("-", "_"), p, samples, ctx.spec.seed, rep))
     (ctx.run_dir / "report.md").write_text(report(rows, ctx.provenance.get("deploy_skipped", []))
                                            + reading(ctx.run_dir))

@@ -35,6 +35,8 @@ from anytip.search.budget import load_budget
 from anytip.sensor.simulate import unit_rng, unit_sensor_id
 from anytip.sensor.variation import draw_unit
 
+REGISTRY = "unused"  # how the runner treats the registry (anytip.runner)
+
 
 class Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)

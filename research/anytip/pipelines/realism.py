@@ -30,10 +30,15 @@ def _pooled_data(split, device: torch.device) -> FleetBatchData:
                                                   cat("Y_val"), "pooled")], device)
 
 
+def min_units(ctx: Context) -> int:
+    """Held-out units and at least two to pool over."""
+    return (ctx.spec.splits.n_test_units or 4) + 2
+
+
 def run(ctx: Context) -> list[dict[str, Any]]:
     spec = ctx.spec
     n_test = spec.splits.n_test_units or 4
-    arrays = load(ctx, min_units=n_test + 2)
+    arrays = load(ctx, min_units=min_units(ctx))
     rows: list[dict[str, Any]] = []
     for seed in spec.all_seeds:
         roles = split_units(arrays.units, seed, n_val=0, n_test=n_test, n_train=spec.splits.n_train_units)

@@ -12,6 +12,7 @@ front are retrained and scored on the test units, which is what the report's com
 from __future__ import annotations
 
 import multiprocessing as mp
+import os
 import time
 import warnings
 from typing import Any
@@ -45,7 +46,10 @@ from anytip.search.study import (
     remaining,
 )
 from anytip.train.recipe import TrainRecipe
+from anytip.validation import mask_secrets
 
+# a storage URL from the environment keeps credentials out of specs, command lines and run files
+STORAGE_ENV = "ANYTIP_SEARCH_STORAGE"
 MAX_FRONT = 6  # front members retrained on the test units: the most accurate on the search units
 
 
@@ -54,6 +58,13 @@ def parse_options(ctx: Context) -> SearchOptions:
     if opts.min_hidden > opts.max_hidden:
         raise AnytipError(f"options: min_hidden {opts.min_hidden} > max_hidden {opts.max_hidden}")
     return opts
+
+
+def min_units(ctx: Context) -> int:
+    """Units the study needs: search and test units, and training units for the shared family."""
+    opts = parse_options(ctx)
+    extra = 1 if opts.family == "per_unit" else (opts.n_train_units or 1)
+    return opts.n_search_units + opts.n_test_units + extra
 
 
 def unit_scorer(ctx: Context, arrays, units: list[str], seed: int):
@@ -121,10 +132,9 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     opts, spec = parse_options(ctx), ctx.spec
     workers = opts.workers
     budget = load_budget(opts.budget)
-    extra = 1 if opts.family == "per_unit" else (opts.n_train_units or 1)
-    arrays = load(ctx, min_units=opts.n_search_units + opts.n_test_units + extra)
+    arrays = load(ctx, min_units=min_units(ctx))
     search_scorer, test_scorer, roles = scorers(ctx, arrays, opts)
-    url = opts.storage or f"sqlite:///{ctx.run_dir / 'study.db'}"
+    url = opts.storage or os.environ.get(STORAGE_ENV) or f"sqlite:///{ctx.run_dir / 'study.db'}"
     study = open_study(url, opts.study_name, opts)
     paper = paper_params(opts, spec.training)
     if not study.trials and paper is not None:
@@ -139,7 +149,8 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     rows = test_rows(ctx, test_scorer, front, spec.training, opts.family)
     done = sum(t.state == optuna.trial.TrialState.COMPLETE for t in study.trials)
     ctx.provenance["search"] = {
-        "storage": url, "study_name": opts.study_name, "workers": workers, "budget": budget.model_dump(),
+        "storage": mask_secrets(url), "study_name": opts.study_name, "workers": workers,
+        "budget": budget.model_dump(),
         "family": opts.family, **roles, "wall_s": wall, "trials": len(study.trials), "complete": done,
         "trials_per_hour": 3600 * len(study.trials) / wall if wall > 0 else None,
         "trial_seconds": trial_seconds(study), "table": table}

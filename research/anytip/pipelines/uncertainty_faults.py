@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from anytip.data.arrays import FleetArrays, load_arrays
-from anytip.data.faults import RunStream, baseline_drift, fault_suite, rest_rows, run_streams
+from anytip.data.faults import MissingData, RunStream, baseline_drift, fault_suite, rest_rows, run_streams
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.errors import AnytipError
@@ -98,7 +98,13 @@ def fault_rows(ctx: Context, arrays: FleetArrays, fit: EnsembleFit, split: UQSpl
                              "fault_rows": len(xf), "auroc": auroc(flatline(x, opts.windows[0]),
                                                                    flatline(xf, opts.windows[0]))})
         rows += rest_drift_rows(ctx, arrays, u, opts, rng, base)
-        rows += rest_model_rows(ctx, arrays, split, u, pick, ch, opts, base)
+        try:
+            rows += rest_model_rows(ctx, arrays, split, u, pick, ch, opts, base)
+        except MissingData as e:  # temperature is optional in the format
+            skipped = ctx.provenance.setdefault("skipped", [])
+            line = f"rest-drift detector (`detect:rest_drift`) skipped: {e}; it needs barometer temperatures"
+            if line not in skipped:
+                skipped.append(line)
     return rows
 
 

@@ -224,6 +224,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts
         "method with exactly nominal coverage would land.\n", bootstrap_table(rows),
         "\nPer unit, `ensemble+conformal`:\n", bootstrap_unit_table(rows),
         "\n## Fault detection: AUROC, mean over units (min)\n", detection_table(rows),
+        *[f"\n- {line}\n" for line in ctx.provenance.get("skipped", [])],
         "\nRest-drift detectors at their limits (the 99.9% point of the clean calibration "
         "distances; `other_runs`: fitted on the unit's other power-ups):\n",
         drift_flag_table(rows),

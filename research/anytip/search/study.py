@@ -28,6 +28,7 @@ from anytip.models.features import FEATURES
 from anytip.search.budget import ACTIVATION_INSTRUCTIONS, Budget, constraints, cost
 from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
 from anytip.train.recipe import TrainRecipe
+from anytip.validation import mask_secrets
 
 CONSTRAINT_NAMES = ("flash", "ram", "time")
 PAPER_HIDDEN = (12, 64, 64)
@@ -177,7 +178,8 @@ def rdb_storage(url: str, opts: SearchOptions) -> optuna.storages.RDBStorage:
     try:
         parsed = make_url(url)
     except sqlalchemy.exc.ArgumentError:
-        raise AnytipError(f"options.storage: {url!r} is not a database URL; use sqlite:///FILE or "
+        raise AnytipError(f"options.storage: {mask_secrets(url)!r} is not a database URL; use "
+                          "sqlite:///FILE or "
                           "postgresql://USER@HOST/DB (journal files are not supported: resuming a "
                           "killed study needs heartbeats)") from None
     if parsed.drivername == "postgresql" and importlib.util.find_spec("psycopg") is None:
@@ -194,10 +196,11 @@ def rdb_storage(url: str, opts: SearchOptions) -> optuna.storages.RDBStorage:
                 grace_period=2 * opts.heartbeat_s,
                 heartbeat_stale_trial_callback=optuna.storages.RetryHeartbeatStaleTrialCallback(max_retry=1))
         except (sqlalchemy.exc.NoSuchModuleError, ImportError) as e:
-            raise AnytipError(f"options.storage {shown}: no database driver for it ({e}); use "
+            reason = mask_secrets(str(e))
+            raise AnytipError(f"options.storage {shown}: no database driver for it ({reason}); use "
                               "sqlite:///FILE or postgresql://USER@HOST/DB") from None
         except sqlalchemy.exc.OperationalError as e:
-            reason = str(e.orig).strip()
+            reason = mask_secrets(str(e.orig).strip())
             raise AnytipError(f"options.storage {shown}: cannot open the database ({reason})") from None
 
 

@@ -12,14 +12,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.errors import AnytipError
 from anytip.sensor.geometry import SENSOR_MODEL
-from anytip.validation import format_validation_error
+from anytip.validation import load_yaml, validate_strict
 
-_STRICT = ConfigDict(extra="forbid", frozen=True)
+_STRICT = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class NominalParams(BaseModel):
@@ -124,24 +123,15 @@ def fleet_config_from_dict(data: Any, path: str = "<dict>") -> FleetConfig:
         raise AnytipError(
             f"{path}: a fleet config must be a mapping of keys, got {type(data).__name__}"
         )
-    try:
-        return FleetConfig.model_validate(data)
-    except ValidationError as e:
-        raise AnytipError(format_validation_error(e, path, FleetConfig)) from None
+    return validate_strict(FleetConfig, data, path)
 
 
 def load_fleet_config(path: str | Path) -> FleetConfig:
     """Read a fleet YAML (keys as in FleetConfig; omitted keys keep their defaults)."""
     path = Path(path)
     try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as e:
-        raise AnytipError(f"{path}: cannot read fleet config ({e.strerror})") from None
-    except yaml.YAMLError as e:
-        raise AnytipError(f"{path}: not valid YAML ({e})") from None
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise AnytipError(f"{path}: cannot read fleet config ({e})") from None
+    data = load_yaml(text, str(path))
     return fleet_config_from_dict(data, str(path))
-
-
-def dump_fleet_config(config: FleetConfig) -> str:
-    """YAML text holding every key of `config` (loads back to an equal config)."""
-    return yaml.safe_dump(config.model_dump(), sort_keys=False)

@@ -13,11 +13,12 @@ one step for all units), which gives a paper RMSE for every unit of the fleet.
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
+from pathlib import Path
 
 import torch
 
+from anytip.rundir import dumps_json, write_json
 from anytip.train.fleet import FitResult, train_fleet
 from anytip.train.recipe import PAPER, get_recipe
 from anytip.train.sequential import train_sequential
@@ -75,10 +76,9 @@ def main(argv: list[str] | None = None) -> dict:
         out[f"fleet_{args.recipe}"]["to_paper_all_units_s"] = time_to_target(fleet.history, every)
         out[f"fleet_{args.recipe}"]["to_paper_mean_s"] = time_to_target(
             fleet.history, statistics.mean(every))
-    print(json.dumps(out, indent=2))
+    print(dumps_json(out), end="")
     if args.json:
-        with open(args.json, "w") as f:
-            json.dump(out, f, indent=2)
+        write_json(Path(args.json), out)
     return out
 
 

@@ -16,19 +16,20 @@ class TrainRecipe(BaseModel):
     """How to fit each unit's MLP. `batch_size` is rows per unit per step; an epoch is each
     unit's training rows seen once on average. The loss is MSE on standardised outputs."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     name: str
     optimizer: Literal["adam", "adamw"] = "adam"
-    lr: float = Field(1e-3, gt=0)
-    weight_decay: float = Field(0.0, ge=0)
-    batch_size: int = Field(10, ge=1)
-    epochs: int = Field(10, ge=1)
+    lr: float = Field(1e-3, gt=0, le=10)
+    weight_decay: float = Field(0.0, ge=0, le=10)
+    batch_size: int = Field(10, ge=1, le=2**20)
+    epochs: int = Field(10, ge=1, le=100_000)
     schedule: Literal["constant", "onecycle", "cosine"] = "constant"
     warmup_frac: float = Field(0.0, ge=0, lt=1)  # of all steps; onecycle starts at lr / 25
     final_lr_frac: float = Field(0.0, ge=0, le=1)  # lr at the last step, as a fraction of lr
-    patience: int | None = Field(None, ge=1)  # evaluations without val-loss gain before a unit stops
-    evals_per_epoch: int = Field(1, ge=1)
+    # evaluations without val-loss gain before a unit stops
+    patience: int | None = Field(None, ge=1, le=1_000_000)
+    evals_per_epoch: int = Field(1, ge=1, le=1000)
     keep_best: bool = True  # each unit ends with its weights at its lowest val loss
     loss: Literal["mse"] = "mse"
 
