@@ -12,6 +12,7 @@ drops set-up code. Activations live in two static buffers (bss).
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -35,11 +36,6 @@ def pack_blocks(W: np.ndarray) -> np.ndarray:
 def c_floats(a: np.ndarray, per_line: int = 6) -> str:
     """Comma-separated float32 literals that round-trip exactly (9 significant digits)."""
     vals = [f"{float(v):.8e}f" for v in np.asarray(a, np.float32).ravel()]
-    return ",\n".join("    " + ", ".join(vals[i:i + per_line]) for i in range(0, len(vals), per_line))
-
-
-def c_ints(a: np.ndarray, per_line: int = 16) -> str:
-    vals = [str(int(v)) for v in np.asarray(a).ravel()]
     return ",\n".join("    " + ", ".join(vals[i:i + per_line]) for i in range(0, len(vals), per_line))
 
 
@@ -136,6 +132,23 @@ ANYTIP_SMALL static const float *dense(const float *x, const float *b, float *y,
 {loops}{_act_code(net)}    return w;
 }}
 """
+
+
+def c_table(net: DeployNet) -> np.ndarray:
+    """What the C holds, in its order: table P (per layer its biases, then its weights, see
+    pack_blocks), then OUT_OFFSET when there is one; float32."""
+    params = np.concatenate([np.concatenate([b, pack_blocks(W)]) for W, b in net.layers])
+    if net.output_relu:
+        params = np.concatenate([params, net.out_offset])
+    return params.astype(np.float32)
+
+
+def c_parameters(source: str | Path) -> np.ndarray:
+    """The float32 values of the tables P and OUT_OFFSET of a generated C file, in file order."""
+    text = Path(source).read_text()
+    tables = re.findall(r"static const float (?:P|OUT_OFFSET)\[\d+\] = \{(.*?)\};", text, re.S)
+    literals = re.findall(r"[-+]?[0-9.]+e[-+]?[0-9]+f", " ".join(re.sub(r"/\*.*?\*/", "", t) for t in tables))
+    return np.array([float(v[:-1]) for v in literals], np.float32)
 
 
 def _layer_tables(net: DeployNet) -> str:

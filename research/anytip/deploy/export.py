@@ -2,8 +2,10 @@
 for firmware nets read from JSON), each with a JSON verification report `verification.json`.
 
 Every check compares against the trained model evaluated in float64 on reference rows (registry
-rows of the unit, or synthetic inputs, see `anytip.deploy.reference`). Float exports pass when the
-max abs difference, divided by each output's scale (the model's output std), is <= 1e-5.
+rows of the unit, or synthetic inputs, see `anytip.deploy.reference`). A float32 export passes when
+every output on every row lies within the float32 rounding error bound of the network exported
+(`anytip.deploy.rounding`, evaluated on that row); int8 C against numpy's int8 model within one
+activation step of its last layer. Each report gives the largest error, bound and their ratio.
 """
 
 from __future__ import annotations
@@ -16,22 +18,22 @@ from typing import Any
 import numpy as np
 
 from anytip.deploy import embedded, firmware
-from anytip.deploy.c_export import buffer_width, write_c
+from anytip.deploy.c_export import buffer_width, c_parameters, c_table, write_c
 from anytip.deploy.c_int8 import write_c_int8
 from anytip.deploy.held_out import HeldOut, parse_spec
 from anytip.deploy.held_out import for_model as held_out_for
 from anytip.deploy.held_out import from_run as held_out_from_run
 from anytip.deploy.native import run_c
 from anytip.deploy.net import DeployNet, deploy_net, model_predict, require_relu, unit_index
-from anytip.deploy.onnx_export import run_onnx, write_onnx
-from anytip.deploy.quantize import quantize, simulate
+from anytip.deploy.onnx_export import float32_parameters, onnx_parameters, run_onnx, write_onnx
+from anytip.deploy.quantize import QuantNet, quantize, simulate
 from anytip.deploy.reference import Reference, registry_reference, synthetic_reference
+from anytip.deploy.rounding import U_FLOAT32, U_FLOAT64, check
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, save_models
 from anytip.rundir import write_json
 
 FORMATS = ("onnx", "c", "c-int8", "firmware", "model")
-REL_TOL = 1e-5
 INT8_RMSE_TARGET = 0.02  # int8 RMSE increase over float, as a fraction of the float RMSE
 EMU_ROWS = 3  # rows run through the emulator (each counts one inference)
 
@@ -52,11 +54,33 @@ def _is_firmware_json(path: Path) -> bool:
     return isinstance(doc, dict) and isinstance(doc.get("units"), dict)
 
 
-def errors(y: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> dict[str, Any]:
-    """max abs difference per output (physical units) and its max ratio to the output scale."""
-    d = np.abs(np.asarray(y, np.float64) - ref).max(0)
-    rel = float((d / scale).max())
-    return {"max_abs_err": d.tolist(), "max_rel_err": rel, "tolerance_rel": REL_TOL, "passed": rel <= REL_TOL}
+def errors(y: np.ndarray, ref: np.ndarray, net: DeployNet, x: np.ndarray, copies: int = 1) -> dict[str, Any]:
+    """Outputs y (B, out) of a float32 export of `net` on rows x against the float64 reference:
+    passed when every error lies within the float32 rounding bound (`copies` exports compared
+    with each other: each may err by the bound)."""
+    return check(y, ref, copies * net.tolerance(x), net.out_scale)
+
+
+def parameters(found: np.ndarray, expected: np.ndarray) -> dict[str, Any]:
+    """Does an export hold exactly the float32 parameters of the network? Every value compared
+    bit for bit: a changed weight is caught here even where its effect on the outputs hides
+    within the rounding bound."""
+    found, expected = np.asarray(found, np.float32).ravel(), np.asarray(expected, np.float32).ravel()
+    if found.shape != expected.shape:
+        return {"count": int(expected.size), "found": int(found.size), "passed": False}
+    differ = found.view(np.uint32) != expected.view(np.uint32)
+    diff = np.abs(found.astype(np.float64) - expected)
+    return {"count": int(expected.size), "differing": int(differ.sum()),
+            "max_abs_diff": float(diff.max(initial=0.0)), "passed": not differ.any()}
+
+
+def int8_tolerance(q: QuantNet, y: np.ndarray) -> np.ndarray:
+    """(B, out) how far two evaluations of one int8 network may differ: one int16 step of any one
+    input of its last layer (a rounding tie resolved the other way upstream), plus the float32
+    rescale's own rounding of y (B, out)."""
+    last = q.layers[-1]
+    step = np.abs(last.q_w.astype(np.float64)).max(0) * np.abs(last.mult.astype(np.float64))
+    return step[None, :] + 4 * U_FLOAT32 * np.abs(y)
 
 
 def rmse(y: np.ndarray, t: np.ndarray) -> dict[str, float]:
@@ -100,7 +124,7 @@ def measure(source: Path, net: DeployNet, x: np.ndarray, expect: np.ndarray, wor
                        for r in x[:EMU_ROWS]), strict=True)
     out |= {"instructions": int(max(counts)), "macs": net.macs,
             "instructions_per_mac": float(max(counts)) / net.macs,
-            "emulated_vs_host": errors(np.array(ys), expect[:EMU_ROWS], net.out_scale)}
+            "emulated_vs_host": errors(np.array(ys), expect[:EMU_ROWS], net, x[:EMU_ROWS], copies=2)}
     return out
 
 
@@ -177,17 +201,31 @@ def _all_passed(report: dict[str, Any]) -> bool:
     return all(flags) and bool(flags)
 
 
+def verify_onnx(path: Path, net: DeployNet, ref: Reference, y_model: np.ndarray) -> dict[str, Any]:
+    """An ONNX file against `net`: its parameters bit for bit, its outputs within the bound."""
+    y = run_onnx(path, ref.x)
+    return {"parameters": parameters(onnx_parameters(path), float32_parameters(net)),
+            "onnxruntime": errors(y, y_model, net, ref.x), "scores": scores(y, ref)}
+
+
 def _onnx(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
     path = write_onnx(net, out_dir)
-    y = run_onnx(path, ref.x)
-    return {"files": [path.name], "onnxruntime": errors(y, y_model, net.out_scale), "scores": scores(y, ref)}
+    return {"files": [path.name], **verify_onnx(path, net, ref, y_model)}
+
+
+def verify_c(source: Path, net: DeployNet, ref: Reference, y_model: np.ndarray) -> dict[str, Any]:
+    """A float32 C file against `net`, compiled on the host: parameters and outputs."""
+    y_c = run_c(source, ref.x, net.n_outputs)
+    return {"parameters": parameters(c_parameters(source), c_table(net)),
+            "gcc_host": errors(y_c, y_model, net, ref.x), "scores": scores(y_c, ref), "y": y_c}
 
 
 def _c(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
     h, c = write_c(net, out_dir)
-    y_c = run_c(c, ref.x, net.n_outputs)
-    rep = {"files": [h.name, c.name], "gcc_host": errors(y_c, y_model, net.out_scale),
-           "activation_buffer_floats": 2 * buffer_width(net), "scores": scores(y_c, ref)}
+    checked = verify_c(c, net, ref, y_model)
+    y_c = checked.pop("y")
+    rep = {"files": [h.name, c.name], **checked,
+           "activation_buffer_floats": 2 * buffer_width(net)}
     if emb:
         rep["cortex_m4"] = measure(c, net, ref.x, y_c, out_dir / "build")
     return rep
@@ -214,7 +252,7 @@ def _c_int8(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
     y_sim = simulate(q, ref.x[ev])
     rep = {"files": [h.name, c.name], "quantization": "per-channel symmetric int8 weights (GPTQ rounding, "
            "bias correction, greedy rounding search), int16 activations, int32 accumulation",
-           "gcc_host_vs_numpy_int8": errors(y_c, y_sim, net.out_scale),
+           "gcc_host_vs_numpy_int8": check(y_c, y_sim, int8_tolerance(q, y_sim), net.out_scale),
            "int8_vs_float_max_abs_err": np.abs(y_c - y_model[ev]).max(0).tolist(),
            "accuracy": int8_accuracy(y_c, y_model[ev], ref, ev),
            "scores": None if ref.targets is None else rmse(y_c, ref.targets[ev])}
@@ -231,7 +269,9 @@ def _firmware(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
     back = firmware.read_firmware_json(path)[net.unit]
     y_fw = firmware.to_rad(firmware.firmware_forward(back, ref.x))
     clipped = firmware.clipped_outputs(back, ref.x)
-    return {"files": [path.name, c_path.name], "firmware_direct": errors(y_fw, y_model, net.out_scale),
+    fw_tol = firmware.firmware_tolerance(back, ref.x)
+    return {"files": [path.name, c_path.name],
+            "firmware_direct": check(y_fw, y_model, fw_tol, net.out_scale),
             "scores": scores(y_fw, ref),
             "output_relu": {"clipped_outputs_on_reference": clipped,
                             "passed": clipped == 0 or net.output_relu,
@@ -245,7 +285,8 @@ def _model(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
     path = save_models(out_dir / "model.safetensors", one.model, one.in_scaler, one.out_scaler, one.meta)
     back = load_models(path)
     return {"files": [path.name, path.with_suffix(".json").name],
-            "reloaded": errors(model_predict(back, 0, ref.x), y_model, net.out_scale)}
+            "reloaded": check(model_predict(back, 0, ref.x), y_model, net.tolerance(ref.x, U_FLOAT64),
+                              net.out_scale)}
 
 
 def _slice_meta(meta: dict[str, Any], index: int) -> dict[str, Any]:

@@ -24,6 +24,7 @@ import numpy as np
 import torch
 
 from anytip.deploy.net import DeployNet, require_relu
+from anytip.deploy.rounding import Layer, export_tolerance
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels
 from anytip.models.mlp import BatchedMLP, MLPConfig
@@ -79,6 +80,17 @@ def firmware_forward(net: dict[str, np.ndarray], p: np.ndarray) -> np.ndarray:
     for w, b in zip(KEYS_W, KEYS_B, strict=True):
         h = np.maximum(h @ net[w] + net[b], 0.0)
     return h * (hi[:N_OUT] - lo[:N_OUT]) + lo[:N_OUT]
+
+
+def firmware_tolerance(net: dict[str, np.ndarray], p: np.ndarray) -> np.ndarray:
+    """(B, 5) bound on how far the firmware's float32 forward pass (and its weights stored as
+    float32) may lie from the exact one on rows p, in anytip units (angles in rad)."""
+    lo, hi = net["minims"], net["maxims"]
+    span_in, span_out = hi[N_OUT:] - lo[N_OUT:], (hi[:N_OUT] - lo[:N_OUT]) * _deg_factors()
+    layers: list[Layer] = [(np.diag(1.0 / span_in), -lo[N_OUT:] / span_in, None)]
+    layers += [(net[w], net[b], "relu") for w, b in zip(KEYS_W, KEYS_B, strict=True)]
+    layers.append((np.diag(span_out), lo[:N_OUT] * _deg_factors(), None))
+    return export_tolerance(layers, p)
 
 
 def to_rad(y: np.ndarray) -> np.ndarray:

@@ -72,6 +72,21 @@ def write_onnx(net: DeployNet, out_dir: str | Path, name: str = "anytip") -> Pat
     return path
 
 
+def float32_parameters(net: DeployNet) -> np.ndarray:
+    """The initializers `build_onnx` writes, flattened in graph order (W0, b0, W1, ..., out_offset)."""
+    parts = [a for W, b in net.layers for a in (W.ravel(), b)]
+    if net.output_relu:
+        parts.append(net.out_offset)
+    return np.concatenate(parts).astype(np.float32)
+
+
+def onnx_parameters(path: str | Path) -> np.ndarray:
+    """The initializers of an exported file, flattened in graph order."""
+    model = onnx.load(str(path), load_external_data=False)
+    return np.concatenate([numpy_helper.to_array(t).ravel() for t in model.graph.initializer]
+                          ).astype(np.float32)
+
+
 def run_onnx(path: str | Path, x: np.ndarray) -> np.ndarray:
     """Evaluate an exported file with onnxruntime (CPU): x (B, 8) Pa -> (B, 5)."""
     import onnxruntime as ort

@@ -139,5 +139,5 @@ def measure_peer(name: str, loaded: LoadedModels, index: int, net: DeployNet, re
     src, inc = write_emlearn(loaded, index, net, out_dir) if name == "emlearn" else write_emx(net, out_dir)
     y = run_c(src, ref.x, net.n_outputs, includes=inc, strict=False)
     return {"peer": name, "files": sorted(p.name for p in out_dir.iterdir() if p.is_file()),
-            "gcc_host": errors(y, y_model, net.out_scale), "scores": scores(y, ref),
+            "gcc_host": errors(y, y_model, net, ref.x), "scores": scores(y, ref),
             "cortex_m4": measure(src, net, ref.x, y, out_dir / "build", inc, strict=False)}
