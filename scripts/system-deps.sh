@@ -1,19 +1,29 @@
 #!/usr/bin/env bash
-# Debian packages the tests use. Installed when running as root with apt-get available;
-# elsewhere the tests that need them skip and say why.
+# Debian packages some tests use, installed when running as root with apt-get (as CI does).
+# Elsewhere, or when apt-get fails, nothing is installed and the tests that need them skip,
+# each saying why.
 set -euo pipefail
-# Cortex-M4F cross-compile (tests/test_deploy_*, test_search_budget); a PostgreSQL server for
-# the shared-study test (tests/test_search_postgres.py)
-PACKAGES=(gcc-arm-none-eabi libnewlib-arm-none-eabi postgresql)
+# package -> why the tests need it
+declare -A WHY=(
+    [gcc-arm-none-eabi]="Cortex-M4F cross-compiler: flash, RAM and emulated instructions of the exported C (tests/test_deploy_*.py, test_search_budget.py)"
+    [libnewlib-arm-none-eabi]="the C library the Cortex-M4F builds link against"
+    [postgresql]="a local PostgreSQL server for the shared Optuna study (tests/test_search_postgres.py)"
+)
 missing=()
-for pkg in "${PACKAGES[@]}"; do
+for pkg in gcc-arm-none-eabi libnewlib-arm-none-eabi postgresql; do
     dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
 done
-if [ ${#missing[@]} -eq 0 ]; then exit 0; fi
+if [ ${#missing[@]} -eq 0 ]; then
+    echo "system-deps: gcc-arm-none-eabi, libnewlib-arm-none-eabi, postgresql already installed"
+    exit 0
+fi
 if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
+    echo "system-deps: installing as root with apt-get:"
+    for pkg in "${missing[@]}"; do echo "  $pkg: ${WHY[$pkg]}"; done
     if ! { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null; }; then
-        echo "apt-get could not install ${missing[*]}: tests needing them will skip" >&2
+        echo "system-deps: apt-get could not install ${missing[*]}: the tests needing them will skip" >&2
     fi
 else
-    echo "not root: tests needing ${missing[*]} will skip" >&2
+    echo "system-deps: not root (or no apt-get): ${missing[*]} not installed; the tests needing them will skip" >&2
+    for pkg in "${missing[@]}"; do echo "  $pkg: ${WHY[$pkg]}" >&2; done
 fi

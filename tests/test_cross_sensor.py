@@ -107,7 +107,9 @@ def test_calibrate_writes_a_folded_per_unit_model(cross_run, two_protocol_regist
     loaded = load_models(tmp_path / "cal")
     assert loaded.model.n_models == 1 and loaded.meta["unit_ids"] == [unit]
     assert loaded.model.config.sizes == (8, 12, 64, 64, 5)
-    assert loaded.meta["adapter"] == "input_affine+film" and loaded.meta["calib_samples"] == 300
+    assert loaded.meta["adapter"] in ("input_diag", "input_affine+film")
+    assert loaded.meta["calib_samples"] == 300
+    assert "lowest validation-unit loss" in out
     arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs(unit=unit))
     pred = predict(loaded.model, loaded.in_scaler, loaded.out_scaler, torch.from_numpy(arrays.pressure)[None])
     assert torch.isfinite(pred).all()
@@ -165,3 +167,55 @@ def test_interleaved_stream_takes_the_orientations_in_turn(small_registry):
     n_runs = len(plain.runs)
     assert n_runs > 1 and len(np.unique(arrays.run[plain.first(len(plain.rows) // n_runs)])) == 1
     assert len(np.unique(arrays.run[mixed.first(len(mixed.rows) // n_runs)])) == n_runs
+
+
+def _mean_val_loss(path: Path) -> float:
+    meta = json.loads(path.with_suffix(".json").read_text())["meta"]
+    return float(np.mean(list(meta["val_loss_by_budget"].values())))
+
+
+def test_calibrate_picks_the_adapter_with_the_lowest_validation_loss(cross_run, two_protocol_registry,
+                                                                     tmp_path):
+    """A run without the default (sweep) adapter's model: the run's best adapter on validation
+    units is taken, and calibrate says which and why."""
+    import shutil
+
+    run = tmp_path / "run"
+    shutil.copytree(cross_run, run)
+    for f in (run / "models").glob("shared_input_affine-film_*"):
+        f.unlink()
+    have = sorted((run / "models").glob("shared_*_seed0.safetensors"))
+    best = min(have, key=_mean_val_loss)
+    path, why = find_shared(run)
+    assert path == best and "lowest validation-unit loss" in why
+    unit = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]["test"][0]
+    result = calibrate_unit(run, unit, two_protocol_registry, tmp_path / "cal", budget_samples=50)
+    assert any(path.name in n for n in result.notes)
+
+
+def test_calibrate_reports_clipped_budgets_and_training_units(cross_run, two_protocol_registry, tmp_path,
+                                                              capsys):
+    prov = json.loads((cross_run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
+    code = main(["calibrate", "--model", str(cross_run), "--unit", prov["train"][0], "--budget-samples",
+                 "999999", "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "c")])
+    out, err = capsys.readouterr()
+    assert code == 0 and "clipped to the" in out and "was a training unit" in err
+    code = main(["calibrate", "--model", str(cross_run), "--unit", prov["train"][0], "--budget-samples",
+                 "10", "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "c")])
+    assert code == 2 and "--force" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("key", "value"), [("options", "5"), ("seeds", "'x'"), ("seed", "[1]")])
+def test_calibrate_refuses_a_damaged_run_config(cross_run, two_protocol_registry, tmp_path, capsys, key,
+                                                value):
+    import shutil
+
+    run = tmp_path / "run"
+    shutil.copytree(cross_run, run)
+    config = (run / "config.yaml").read_text()
+    (run / "config.yaml").write_text(config + f"\n{key}: {value}\n" if key not in config.split(":")[0]
+                                     else __import__("re").sub(rf"(?m)^{key}:.*$", f"{key}: {value}", config))
+    code = main(["calibrate", "--model", str(run), "--unit", "x", "--registry",
+                 str(two_protocol_registry.root), "--out", str(tmp_path / "c")])
+    err = capsys.readouterr().err
+    assert code == 2 and "config.yaml" in err and key in err and "Traceback" not in err

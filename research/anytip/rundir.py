@@ -37,13 +37,18 @@ def new_run_dir(spec_name: str, out: str | Path | None, root: str | Path = "runs
     run (its metrics.json) is refused unless `force`, so results are never overwritten by
     mistake; an interrupted run (no metrics yet) may be resumed in place."""
     path = Path(out) if out else Path(root) / spec_name / utc_stamp()
+    check_run_dir(path, force)
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def check_run_dir(path: Path, force: bool = False) -> None:
+    """Refuse a run directory that is a file, or holds a finished run unless `force`."""
     if path.exists() and not path.is_dir():
         raise AnytipError(f"{path}: exists and is not a directory")
     if (path / "metrics.json").exists() and not force:
         raise AnytipError(f"{path}: already holds a finished run (metrics.json); choose another --out "
                           "or pass --force to overwrite it")
-    path.mkdir(parents=True, exist_ok=True)
-    return path
 
 
 def code_version() -> dict[str, Any]:

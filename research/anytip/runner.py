@@ -64,12 +64,14 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
     ctx = Context(spec, registry, Path(), device, progress)
     ctx.provenance["spec_file"] = str(spec_path)
     check_options(ctx, module)
-    run_dir = rundir.new_run_dir(spec.name, out, force=force)
+    if out is not None:
+        rundir.check_run_dir(Path(out), force)
     if spec.threads is not None:
         torch.set_num_threads(spec.threads)
     fill_if_empty(spec, registry, progress)
     if use == "required":
         check_registry(spec, registry, module.min_units(ctx) if hasattr(module, "min_units") else 1)
+    run_dir = rundir.new_run_dir(spec.name, out, force=force)
     ctx.run_dir = run_dir
     rundir.write_config(run_dir, public_config(spec))
     ctx.provenance.update(overrides=[mask_secrets(o) for o in overrides or []], seeds=spec.all_seeds,

@@ -18,7 +18,7 @@ stream (data/calibration.py). Methods, all scored on the same held-out patches:
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 import torch
@@ -62,23 +62,26 @@ SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1
 class Options(BaseModel):
     """`options:` of a cross_sensor spec."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
-    budgets: list[int] = Field(default=[0, 50, 200, 1000, 5000], min_length=1)
+    budgets: list[Annotated[int, Field(ge=0, le=10_000_000)]] = Field(default=[0, 50, 200, 1000, 5000],
+                                                                  min_length=1)
     adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
-    priors: list[float] = Field(default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
+    priors: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
+        default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
     calibration_protocol: str | None = "short"
     calibration_interleave: bool = Field(
         default=False, description="the calibration protocol's runs (orientations) take turns, "
                                    "patch visit by patch visit, instead of following each other")
-    adapter_steps: int = Field(default=AdapterRecipe.steps, ge=1)
-    adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0)
-    adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0)  # pulls training units' adapters to identity
+    adapter_steps: int = Field(default=AdapterRecipe.steps, ge=1, le=1_000_000)
+    adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0, le=10)
+    # pulls training units' adapters to identity
+    adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0, le=1e9)
     scratch: TrainRecipe = SCRATCH
-    train_unit_counts: list[int] = [4, 8, 16]
+    train_unit_counts: list[Annotated[int, Field(ge=1, le=100_000)]] = [4, 8, 16]
     sweep_adapter: str = "input_affine+film"
-    sweep_budget: int = Field(default=1000, ge=0)
-    sweep_seeds: int = Field(default=1, ge=0)  # the first k seeds also run the unit-count sweep
+    sweep_budget: int = Field(default=1000, ge=0, le=10_000_000)
+    sweep_seeds: int = Field(default=1, ge=0, le=1000)  # the first k seeds also run the unit-count sweep
 
 
 def parse_options(ctx: Context) -> Options:

@@ -33,14 +33,14 @@ READING = "reading.md"
 
 
 class ModelEntry(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     name: str
     path: str
     unit: str | None = None
 
 
 class CalibrateEntry(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     name: str
     shared: str
     unit: str
@@ -50,14 +50,14 @@ class CalibrateEntry(BaseModel):
 class HeldOut(BaseModel):
     """Score on a unit's held-out patches as a cross_sensor (or baseline) run drew them."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     run: str  # a cross_sensor or baseline run directory
     seed: int
     protocols: list[str] = ["full"]  # runs whose rows are scored (not the calibration protocol)
 
 
 class Options(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     held_out: HeldOut | None = None
     models: list[ModelEntry] = []
     calibrate: list[CalibrateEntry] = []

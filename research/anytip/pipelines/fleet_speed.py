@@ -35,10 +35,10 @@ from anytip.train.sequential import train_sequential
 class Options(BaseModel):
     """`options:` of a fleet_speed spec."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     tolerance: float = Field(0.05, ge=0)  # within this fraction of the reference's final RMSE
-    reference_evals_per_epoch: int = Field(10, ge=1)
+    reference_evals_per_epoch: int = Field(10, ge=1, le=1000)
 
 
 def _curve_sequential(fit: FitResult, n_units: int) -> list[tuple[float, float]]:

@@ -39,7 +39,7 @@ REGISTRY = "unused"  # how the runner treats the registry (anytip.runner)
 
 
 class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class Collision(Strict):

@@ -16,7 +16,7 @@ import importlib.util
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import optuna
@@ -25,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.features import FEATURES
+from anytip.models.mlp import MAX_LAYERS, MAX_WIDTH
 from anytip.search.budget import ACTIVATION_INSTRUCTIONS, Budget, constraints, cost
 from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
 from anytip.train.recipe import TrainRecipe
@@ -48,22 +49,22 @@ class Candidate:
 class SearchOptions(BaseModel):
     """`options:` of a search spec."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
-    n_trials: int = Field(default=24, ge=1)
-    widths: list[int] = [8, 12, 16, 24, 32, 48, 64, 96, 128]
+    n_trials: int = Field(default=24, ge=1, le=100_000)
+    widths: list[Annotated[int, Field(ge=1, le=MAX_WIDTH)]] = [8, 12, 16, 24, 32, 48, 64, 96, 128]
     min_hidden: int = Field(default=1, ge=1)
-    max_hidden: int = Field(default=3, ge=1)
+    max_hidden: int = Field(default=3, ge=1, le=MAX_LAYERS)
     lr: tuple[float, float] = (3e-3, 3e-2)
-    batch_sizes: list[int] = [128, 256, 512]
+    batch_sizes: list[Annotated[int, Field(ge=1, le=2**20)]] = [128, 256, 512]
     budget: str = "stm32f334"
     measure: bool = True  # compile and emulate where the toolchain is present
     storage: str | None = None  # an Optuna storage URL; default sqlite in the run directory
     study_name: str = "search"
-    workers: int = Field(default=1, ge=1)  # processes sharing the study on this machine
-    n_search_units: int = Field(default=4, ge=1)
-    n_test_units: int = Field(default=4, ge=1)
-    heartbeat_s: int = Field(default=30, ge=1)
+    workers: int = Field(default=1, ge=1, le=256)  # processes sharing the study on this machine
+    n_search_units: int = Field(default=4, ge=1, le=10_000)
+    n_test_units: int = Field(default=4, ge=1, le=10_000)
+    heartbeat_s: int = Field(default=30, ge=1, le=3600)
     seed: int = 0
     activations: list[str] = Field(default=["relu", "leaky_relu", "hardswish"], min_length=1)
     features: list[str] = Field(default=["raw", "neighbour_diffs"], min_length=1)
