@@ -70,7 +70,8 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
         torch.set_num_threads(spec.threads)
     fill_if_empty(spec, registry, progress)
     if use == "required":
-        check_registry(spec, registry, module.min_units(ctx) if hasattr(module, "min_units") else 1)
+        need = module.min_units(ctx) if hasattr(module, "min_units") else 1
+        check_registry(spec, registry, need, str(spec_path))
     run_dir = rundir.new_run_dir(spec.name, out, force=force)
     ctx.run_dir = run_dir
     rundir.write_config(run_dir, public_config(spec))

@@ -75,7 +75,8 @@ def load_yaml(text: str, source: str) -> Any:
     try:
         return yaml.load(text, Loader=_SpecLoader)  # noqa: S506 - a SafeLoader subclass
     except yaml.YAMLError as e:
-        raise AnytipError(f"{source}: not valid YAML: {' '.join(str(e).split())}") from None
+        text = " ".join(str(e).replace('in "<unicode string>", ', "").split())
+        raise AnytipError(f"{source}: not valid YAML: {text}") from None
 
 
 M = TypeVar("M", bound=BaseModel)

@@ -358,6 +358,8 @@ class Registry:
                 rec = catalog.get(conn, s.record.run_id)
                 if rec is not None and rec.sha256 != s.record.sha256:
                     refused.append(_clash(s, str(self.root / rec.path), rec.sha256))
+        if len(refused) == 1:
+            raise AnytipError(f"nothing imported into {self.root}: {refused[0]}")
         if refused:
             head = f"{self.root}: refused {len(refused)} problem(s) in {n_inputs} input(s); nothing imported:"
             raise AnytipError(head + "\n  " + "\n  ".join(refused))
@@ -464,7 +466,7 @@ def _check_layouts(conn: sqlite3.Connection, staged: Sequence[_Staged], db_path:
             problems.append(f"{s.source}: sensor model {rec.sensor_model!r} has {channels} "
                             f"pressure channels ({where}), this run has {rec.channels}")
     if problems:
-        raise AnytipError(f"{db_path.parent}: nothing imported:\n  " + "\n  ".join(problems))
+        raise AnytipError(f"nothing imported into {db_path.parent}: " + "; ".join(problems))
 
 
 def _stage(run: CalibrationRun, temp: Path, source: str) -> _Staged:

@@ -106,7 +106,8 @@ def select_runs(registry: Registry, cfg: DataConfig, seed: int,
     return model, records
 
 
-def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1) -> None:
+def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1,
+                   source: str = "spec") -> None:
     """Stop before any work when the registry cannot serve the spec: fewer units than the
     spec's unit roles (validation + held-out + training) or the pipeline's `min_units`, or
     a model whose input or output width disagrees with the sensor model's channels and
@@ -119,11 +120,12 @@ def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1)
     channels = {r.channels for r in records}
     sizes = spec.model.sizes
     if channels != {sizes[0]}:
-        raise AnytipError(f"key 'model.sizes' {list(sizes)}: the input width {sizes[0]} must equal the "
-                          f"pressure channels of sensor model {model!r}: {sorted(channels)}")
+        raise AnytipError(f"{source}: key 'model.sizes' {list(sizes)}: the input width {sizes[0]} must "
+                          f"equal the pressure channels of sensor model {model!r}: {sorted(channels)}")
     if sizes[-1] != len(OUTPUTS):
-        raise AnytipError(f"key 'model.sizes' {list(sizes)}: the output width {sizes[-1]} must equal "
-                          f"the {len(OUTPUTS)} targets of sensor model {model!r} ({', '.join(OUTPUTS)})")
+        raise AnytipError(f"{source}: key 'model.sizes' {list(sizes)}: the output width {sizes[-1]} must "
+                          f"equal the {len(OUTPUTS)} targets of sensor model {model!r} "
+                          f"({', '.join(OUTPUTS)})")
 
 
 def load(ctx: Context, min_units: int = 1) -> FleetArrays:

@@ -201,7 +201,7 @@ def rdb_storage(url: str, opts: SearchOptions) -> optuna.storages.RDBStorage:
             raise AnytipError(f"options.storage {shown}: no database driver for it ({reason}); use "
                               "sqlite:///FILE or postgresql://USER@HOST/DB") from None
         except sqlalchemy.exc.OperationalError as e:
-            reason = mask_secrets(str(e.orig).strip())
+            reason = mask_secrets(" ".join(str(e.orig).split()))
             raise AnytipError(f"options.storage {shown}: cannot open the database ({reason})") from None
 
 
