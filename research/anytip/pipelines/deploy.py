@@ -114,6 +114,7 @@ def _row(name: str, method: str, p: Prepared, samples: int, seed: int, rep: dict
             "force_rmse_n": sc.get("force_rmse_n", float("nan")),
             "angle_rmse_rad": sc.get("angle_rmse_rad", float("nan")),
             "max_rel_err": None if check is None else check["max_rel_err"],
+            "err_over_bound": None if check is None else check.get("max_err_over_bound"),
             "int8_rmse_increase": (rep.get("accuracy") or {}).get("rmse_increase"),
             "flash_bytes": m4.get("flash_bytes"), "ram_bytes": m4.get("ram_bytes"),
             "instructions": m4.get("instructions"), "instructions_per_mac": m4.get("instructions_per_mac"),
@@ -168,9 +169,12 @@ def report(rows: list[dict[str, Any]], skipped: list[str]) -> str:
              "(Cortex-M4 CPU model). Max rel. err: max abs difference from the trained model "
              "(float64) over the reference rows, divided by the output's scale, with the float C "
              f"built here by gcc {' '.join(fma_flags()) or '(no fused multiply-add on this CPU)'} so "
-             "that it sums like the Cortex-M4F build; float exports and "
-             "peers are marked verified at <= 1e-5 (int8: verified when its C equals its numpy "
-             "model and the RMSE increase over float is within 2%). RMSE on the scored reference "
+             "that it sums like the Cortex-M4F build. Err/bound: the largest ratio, over rows and "
+             "outputs, of that error to the float32 rounding error bound of the exported network on "
+             "the row (docs/deploy.md#verification). Float exports and peers are verified when it is "
+             "<= 1 and anytip's files hold the float32 parameters bit for bit (int8: verified when its "
+             "C equals its numpy model within one last-layer activation step and the RMSE increase "
+             "over float is within 2%). RMSE on the scored reference "
              "rows: 'registry, held out' rows are rows the model never trained on (options.held_out, or what "
              "the model file's run directory or metadata tell); plain 'registry' rows may include "
              "training rows.", ""]
@@ -180,10 +184,11 @@ def report(rows: list[dict[str, Any]], skipped: list[str]) -> str:
                   f"{rs[0]['reference']})", ""]
         body = [[r["method"], _fmt(r["flash_bytes"]), _fmt(r["ram_bytes"]), _fmt(r["instructions"]),
                  _fmt(r["instructions_per_mac"], ".2f"), _fmt(r["max_rel_err"], ".1e"),
-                 _fmt(r["force_rmse_n"], ".4f"), _fmt(r["angle_rmse_rad"], ".5f"),
+                 _fmt(r.get("err_over_bound"), ".2g"), _fmt(r["force_rmse_n"], ".4f"),
+                 _fmt(r["angle_rmse_rad"], ".5f"),
                  "yes" if r["passed"] else "NO"] for r in rs]
         parts += [table(["method", "flash B", "RAM B", "instructions", "instr/MAC", "max rel. err",
-                         "force RMSE N", "angle RMSE rad", "verified"], body), ""]
+                         "err/bound", "force RMSE N", "angle RMSE rad", "verified"], body), ""]
         inc = next((r["int8_rmse_increase"] for r in rs if r["int8_rmse_increase"]), None)
         if inc:
             parts += [f"int8 RMSE increase over float32: force {inc['force_rmse_n']:+.2%}, angle "
