@@ -404,3 +404,13 @@ def test_uncertainty_runs_without_the_optional_temperature(small_registry, tmp_p
     assert not any(str(r.get("method", "")).startswith("detect:rest_drift") for r in rows)
     assert any(r.get("method") == "detect:flatline" for r in rows)
     assert "rest-drift detector (`detect:rest_drift`) skipped" in (out / "report.md").read_text()
+
+
+def test_the_package_does_not_pin_torch_exactly():
+    """`pip install anytip` must keep a lab's own torch build; the exact CPU pin is the Makefile's."""
+    import tomllib
+
+    deps = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]["dependencies"]
+    torch_spec = next(d for d in deps if d.startswith("torch"))
+    assert "==" not in torch_spec and ">=" in torch_spec
+    assert "torch==2.13.0" in (REPO / "Makefile").read_text()
