@@ -7,8 +7,9 @@ import numpy as np
 import torch
 
 from anytip.data.arrays import load_arrays
+from anytip.data.splits import patch_test_mask
 from anytip.models.io import load_models
-from anytip.pipelines.common import patch_test_mask, per_unit_split
+from anytip.pipelines.common import per_unit_split
 from anytip.runner import run_experiment
 
 REPO = Path(__file__).resolve().parents[1]

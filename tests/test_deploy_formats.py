@@ -172,7 +172,7 @@ def test_heteroscedastic_model_is_scored_on_its_means_against_registry_rows(smal
     from anytip.models.heteroscedastic import hetero_config, output_scaler_2d
     from anytip.models.io import save_models
     from anytip.models.mlp import BatchedMLP, MLPConfig
-    from anytip.train.uncertainty import hetero_meta
+    from anytip.uncertainty.ensembles import hetero_meta
     from test_deploy_helpers import scalers
 
     unit = small_registry.units()[0]

@@ -13,11 +13,12 @@ import torch
 
 from anytip.cli import main
 from anytip.data.arrays import CONTACT_FORCE_N, load_arrays
+from anytip.data.splits import patch_test_mask
 from anytip.deploy.export import prepare
 from anytip.deploy.held_out import for_model, from_run, parse_spec
 from anytip.errors import AnytipError
 from anytip.models.io import load_models
-from anytip.pipelines.common import patch_test_mask, per_unit_split
+from anytip.pipelines.common import per_unit_split
 from anytip.runner import run_experiment
 from test_deploy_helpers import save_baseline
 

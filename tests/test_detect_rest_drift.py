@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from anytip.data.faults import run_streams
-from anytip.train.rest_drift import RestDriftDetector, block_minimum, ewma
+from anytip.uncertainty.rest_drift import RestDriftDetector, block_minimum, ewma
 
 
 def _unit_streams(registry):

@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from anytip.data.runfile import read_run, write_run
+from anytip.data.simulated import regenerate, simulate_fleet, simulate_run
 from anytip.sensor.fleet import FleetConfig
 from anytip.sensor.protocols import Protocol
-from anytip.sensor.simulate import regenerate, simulate_fleet, simulate_run, unit_rng
+from anytip.sensor.simulate import unit_rng
 from anytip.sensor.variation import draw_unit
 
 TINY = Protocol(name="tiny", orientations_deg=(0.0, -90.0), patches=2, layers_n=(10.0, 25.0))

@@ -8,8 +8,8 @@ import torch
 
 from anytip.data.faults import baseline_drift, dead_channel, saturation, stuck_channel
 from anytip.models.heteroscedastic import beta_nll, gaussian_nll
-from anytip.train import conformal as cp
-from anytip.train.detect import auroc, flatline, window_means
+from anytip.uncertainty import conformal as cp
+from anytip.uncertainty.detect import auroc, flatline, window_means
 
 
 def test_quantile_is_the_finite_sample_order_statistic():
@@ -74,7 +74,7 @@ def test_flatline_flags_a_stuck_channel_window():
 
 
 def test_patch_bootstrap_spread_matches_patch_to_patch_scatter():
-    from anytip.train.coverage_bootstrap import (
+    from anytip.uncertainty.coverage_bootstrap import (
         bootstrap_test_patches,
         conformal_patch_bootstrap,
         exact_method_band,

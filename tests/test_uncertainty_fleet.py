@@ -9,10 +9,10 @@ import torch
 from anytip.data.arrays import load_arrays
 from anytip.models.io import load_models
 from anytip.runner import run_experiment
-from anytip.train import conformal as cp
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.recipe import FAST
-from anytip.train.uncertainty import mixture, predict_members, train_hetero_fleet
+from anytip.uncertainty import conformal as cp
+from anytip.uncertainty.ensembles import mixture, predict_members, train_hetero_fleet
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = FAST.model_copy(update={"epochs": 3, "batch_size": 128})
@@ -109,10 +109,10 @@ def _rowset(x: np.ndarray) -> set[bytes]:
 
 
 def test_calibration_and_test_patches_never_reach_training(small_registry):
-    from anytip.pipelines.uncertainty import Options, uq_split
+    from anytip.uncertainty.split import uq_split
 
     arrays = load_arrays(small_registry, small_registry.list_runs())
-    split = uq_split(arrays, Options(max_train_rows=None), 0.2, 0.1, 0, torch.device("cpu"))
+    split = uq_split(arrays, None, 0.2, 0.2, 0.1, 0, torch.device("cpu"))
     for u in range(len(arrays.units)):
         member = split.data.unit(u)
         seen = _rowset(member.X_train.numpy()) | _rowset(member.X_val.numpy())
@@ -149,7 +149,7 @@ def test_saved_scale_outputs_are_physical_log_variances():
 def test_cross_conformal_covers_each_unit_of_a_tiny_fleet(small_registry):
     """K fold models as one batched fleet; out-of-fold normalised scores calibrate a fold
     model drawn per test row. Groups of rows stand in for patches; test rows are exchangeable."""
-    from anytip.train.cross_conformal import out_of_fold, patch_folds, pick_fold_model
+    from anytip.uncertainty.cross_conformal import out_of_fold, patch_folds, pick_fold_model
 
     arrays = load_arrays(small_registry, small_registry.list_runs())
     K, members, folds, rest_rows, test_rows = 3, [], [], [], []

@@ -25,10 +25,9 @@ from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import SHARED_FORMAT, load_shared, model_paths, read_header, save_models
 from anytip.models.scaler import Scaler
-from anytip.pipelines.common import scores
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
-from anytip.train.metrics import predict
+from anytip.train.metrics import predict, scores
 
 
 @dataclass

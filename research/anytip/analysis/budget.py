@@ -24,6 +24,7 @@ from anytip.analysis.stream import Stream, estimate, sense
 from anytip.sensor.protocols import Trajectory
 from anytip.sensor.variation import UnitParams
 from anytip.train.fleet import FitResult
+from anytip.train.metrics import rmse
 
 FZ = 2  # normal force column of the model's outputs
 UPSAMPLE = 100  # compare on a 0.01 ms grid so the hold's mean age and the inference time are resolved
@@ -84,6 +85,5 @@ def stream_errors(stream: Stream, est: np.ndarray, min_force_n: float = 2.0) -> 
     truth = stream.truth[:: stream.decimate]
     angles = stream.angles[:: stream.decimate]
     m = -truth[:, FZ] > min_force_n
-    force = float(np.sqrt(np.mean((est[m, :3] - truth[m]) ** 2)))
-    angle = float(np.sqrt(np.mean((est[m, 3:] - angles[m]) ** 2)))
+    force, angle = rmse(est[m, :3], truth[m]), rmse(est[m, 3:], angles[m])
     return force, angle

@@ -22,6 +22,8 @@ PATCH_DEG = 15.0
 THETA_MIN_DEG, PHI_MIN_DEG = -45.0, -135.0
 PATCH_GRID = (6, 12)  # theta cells x phi cells of the sensing region
 CONTACT_FORCE_N = 0.5  # |F| threshold that marks contact when a run has no in_contact
+# the targets' columns, in the order of FleetArrays.targets: force in N, then angles in rad
+OUTPUT_NAMES = ("fx", "fy", "fz", "theta", "phi")
 
 
 @dataclass

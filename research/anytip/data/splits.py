@@ -4,7 +4,7 @@ split and into held-out patches. Everything is deterministic from a seed.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -64,3 +64,16 @@ def held_out_patches(patch: np.ndarray, test_fraction: float, seed: int) -> np.n
     k = int(np.clip(round(test_fraction * len(cells)), 1, len(cells) - 1))
     chosen = np.random.default_rng(seed).choice(cells, size=k, replace=False)
     return np.isin(patch, chosen)
+
+
+TestMask = Callable[[np.ndarray, int], np.ndarray]
+
+
+def patch_test_mask(fraction: float, seed: int) -> TestMask:
+    """Held-out whole patches; each unit draws its own patches (seed, unit index)."""
+    return lambda patch, u: held_out_patches(patch, fraction, seed * 100_003 + u)
+
+
+def random_test_mask(fraction: float, seed: int) -> TestMask:
+    """The paper's random rows."""
+    return lambda patch, u: random_rows(len(patch), fraction, seed * 100_003 + u)

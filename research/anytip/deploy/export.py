@@ -32,6 +32,7 @@ from anytip.deploy.rounding import U_FLOAT32, U_FLOAT64, check
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, save_models
 from anytip.rundir import write_json
+from anytip.train.metrics import scores as target_scores
 
 FORMATS = ("onnx", "c", "c-int8", "firmware", "model")
 INT8_RMSE_TARGET = 0.02  # int8 RMSE increase over float, as a fraction of the float RMSE
@@ -86,9 +87,8 @@ def int8_tolerance(q: QuantNet, y: np.ndarray) -> np.ndarray:
 def rmse(y: np.ndarray, t: np.ndarray) -> dict[str, float]:
     """Force and angle RMSE of outputs y (n, d or 2d) against targets t (n, d). A
     heteroscedastic model's d means come first (its scale outputs follow), so they are scored."""
-    e = (y[:, : t.shape[1]] - t) ** 2
-    return {"force_rmse_n": float(np.sqrt(e[:, :3].mean())),
-            "angle_rmse_rad": float(np.sqrt(e[:, 3:].mean()))}
+    s = target_scores(y[:, : t.shape[1]], t)
+    return {"force_rmse_n": s["force_rmse_n"], "angle_rmse_rad": s["angle_rmse_rad"]}
 
 
 def int8_accuracy(y_q: np.ndarray, y_f: np.ndarray, ref: Reference, ev: np.ndarray) -> dict[str, Any]:

@@ -96,7 +96,7 @@ def _cross_sensor(run_dir: Path, prov: dict[str, Any], seed: int | None, unit: s
 def _baseline(run_dir: Path, prov: dict[str, Any], seed: int | None, unit: str, index: int,
               registry) -> HeldOut:
     from anytip.data.arrays import load_arrays
-    from anytip.pipelines.common import patch_test_mask
+    from anytip.data.splits import patch_test_mask
 
     units, seeds = list(prov.get("units") or []), list(prov.get("seeds") or [])
     seed = seed if seed is not None else (seeds[0] if len(seeds) == 1 else None)

@@ -10,18 +10,12 @@ from typing import Any
 
 import numpy as np
 
-from anytip.pipelines.common import (
-    Context,
-    load,
-    patch_test_mask,
-    per_unit_split,
-    predict_units,
-    random_test_mask,
-    scores,
-)
+from anytip.data.splits import patch_test_mask, random_test_mask
+from anytip.pipelines.common import Context, load, per_unit_split, predict_units
 from anytip.report.baseline import write_report
 from anytip.train.data import FleetBatchData
 from anytip.train.fleet import train_fleet
+from anytip.train.metrics import scores
 
 SPLITS = ("patches", "random")
 

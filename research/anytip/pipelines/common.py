@@ -5,7 +5,7 @@ tensors for a row split, and score per-unit models on their test rows.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
@@ -15,16 +15,14 @@ import torch
 from pydantic import BaseModel
 
 from anytip.config import DataConfig, ExperimentSpec
-from anytip.data.arrays import FleetArrays, load_arrays
+from anytip.data.arrays import OUTPUT_NAMES, FleetArrays, load_arrays
 from anytip.data.registry import Registry, RunRecord
-from anytip.data.splits import held_out_patches, random_rows
+from anytip.data.splits import TestMask
 from anytip.errors import AnytipError
-from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import FitResult
 from anytip.train.metrics import predict
 from anytip.validation import validate_strict
-
-OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
 
 
 @dataclass
@@ -122,10 +120,10 @@ def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1,
     if channels != {sizes[0]}:
         raise AnytipError(f"{source}: key 'model.sizes' {list(sizes)}: the input width {sizes[0]} must "
                           f"equal the pressure channels of sensor model {model!r}: {sorted(channels)}")
-    if sizes[-1] != len(OUTPUTS):
+    if sizes[-1] != len(OUTPUT_NAMES):
         raise AnytipError(f"{source}: key 'model.sizes' {list(sizes)}: the output width {sizes[-1]} must "
-                          f"equal the {len(OUTPUTS)} targets of sensor model {model!r} "
-                          f"({', '.join(OUTPUTS)})")
+                          f"equal the {len(OUTPUT_NAMES)} targets of sensor model {model!r} "
+                          f"({', '.join(OUTPUT_NAMES)})")
 
 
 def load(ctx: Context, min_units: int = 1) -> FleetArrays:
@@ -139,19 +137,6 @@ def load(ctx: Context, min_units: int = 1) -> FleetArrays:
     return arrays
 
 
-TestMask = Callable[[np.ndarray, int], np.ndarray]
-
-
-def patch_test_mask(fraction: float, seed: int) -> TestMask:
-    """Held-out whole patches; each unit draws its own patches (seed, unit index)."""
-    return lambda patch, u: held_out_patches(patch, fraction, seed * 100_003 + u)
-
-
-def random_test_mask(fraction: float, seed: int) -> TestMask:
-    """The paper's random rows."""
-    return lambda patch, u: random_rows(len(patch), fraction, seed * 100_003 + u)
-
-
 @dataclass
 class UnitSplitRows:
     """Per-unit models' data for one split: training tensors and test rows (numpy)."""
@@ -160,21 +145,6 @@ class UnitSplitRows:
     X_test: list[np.ndarray]
     Y_test: list[np.ndarray]
     test_rows: list[np.ndarray]  # indices into the FleetArrays rows
-
-
-def split_validation(rows: np.ndarray, fraction: float,
-                     rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """(fitting rows, validation rows): a random `fraction` of `rows`, at least one, validates."""
-    is_val = np.zeros(len(rows), bool)
-    is_val[rng.choice(len(rows), max(1, round(fraction * len(rows))), replace=False)] = True
-    return rows[~is_val], rows[is_val]
-
-
-def unit_tensors(arrays: FleetArrays, fit_rows: np.ndarray, val_rows: np.ndarray, unit: str) -> UnitTensors:
-    """One unit's fitting and validation rows of `arrays` as trainer tensors."""
-    t = arrays.targets
-    return UnitTensors(torch.from_numpy(arrays.pressure[fit_rows]), torch.from_numpy(t[fit_rows]),
-                       torch.from_numpy(arrays.pressure[val_rows]), torch.from_numpy(t[val_rows]), unit)
 
 
 def per_unit_split(arrays: FleetArrays, units: Sequence[str], test_mask: TestMask,
@@ -204,13 +174,4 @@ def predict_units(fit: FitResult, X: Sequence[np.ndarray], first_model: int = 0)
         xt = torch.from_numpy(x).to(fit.in_scaler.mean.device)[None]
         pred = predict(model, fit.in_scaler.slice(m), fit.out_scaler.slice(m), xt)[0]
         out.append(pred.cpu().numpy())
-    return out
-
-
-def scores(pred: np.ndarray, target: np.ndarray) -> dict[str, float]:
-    """RMSE of one unit's rows: force (over the 3 axes), angles (over 2), and per output."""
-    err2 = (pred.astype(np.float64) - target) ** 2
-    out = {f"{name}_rmse": float(np.sqrt(err2[:, k].mean())) for k, name in enumerate(OUTPUTS)}
-    out["force_rmse_n"] = float(np.sqrt(err2[:, :3].mean()))
-    out["angle_rmse_rad"] = float(np.sqrt(err2[:, 3:].mean()))
     return out

@@ -17,7 +17,6 @@ stream (data/calibration.py). Methods, all scored on the same held-out patches:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Annotated, Any
 
 import numpy as np
@@ -25,35 +24,34 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.data.arrays import FleetArrays
-from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.splits import UnitSplit, held_out_patches, split_units
+from anytip.data.calibration import CalibrationStream
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.io import save_shared
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
-from anytip.pipelines.common import (
-    Context,
-    load,
-    scores,
-    split_validation,
-    unit_tensors,
-    validate_options,
-)
+from anytip.pipelines.common import Context, load, validate_options
 from anytip.report.cross_sensor import full_set_rows, summary, write_report
 from anytip.train.adapt import (
     ADAPTER_DECAY,
     AdapterRecipe,
     SharedFit,
     calibrate_and_fold,
-    input_stats,
     pooled_scaler,
     train_shared,
 )
-from anytip.train.data import FleetBatchData, pad_rows
+from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
-from anytip.train.metrics import predict
+from anytip.train.metrics import scores
 from anytip.train.recipe import TrainRecipe
+from anytip.train.shared_split import (
+    Roles,
+    SeedData,
+    main_rows,
+    predict_rows,
+    prepare_seed,
+    unit_main_rows,
+)
 
 SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1e-4, batch_size=256,
                       epochs=100, schedule="cosine", final_lr_frac=0.01, keep_best=False)
@@ -96,21 +94,12 @@ def parse_options(ctx: Context) -> Options:
     return opts
 
 
-@dataclass
-class EvalUnit:
-    """A validation or held-out unit: its test rows and its calibration stream."""
-
-    unit: str
-    test_rows: np.ndarray
-    stream: CalibrationStream
-
-
-@dataclass
-class SeedData:
-    split: UnitSplit
-    train: FleetBatchData  # training units' rows, 10% random rows for model selection
-    train_stats: Scaler  # (U_train, 1, 8) label-free input statistics
-    evals: dict[str, EvalUnit]  # validation and held-out units
+def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> SeedData:
+    """The seed's unit roles and tensors (`anytip.train.shared_split`) for this spec."""
+    s = ctx.spec.splits
+    roles = Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction, s.val_fraction)
+    return prepare_seed(arrays, roles, opts.calibration_protocol, opts.calibration_interleave, seed,
+                        ctx.device)
 
 
 def min_units(ctx: Context) -> int:
@@ -182,59 +171,6 @@ def pooled_rows(pooled: SharedFit, arrays: FleetArrays, sd: SeedData) -> list[di
 
 def _slug(kind: str) -> str:
     return kind.replace("+", "-")
-
-
-def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> SeedData:
-    """Unit roles, test patches of validation and held-out units, training tensors."""
-    s = ctx.spec.splits
-    split = split_units(arrays.units, seed, max(s.n_val_units, 1), max(s.n_test_units, 1),
-                        s.n_train_units)
-    main = main_rows(arrays, opts.calibration_protocol)
-    evals = {}
-    for k, unit in enumerate([*split.val, *split.test]):
-        mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
-        own = unit_main_rows(arrays, unit, main)
-        test_cells = np.unique(arrays.patch[own][held_out_patches(arrays.patch[own], s.patch_test_fraction,
-                                                                  seed * 100_003 + k)])
-        exclude = np.zeros(arrays.n_rows, bool)
-        exclude[mine] = np.isin(arrays.patch[mine], test_cells)
-        evals[unit] = EvalUnit(unit, own[exclude[own]],
-                               calibration_stream(arrays, unit, opts.calibration_protocol, exclude,
-                                                  opts.calibration_interleave))
-    members, stats = [], []
-    for u, unit in enumerate(split.train):
-        mine = unit_main_rows(arrays, unit, main)
-        fit, val = split_validation(mine, s.val_fraction, np.random.default_rng(seed * 7919 + u))
-        members.append(unit_tensors(arrays, fit, val, unit))
-        stream = calibration_stream(arrays, unit, opts.calibration_protocol,
-                                    interleave=opts.calibration_interleave)
-        stats.append(torch.from_numpy(arrays.pressure[stream.rows]))
-    train = FleetBatchData.from_units(members, ctx.device)
-    return SeedData(split, train, input_stats(stats, ctx.device), evals)
-
-
-def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarray:
-    """(N,) bool: rows of runs other than the calibration protocol's (what units are tested on)."""
-    calib_runs = [k for k, r in enumerate(arrays.runs)
-                  if calibration_protocol is not None and r.protocol == calibration_protocol]
-    return ~np.isin(arrays.run, calib_runs)
-
-
-def unit_main_rows(arrays: FleetArrays, unit: str, main: np.ndarray) -> np.ndarray:
-    """Row indices a unit is trained and tested on: its main rows, or all its rows when it
-    has only calibration-protocol runs (test patches then come out of those runs)."""
-    mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
-    own = mine[main[mine]]
-    return own if len(own) else mine
-
-
-def predict_rows(model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler, arrays: FleetArrays,
-                 rows: list[np.ndarray]) -> list[np.ndarray]:
-    """Model m's physical predictions on arrays rows[m]: [(n_m, 5), ...]."""
-    device = in_scaler.mean.device
-    X, n = pad_rows([arrays.pressure[r] for r in rows], device)
-    pred = predict(model.to(device), in_scaler, out_scaler.to(device), X).cpu().numpy()
-    return [pred[m, : int(n[m])] for m in range(len(rows))]
 
 
 def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,

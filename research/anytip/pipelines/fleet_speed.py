@@ -16,18 +16,12 @@ from typing import Any
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from anytip.pipelines.common import (
-    Context,
-    load,
-    patch_test_mask,
-    per_unit_split,
-    predict_units,
-    scores,
-    validate_options,
-)
+from anytip.data.splits import patch_test_mask
+from anytip.pipelines.common import Context, load, per_unit_split, predict_units, validate_options
 from anytip.report import figures
 from anytip.report.markdown import table
 from anytip.train.fleet import FitResult, train_fleet
+from anytip.train.metrics import scores
 from anytip.train.recipe import PAPER
 from anytip.train.sequential import train_sequential
 

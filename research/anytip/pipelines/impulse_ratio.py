@@ -26,10 +26,10 @@ from anytip.analysis import budget
 from anytip.analysis import impulse as imp
 from anytip.analysis.filters import causal_delay_s, zero_phase_lookahead_s, zero_phase_moving_average
 from anytip.analysis.latency import hold_delay_s
-from anytip.analysis.report import write_report
 from anytip.analysis.stream import estimate, press_trajectory, sense, train_unit_model
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, validate_options
+from anytip.pipelines.impulse_ratio_report import write_report
 from anytip.search.budget import cost as mcu_cost
 from anytip.search.budget import load_budget
 from anytip.sensor.simulate import unit_rng, unit_sensor_id

@@ -14,12 +14,13 @@ from typing import Any
 import numpy as np
 import torch
 
-from anytip.data.splits import split_units
-from anytip.pipelines.common import Context, load, patch_test_mask, per_unit_split, predict_units, scores
+from anytip.data.splits import patch_test_mask, split_units
+from anytip.pipelines.common import Context, load, per_unit_split, predict_units
 from anytip.report import figures
 from anytip.report.markdown import table
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import train_fleet
+from anytip.train.metrics import scores
 
 
 def _pooled_data(split, device: torch.device) -> FleetBatchData:

@@ -19,17 +19,9 @@ from typing import Any
 
 import optuna
 
-from anytip.data.splits import split_units
+from anytip.data.splits import patch_test_mask, split_units
 from anytip.errors import AnytipError
-from anytip.pipelines.common import (
-    Context,
-    load,
-    patch_test_mask,
-    per_unit_split,
-    predict_units,
-    scores,
-    validate_options,
-)
+from anytip.pipelines.common import Context, load, per_unit_split, predict_units, validate_options
 from anytip.report.search import write_report
 from anytip.search.budget import cost, load_budget
 from anytip.search.fit import train_candidate
@@ -45,6 +37,7 @@ from anytip.search.study import (
     paper_params,
     remaining,
 )
+from anytip.train.metrics import scores
 from anytip.train.recipe import TrainRecipe
 from anytip.validation import mask_secrets
 
@@ -117,11 +110,11 @@ def scorers(ctx: Context, arrays, opts: SearchOptions) -> tuple[Any, Any, dict[s
     """(search-unit scorer, test-unit scorer, unit roles) of the options' family."""
     seed = ctx.spec.seed
     if opts.family == "shared":
-        data = prepare_shared(ctx, arrays, opts, seed)
+        data = prepare_shared(arrays, opts, ctx.spec.splits, seed, ctx.device)
         roles = {"train_units": data.train_units, "search_units": data.search_units,
                  "test_units": data.test_units}
-        return (shared_scorer(ctx, arrays, data, opts, data.search_units, seed),
-                shared_scorer(ctx, arrays, data, opts, data.test_units, seed), roles)
+        return (shared_scorer(arrays, data, opts, data.search_units, seed, ctx.device),
+                shared_scorer(arrays, data, opts, data.test_units, seed, ctx.device), roles)
     split = split_units(arrays.units, seed, opts.n_search_units, opts.n_test_units)
     roles = {"search_units": list(split.val), "test_units": list(split.test)}
     return (unit_scorer(ctx, arrays, roles["search_units"], seed),

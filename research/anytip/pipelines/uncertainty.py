@@ -12,157 +12,53 @@ trained or calibrated on.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
-from typing import Annotated, Any, Literal
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
-import torch
-from pydantic import BaseModel, ConfigDict, Field
 from scipy.stats import norm
 
-from anytip.data.arrays import FleetArrays
-from anytip.data.splits import held_out_patches
+from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
 from anytip.errors import AnytipError
 from anytip.models.heteroscedastic import output_scaler_2d
 from anytip.models.io import save_models
 from anytip.models.mlp import BatchedMLP
-from anytip.pipelines.common import (
-    OUTPUTS,
-    Context,
-    load,
-    patch_test_mask,
-    scores,
-    split_validation,
-    unit_tensors,
-    validate_options,
-)
+from anytip.pipelines.common import Context, load, validate_options
 from anytip.pipelines.cross_sensor import Options as CrossOptions
 from anytip.pipelines.cross_sensor import calibrate_many, predict_rows
 from anytip.pipelines.cross_sensor import prepare as cross_prepare
 from anytip.pipelines.uncertainty_faults import fault_rows
+from anytip.pipelines.uncertainty_options import AdaptedOptions, Options
 from anytip.report.uncertainty import BAND, write_report
-from anytip.train import conformal as cp
-from anytip.train import coverage_bootstrap as boot
 from anytip.train.adapt import AdapterRecipe, train_shared
-from anytip.train.cross_conformal import out_of_fold, patch_folds, pick_fold_model
-from anytip.train.data import FleetBatchData
-from anytip.train.shared_scale import (
+from anytip.train.data import FleetBatchData, split_validation, unit_tensors
+from anytip.train.metrics import scores
+from anytip.uncertainty import conformal as cp
+from anytip.uncertainty import coverage_bootstrap as boot
+from anytip.uncertainty.costs import embedded_costs
+from anytip.uncertainty.cross_conformal import out_of_fold, patch_folds, pick_fold_model
+from anytip.uncertainty.ensembles import (
+    EnsembleFit,
+    hetero_meta,
+    mixture,
+    predict_members,
+    train_hetero_fleet,
+)
+from anytip.uncertainty.shared_scale import (
     fit_force_scale,
     fit_scale_network,
     force_scale,
     predict_scale,
     shared_residuals,
 )
-from anytip.train.uncertainty import EnsembleFit, hetero_meta, mixture, predict_members, train_hetero_fleet
+from anytip.uncertainty.split import UQSplit, capped, uq_split
 
-GROUPS = {**{name: [k] for k, name in enumerate(OUTPUTS)}, "force": [0, 1, 2], "angle": [3, 4]}
+GROUPS = {**{name: [k] for k, name in enumerate(OUTPUT_NAMES)}, "force": [0, 1, 2], "angle": [3, 4]}
 CURVE_LEVELS = np.round(np.linspace(0.05, 0.99, 20), 3)
-
-
-class AdaptedOptions(BaseModel):
-    """The adapted shared model of `cross_sensor` on held-out units (`options.adapted`)."""
-
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
-
-    kind: str = "input_affine+film"
-    epochs: int = Field(4, ge=1, le=10_000, description="shared-model epochs (the spec's recipe otherwise)")
-    budget: int = Field(5000, ge=1, le=10_000_000, description="labeled stream rows that fit the adapter")
-    calib_rows: int = Field(5000, ge=1, le=10_000_000,
-                            description="the next stream rows: the budget's conformal set")
-    prior: float = Field(10.0, ge=0, le=1e9)
-    calibration_protocol: str | None = "short"
-    calibration_interleave: bool = Field(False, description="the protocol's orientations in turn "
-                                                           "(cross_sensor's calibration_interleave)")
-    scale_epochs: int = Field(10, ge=0, le=10_000,
-                              description="scale network epochs; 0 skips the normalised variant")
-    members: int = Field(3, ge=1, le=64,
-                         description="shared models from different seeds, each calibrated and "
-                                              "folded; 2 or more add the `+ensemble` variants")
-    test: Literal["patches", "unseen"] = Field(
-        "unseen", description="test rows: the held-out patches of cross_sensor, or every row of "
-                              "the unit that neither its adapter nor its conformal set saw")
-    max_test_rows: int = Field(60000, ge=100, le=10_000_000,
-                               description="per unit, a random subset of `unseen` rows")
-    hetero: bool = Field(True, description="also a shared model with heteroscedastic heads (beta-NLL "
-                                           "with options.beta), adapters fitted the same way: `+hetero`")
-
-
-class Options(BaseModel):
-    """`options:` of an uncertainty spec."""
-
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
-
-    members: int = Field(5, ge=2, le=64, description="deep-ensemble members per unit")
-    beta: float = Field(0.5, ge=0, le=1, description="beta-NLL exponent")
-    calib_patch_fraction: float = Field(0.2, gt=0, lt=1, description="of the non-test patches")
-    max_train_rows: int | None = Field(40000, ge=100, le=10_000_000, description="per unit, random subset")
-    nominal: list[Annotated[float, Field(gt=0, lt=1)]] = [0.5, 0.9, 0.95]
-    mapie: bool = True
-    drift_pa: list[float] = [1000.0, 3000.0]
-    foreign_units: int = Field(2, ge=0, le=64, description="simulated units per foreign fleet; 0 skips")
-    max_detect_rows: int = Field(40000, ge=100, le=10_000_000, description="rows per unit and fault")
-    # rows per detection window: 1 s and 10 s at 200 Hz (flatline and rest offset use the first)
-    windows: list[Annotated[int, Field(ge=1, le=1_000_000)]] = Field([200, 2000], min_length=1)
-    cv_folds: int = Field(5, ge=0, le=100,
-                          description="cross-conformal patch folds per unit; 0 skips (K<2 invalid)")
-    bootstrap: int = Field(400, ge=0, le=100_000,
-                           description="patch-bootstrap draws per unit and method; 0 skips")
-    rest_reference_rows: int = Field(12000, ge=1, le=10_000_000,
-                                     description="rows after tare that re-learn the rest state")
-    rest_block_rows: int | None = Field(None, ge=2, le=10_000_000,
-                                        description="rest-drift block; None: 2x longest press")
-    adapted: AdaptedOptions | None = None  # also the adapted shared model (needs >= 3 units)
 
 
 def parse_options(ctx: Context) -> Options:
     return validate_options(ctx, Options)
-
-
-@dataclass
-class UQSplit:
-    """Per-unit training tensors, conformal calibration rows and test rows (numpy, Pa / N, rad)."""
-
-    data: FleetBatchData
-    X_cal: list[np.ndarray]
-    Y_cal: list[np.ndarray]
-    X_test: list[np.ndarray]
-    Y_test: list[np.ndarray]
-    X_fit: list[np.ndarray]  # training rows (for input novelty statistics)
-    test_idx: list[np.ndarray] = field(default_factory=list)  # test rows' indices into the arrays
-    cal_idx: list[np.ndarray] = field(default_factory=list)  # calibration rows' indices
-    rest_idx: list[np.ndarray] = field(default_factory=list)  # every non-test row's index
-
-
-def capped(rows: np.ndarray, max_rows: int | None, rng: np.random.Generator) -> np.ndarray:
-    """At most `max_rows` of `rows` (row indices), a sorted random subset; all when None or fewer."""
-    if max_rows is None or len(rows) <= max_rows:
-        return rows
-    return np.sort(rng.choice(rows, max_rows, replace=False))
-
-
-def uq_split(arrays: FleetArrays, opts: Options, test_fraction: float, val_fraction: float,
-             seed: int, device: torch.device) -> UQSplit:
-    """Test patches, then calibration patches of the rest, then train / validation rows."""
-    targets, test_mask = arrays.targets, patch_test_mask(test_fraction, seed)
-    members, parts = [], {k: [] for k in ("X_cal", "Y_cal", "X_test", "Y_test", "X_fit", "test_idx",
-                                                     "cal_idx", "rest_idx")}
-    for u, unit in enumerate(arrays.units):
-        rows = np.flatnonzero(arrays.unit == u)
-        test = test_mask(arrays.patch[rows], u)
-        rest = rows[~test]
-        cal = held_out_patches(arrays.patch[rest], opts.calib_patch_fraction, seed * 100_003 + u + 77)
-        train = rest[~cal]
-        rng = np.random.default_rng(seed * 7919 + u)
-        fit, val = split_validation(capped(train, opts.max_train_rows, rng), val_fraction, rng)
-        members.append(unit_tensors(arrays, fit, val, unit))
-        for key, idx in (("cal", rest[cal]), ("test", rows[test])):
-            parts[f"X_{key}"].append(arrays.pressure[idx])
-            parts[f"Y_{key}"].append(targets[idx].astype(np.float64))
-        parts["X_fit"].append(arrays.pressure[fit])
-        parts["test_idx"].append(rows[test])
-        parts["cal_idx"].append(rest[cal])
-        parts["rest_idx"].append(rest)
-    return UQSplit(FleetBatchData.from_units(members, device), **parts)
 
 
 @dataclass
@@ -218,7 +114,7 @@ def add_cross_conformal(ctx: Context, arrays: FleetArrays, split: UQSplit, opts:
     K fold models per unit, trained as one batched heteroscedastic fleet of U * K models,
     each on the unit's non-test patches outside its fold; q from every non-test row's
     out-of-fold score; each test row scored with a fold model drawn at random
-    (`anytip.train.cross_conformal`)."""
+    (`anytip.uncertainty.cross_conformal`)."""
     K, members, folds = opts.cv_folds, [], []
     for u, unit in enumerate(arrays.units):
         rest = split.rest_idx[u]
@@ -320,7 +216,7 @@ def bootstrap_rows(methods: dict[str, MethodPreds], y: np.ndarray, y_cal: np.nda
                      p.cal_scores(y_cal), patch_c, p.scale_t, resid, patch_t, level, n_boot, rng)}
         for kind, b in boots.items():
             band = boot.exact_method_band(b, observed, level, BAND)
-            for k, out in enumerate(OUTPUTS):
+            for k, out in enumerate(OUTPUT_NAMES):
                 rows.append({**base, "method": name, "group": out, "bootstrap": kind,
                              "force_rmse_n": None, "angle_rmse_rad": None,
                              "bootstrap_level": level, "observed": float(observed[k]),
@@ -347,8 +243,8 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     fig: dict[str, Any] = {"curves": [], "covered": [], "angles": [], "force": []}
     for seed in spec.all_seeds:
-        split = uq_split(arrays, opts, spec.splits.patch_test_fraction, spec.splits.val_fraction,
-                         seed, ctx.device)
+        split = uq_split(arrays, opts.max_train_rows, opts.calib_patch_fraction,
+                         spec.splits.patch_test_fraction, spec.splits.val_fraction, seed, ctx.device)
         fit = train_hetero_fleet(split.data, spec.model, spec.training, opts.members, opts.beta,
                                  seed, ctx.device)
         fit.save(ctx.run_dir / "models" / f"hetero_ensemble_seed{seed}")
@@ -377,7 +273,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
         rows += fault_rows(ctx, arrays, fit, split, opts, seed)
         if opts.adapted is not None:
             rows += adapted_rows(ctx, arrays, opts.adapted, opts.nominal, seed, opts.beta, opts.bootstrap)
-    write_report(ctx, rows, fig, opts, CURVE_LEVELS)
+    write_report(ctx, rows, fig, opts, CURVE_LEVELS, embedded_costs(tuple(spec.model.sizes)))
     return rows
 
 
@@ -450,7 +346,7 @@ def adapted_variants(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a:
     and for some the name of the uncalibrated Gaussian method beside it.
 
     `+conformal`: absolute residual. `+scale`: a scale network's sigma; `+fscale`:
-    a + b |F_hat| (both `anytip.train.shared_scale`, fitted on the training units'
+    a + b |F_hat| (both `anytip.uncertainty.shared_scale`, fitted on the training units'
     validation rows). `+ensemble` (members >= 2): shared models from other seeds, each with
     its own adapters, folded; their mean, scaled by their spread. `+hetero`: a shared model
     with heteroscedastic heads, its adapters fitted by beta-NLL too, folded and saved with

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import tempfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -17,8 +17,9 @@ from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context
+from anytip.pipelines.uncertainty_options import Options
 from anytip.sensor.fleet import FleetConfig, NominalParams, SpreadParams
-from anytip.train.detect import (
+from anytip.uncertainty.detect import (
     InputNovelty,
     KnnNovelty,
     auroc,
@@ -28,11 +29,9 @@ from anytip.train.detect import (
     unit_signals,
     window_means,
 )
-from anytip.train.rest_drift import RestDriftDetector
-from anytip.train.uncertainty import EnsembleFit, predict_members
-
-if TYPE_CHECKING:
-    from anytip.pipelines.uncertainty import Options, UQSplit
+from anytip.uncertainty.ensembles import EnsembleFit, predict_members
+from anytip.uncertainty.rest_drift import RestDriftDetector
+from anytip.uncertainty.split import UQSplit
 
 
 def foreign_fleets(spec_fleet: FleetConfig) -> dict[str, FleetConfig]:
@@ -164,7 +163,7 @@ def longest_contact(contact: np.ndarray) -> int:
 
 def rest_model_rows(ctx: Context, arrays: FleetArrays, split: UQSplit, u: int, pick: np.ndarray, ch: int,
                     opts: Options, base: dict[str, Any]) -> list[dict[str, Any]]:
-    """AUROC of the rest-drift detector (`anytip.train.rest_drift`), two ways; distances
+    """AUROC of the rest-drift detector (`anytip.uncertainty.rest_drift`), two ways; distances
     are in units of the detector's limit (1 is where it flags).
 
     `detect:rest_drift`: fitted on every run of the unit, on the rows of training and

@@ -18,7 +18,6 @@ from anytip.report.markdown import table  # noqa: E402
 if TYPE_CHECKING:
     from pathlib import Path
 
-    from anytip.pipelines.common import Context
 
 METRICS = (("force_rmse_n", "force RMSE [N]"), ("angle_rmse_rad", "angle RMSE [rad]"))
 
@@ -141,7 +140,7 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Pa
     return save_figure(fig, path)
 
 
-def write_report(ctx: Context, rows: list[dict[str, Any]], opts: Any) -> Path:
+def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any) -> Path:
     main = full_set_rows(rows)
     lines = summary(main)
     budget_figure(main, ctx.run_dir / "rmse_vs_budget.png")

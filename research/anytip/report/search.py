@@ -19,8 +19,6 @@ from anytip.report.markdown import table as md_table  # noqa: E402
 if TYPE_CHECKING:
     from pathlib import Path
 
-    from anytip.pipelines.common import Context
-    from anytip.search.budget import Budget
 
 PAPER_SIZES = (8, 12, 64, 64, 5)
 
@@ -123,8 +121,8 @@ def table_body(archs: list[dict[str, Any]], shared: bool) -> tuple[list[str], li
     return head, body
 
 
-def write_report(ctx: Context, rows: list[dict[str, Any]], trials: list[dict[str, Any]],
-                 budget: Budget) -> Path:
+def write_report(ctx: Any, rows: list[dict[str, Any]], trials: list[dict[str, Any]],
+                 budget: Any) -> Path:
     s = ctx.provenance["search"]
     family = s.get("family", "per_unit")
     front_figure(trials, ctx.run_dir / "pareto.png", budget.flash_bytes_max)

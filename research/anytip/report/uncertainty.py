@@ -13,10 +13,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from anytip.models.heteroscedastic import hetero_config  # noqa: E402
 from anytip.report.figures import save_figure  # noqa: E402
 from anytip.report.markdown import image, table  # noqa: E402
-from anytip.train.rest_drift import TAUS_ROWS, RestDriftDetector  # noqa: E402
 
 BAND = (0.87, 0.93)
 
@@ -121,36 +119,28 @@ def drift_flag_table(rows: list[dict[str, Any]]) -> str:
     return table(["detector", "fault", "clean rows flagged", "faulty rows flagged"], body)
 
 
-def cost_table(members: int, sizes: tuple[int, ...], adapted_members: int = 1,
+def cost_table(costs: dict[str, Any], members: int, adapted_members: int = 1,
                adapted_hetero: bool = False) -> str:
-    """Parameters and multiply-accumulates per inference on the unit, per method."""
-    from anytip.models.mlp import MLPConfig
-
-    base = MLPConfig(sizes=sizes)
-    het = hetero_config(base)
-
-    def macs(c: MLPConfig) -> int:
-        return sum(i * o for i, o in zip(c.sizes[:-1], c.sizes[1:], strict=True))
-
-    d = sizes[-1]
-    C, F = sizes[0], 2 * len(TAUS_ROWS) + 2
-    rest = RestDriftDetector(np.zeros((C, F)), np.zeros(C), np.eye(C), 1).cost
-    body = [["per-unit MLP (point estimate)", base.n_params, macs(base), "-"],
-            ["conformal (constant width)", base.n_params, macs(base), f"+{d} floats per level"],
-            ["hetero (beta-NLL head)", het.n_params, macs(het), "+d exp()"],
-            ["hetero+conformal", het.n_params, macs(het), f"+{d} floats per level"],
-            [f"ensemble ({members} members)", members * het.n_params, members * macs(het),
+    """Parameters and multiply-accumulates per inference on the unit, per method, from
+    `anytip.uncertainty.costs.embedded_costs`."""
+    base, het, rest = costs["point"], costs["hetero"], costs["rest_drift"]
+    d, c = costs["outputs"], costs["inputs"]
+    body = [["per-unit MLP (point estimate)", base["params"], base["macs"], "-"],
+            ["conformal (constant width)", base["params"], base["macs"], f"+{d} floats per level"],
+            ["hetero (beta-NLL head)", het["params"], het["macs"], "+d exp()"],
+            ["hetero+conformal", het["params"], het["macs"], f"+{d} floats per level"],
+            [f"ensemble ({members} members)", members * het["params"], members * het["macs"],
              f"x{members} flash and time"],
             *([[f"adapted ensemble ({adapted_members} folded shared models)",
-                 adapted_members * base.n_params, adapted_members * macs(base),
+                 adapted_members * base["params"], adapted_members * base["macs"],
                  f"x{adapted_members} flash and time, +{d} floats per level"]]
               if adapted_members > 1 else []),
-            *([["adapted hetero (folded shared model, beta-NLL head)", het.n_params, macs(het),
+            *([["adapted hetero (folded shared model, beta-NLL head)", het["params"], het["macs"],
                 f"+d exp(), +{d} floats per level"]] if adapted_hetero else []),
-            ["input novelty (Mahalanobis)", sizes[0] * (sizes[0] + 1), sizes[0] * (sizes[0] + 1), "-"],
+            ["input novelty (Mahalanobis)", c * (c + 1), c * (c + 1), "-"],
             ["rest drift (rest model, block minima)", rest["parameters"], rest["macs"],
              f"{rest['state']} floats of state"],
-            ["flatline (running variance)", 0, 3 * sizes[0], f"{2 * sizes[0]} floats of state"]]
+            ["flatline (running variance)", 0, 3 * c, f"{2 * c} floats of state"]]
     return table(["method", "parameters", "MACs", "extra"], body)
 
 
@@ -197,7 +187,7 @@ def coverage_vs_force(force: np.ndarray, covered: dict[str, np.ndarray], path: P
 
 
 def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts: Any,
-                 levels: np.ndarray) -> Path:
+                 levels: np.ndarray, costs: dict[str, Any]) -> Path:
     d = ctx.run_dir
     angles, force = np.concatenate(fig["angles"]), np.concatenate(fig["force"])
     covered = {m: np.concatenate([c[m] for c in fig["covered"]]) for m in fig["covered"][0]}
@@ -228,7 +218,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts
         "\nRest-drift detectors at their limits (the 99.9% point of the clean calibration "
         "distances; `other_runs`: fitted on the unit's other power-ups):\n",
         drift_flag_table(rows),
-        "\n## Embedded cost\n", cost_table(opts.members, tuple(ctx.spec.model.sizes),
+        "\n## Embedded cost\n", cost_table(costs, opts.members,
                                              opts.adapted.members if opts.adapted else 1,
                                              bool(opts.adapted and opts.adapted.hetero)),
         "\n## Figures\n", image("calibration_curves.png", "calibration curves"),

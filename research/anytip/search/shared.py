@@ -1,8 +1,8 @@
 """Shared cross-sensor candidates: one network over the training units with per-unit adapters,
 scored on other units after fitting their adapters on a calibration budget.
 
-Units are dealt by the seed into training, search and test units (pipelines/cross_sensor.py's
-`prepare`): every search or test unit loses whole patches to testing, and its calibration
+Units are dealt by the seed into training, search and test units (train/shared_split.py's
+`prepare_seed`): every search or test unit loses whole patches to testing, and its calibration
 budget is the first `calib_samples` rows of its calibration stream (the short protocol), with
 those patches removed. A candidate's shared network and the training units' adapters are
 trained together (train/adapt.py); a new unit's input statistics come from its whole stream's
@@ -24,14 +24,13 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import calibration_stream
 from anytip.models.features import fold_features
 from anytip.models.mlp import MLPConfig
-from anytip.pipelines.common import Context, scores
-from anytip.pipelines.cross_sensor import Options as CrossSensorOptions
-from anytip.pipelines.cross_sensor import SeedData, predict_rows, prepare
 from anytip.search.fit import feature_tensor, map_fleet
 from anytip.search.study import Candidate, SearchOptions
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold, input_stats, train_shared
 from anytip.train.data import FleetBatchData
+from anytip.train.metrics import scores
 from anytip.train.recipe import TrainRecipe
+from anytip.train.shared_split import Roles, SeedData, predict_rows, prepare_seed
 
 
 @dataclass
@@ -55,13 +54,13 @@ class SharedData:
         return list(self.sd.split.test)
 
 
-def prepare_shared(ctx: Context, arrays: FleetArrays, opts: SearchOptions, seed: int) -> SharedData:
-    """Deal units (n_search_units as validation units, n_test_units held out) and build tensors."""
-    splits = ctx.spec.splits.model_copy(update={"n_val_units": opts.n_search_units,
-                                                "n_test_units": opts.n_test_units,
-                                                "n_train_units": opts.n_train_units})
-    local = dataclasses.replace(ctx, spec=ctx.spec.model_copy(update={"splits": splits}))
-    sd = prepare(local, arrays, CrossSensorOptions(calibration_protocol=opts.calibration_protocol), seed)
+def prepare_shared(arrays: FleetArrays, opts: SearchOptions, splits: Any, seed: int,
+                   device: torch.device) -> SharedData:
+    """Deal units (n_search_units as validation units, n_test_units held out) and build tensors;
+    `splits` gives the row fractions (the spec's `splits`)."""
+    roles = Roles(opts.n_search_units, opts.n_test_units, opts.n_train_units, splits.patch_test_fraction,
+                  splits.val_fraction)
+    sd = prepare_seed(arrays, roles, opts.calibration_protocol, False, seed, device)
     if opts.max_train_rows is not None:
         sd.train = cap_rows(sd.train, opts.max_train_rows, seed)
     streams = [calibration_stream(arrays, u, opts.calibration_protocol) for u in sd.split.train]
@@ -84,15 +83,14 @@ def cap_rows(data: FleetBatchData, max_rows: int, seed: int) -> FleetBatchData:
     return FleetBatchData.from_units(units, data.device, data.output_names)
 
 
-def shared_scorer(ctx: Context, arrays: FleetArrays, data: SharedData, opts: SearchOptions,
-                  units: list[str], seed: int):
+def shared_scorer(arrays: FleetArrays, data: SharedData, opts: SearchOptions, units: list[str], seed: int,
+                  device: torch.device):
     """fit_and_score(candidate, recipe) -> one score row per unit of `units` (search units in
     the study, test units afterwards): held-out-patch RMSE of its folded, calibrated network."""
     adapter_recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
 
     def fit_and_score(cand: Candidate, recipe: TrainRecipe) -> list[dict[str, Any]]:
         F = feature_tensor(cand.features, cand.sizes[0])
-        device = ctx.device
         stats = input_stats([p @ F for p in data.train_unlabeled], device)
         config = MLPConfig(sizes=(F.shape[1], *cand.sizes[1:]), activation=cand.activation)
         shared = train_shared(map_fleet(data.sd.train, F), stats, config, cand.adapter or "none", recipe,

@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
 from typing import Any
 
 import numpy as np
 
-from anytip.data.runfile import CalibrationRun
 from anytip.errors import AnytipError
 from anytip.sensor.barometer import channel_temperature, read_out, temperature_trace
 from anytip.sensor.fleet import FleetConfig, RunConditions
@@ -40,6 +40,30 @@ def _entropy(seed: int | Sequence[int]) -> list[int]:
 
 def _iso(t: datetime) -> str:
     return t.strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+@dataclass
+class SimulatedRun:
+    """One simulated calibration run, as the format stores it (anytip.data.simulated writes it).
+
+    time (N,) s; pressure (N, C) Pa absolute; force (N, 3) N (contact frame); angles (N, 2) rad;
+    temperature (N, C) degC; in_contact (N,) bool; `record` every input of `simulate_run`, so
+    `regenerate` can replay the run.
+    """
+
+    sensor_id: str
+    sensor_model: str
+    orientation_deg: float
+    sample_rate_hz: float
+    created: str
+    time: np.ndarray
+    pressure: np.ndarray
+    force: np.ndarray
+    angles: np.ndarray
+    temperature: np.ndarray
+    in_contact: np.ndarray
+    record: dict[str, Any]
+    notes: str
 
 
 def unit_sensor_id(seed: int, unit_index: int) -> str:
@@ -77,11 +101,11 @@ def simulate_run(
     sensor_id: str,
     conditions: RunConditions | None = None,
     created: str | None = None,
-) -> CalibrationRun:
+) -> SimulatedRun:
     """One calibration run of `unit` at one rig orientation (deg), deterministic from `seed`.
 
     `seed` is SeedSequence entropy (an int or a list of ints). `created` defaults to a
-    time derived from the seed. The run validates and carries the `simulator` JSON.
+    time derived from the seed. The run carries its `record`, the `simulator` JSON.
     """
     protocol, conditions = get_protocol(protocol), conditions or RunConditions()
     entropy = _entropy(seed)
@@ -111,25 +135,13 @@ def simulate_run(
         "conditions": conditions.model_dump(mode="json"),
         "unit": unit.model_dump(mode="json"),
     }
-    run = CalibrationRun(
-        sensor_id=sensor_id,
-        sensor_model=unit.sensor_model,
-        orientation_deg=float(orientation_deg),
-        sample_rate_hz=float(protocol.sample_rate_hz),
-        source="simulated",
-        created=created,
-        time=time,
-        pressure=pressure.astype(np.float32),
-        force=force.astype(np.float32),
-        angles=traj.angles.astype(np.float32),
-        temperature=temperature.astype(np.float32),
-        in_contact=traj.in_contact,
-        extra={
-            "simulator": json.dumps(record, sort_keys=True),
-            "notes": f"protocol {protocol.name}",
-        },
+    return SimulatedRun(
+        sensor_id=sensor_id, sensor_model=unit.sensor_model, orientation_deg=float(orientation_deg),
+        sample_rate_hz=float(protocol.sample_rate_hz), created=created, time=time,
+        pressure=pressure.astype(np.float32), force=force.astype(np.float32),
+        angles=traj.angles.astype(np.float32), temperature=temperature.astype(np.float32),
+        in_contact=traj.in_contact, record=record, notes=f"protocol {protocol.name}",
     )
-    return run.validate()
 
 
 def simulate_unit(
@@ -140,7 +152,7 @@ def simulate_unit(
     sensor_id: str | None = None,
     conditions: RunConditions | None = None,
     first_run: int = 0,
-) -> list[CalibrationRun]:
+) -> list[SimulatedRun]:
     """One run per orientation of `protocol`; run k uses SeedSequence([seed, unit_index, k + 1])
     with k counting from `first_run`, and is created `unit_index` days plus 2 k hours after
     the epoch."""
@@ -169,7 +181,7 @@ def simulate_fleet(
     n_units: int,
     seed: int,
     protocols: Iterable[str | Protocol] = ("full", "short"),
-) -> Iterator[CalibrationRun]:
+) -> Iterator[SimulatedRun]:
     """Every run of `n_units` units drawn from `config`: per unit, each protocol's orientations
     in turn. Unit ids are SIM{seed}-{index:03d}; deterministic from `seed`."""
     protocols = [get_protocol(p) for p in protocols]
@@ -181,8 +193,8 @@ def simulate_fleet(
             first += len(protocol.orientations_deg)
 
 
-def regenerate(simulator_json: dict[str, Any] | str) -> CalibrationRun:
-    """Replay a simulated run from its `simulator` attribute; equal `content_hash()`."""
+def regenerate(simulator_json: dict[str, Any] | str) -> SimulatedRun:
+    """Replay a simulated run from its `simulator` attribute, bit for bit."""
     record = json.loads(simulator_json) if isinstance(simulator_json, str) else simulator_json
     if record.get("simulator") != "anytip.sensor" or record.get("version") != SIMULATOR_VERSION:
         raise AnytipError(

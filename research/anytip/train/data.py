@@ -14,9 +14,9 @@ import numpy as np
 import torch
 from torch import Tensor
 
+from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
 from anytip.models.mlp import unit_seed
 
-OUTPUT_NAMES = ("fx", "fy", "fz", "theta", "phi")  # N, N, N, rad, rad
 ArrayLike = Tensor | np.ndarray
 
 
@@ -146,3 +146,19 @@ def _check_unit(u: UnitTensors, uid: str) -> None:
             raise ValueError(f"unit {uid}: no {role} rows")
         if len(X) != len(Y):
             raise ValueError(f"unit {uid}: {len(X)} X_{role} rows but {len(Y)} Y_{role} rows")
+
+
+def split_validation(rows: np.ndarray, fraction: float,
+                     rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """(fitting rows, validation rows): a random `fraction` of `rows`, at least one, validates."""
+    is_val = np.zeros(len(rows), bool)
+    is_val[rng.choice(len(rows), max(1, round(fraction * len(rows))), replace=False)] = True
+    return rows[~is_val], rows[is_val]
+
+
+def unit_tensors(arrays: FleetArrays, fit_rows: np.ndarray, val_rows: np.ndarray,
+                 unit: str) -> UnitTensors:
+    """One unit's fitting and validation rows of `arrays` as trainer tensors."""
+    t = arrays.targets
+    return UnitTensors(torch.from_numpy(arrays.pressure[fit_rows]), torch.from_numpy(t[fit_rows]),
+                       torch.from_numpy(arrays.pressure[val_rows]), torch.from_numpy(t[val_rows]), unit)

@@ -9,9 +9,11 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+import numpy as np
 import torch
 from torch import Tensor
 
+from anytip.data.arrays import OUTPUT_NAMES
 from anytip.models.scaler import Scaler
 from anytip.train.data import pad_rows
 
@@ -49,6 +51,20 @@ def force_rmse_per_axis(pred: Tensor, target: Tensor, mask: Tensor | None = None
 def angle_rmse(pred: Tensor, target: Tensor, mask: Tensor | None = None) -> Tensor:
     """Angle RMSE in rad: sqrt(mean over rows of the mean over theta, phi of squared error)."""
     return _mse_per_output(pred[..., ANGLE], target[..., ANGLE], mask).mean(-1).sqrt()
+
+
+def rmse(pred: np.ndarray, target: np.ndarray) -> float:
+    """sqrt(mean of squared error) over every element, in float64, in the inputs' unit."""
+    return float(np.sqrt(((np.asarray(pred, np.float64) - target) ** 2).mean()))
+
+
+def scores(pred: np.ndarray, target: np.ndarray) -> dict[str, float]:
+    """RMSE of one unit's rows (n, 5): per output (`fx_rmse`, ...), force over its three axes
+    (`force_rmse_n`, N) and angles over theta and phi (`angle_rmse_rad`, rad)."""
+    out = {f"{name}_rmse": rmse(pred[:, k], target[:, k]) for k, name in enumerate(OUTPUT_NAMES)}
+    out["force_rmse_n"] = rmse(pred[:, FORCE], target[:, FORCE])
+    out["angle_rmse_rad"] = rmse(pred[:, ANGLE], target[:, ANGLE])
+    return out
 
 
 @torch.no_grad()

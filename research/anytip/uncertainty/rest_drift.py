@@ -35,7 +35,7 @@ import numpy as np
 from scipy.signal import lfilter
 from scipy.stats import chi2
 
-from anytip.train.detect import mahalanobis
+from anytip.uncertainty.detect import mahalanobis
 
 TAUS_ROWS = (20, 100, 400, 2000)  # 0.1, 0.5, 2 and 10 s at 200 Hz
 SQUARE_SCALE_PA = 10_000.0  # p^2 / this keeps the squared regressors near the linear ones

@@ -7,9 +7,9 @@ from typing import Any
 
 import numpy as np
 
-from anytip.analysis import figures
 from anytip.analysis import impulse as imp
 from anytip.analysis.filters import causal_moving_average, zero_phase_moving_average
+from anytip.report import impulse_figures as figures
 from anytip.report.markdown import table
 
 MS = 1e3

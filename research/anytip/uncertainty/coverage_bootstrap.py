@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from anytip.train import conformal as cp
+from anytip.uncertainty import conformal as cp
 
 
 def patch_sums(values: np.ndarray, patch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

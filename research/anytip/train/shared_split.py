@@ -1,0 +1,105 @@
+"""Unit roles and tensors for a shared model across units: training units' rows, and each
+validation and held-out unit's test patches and calibration stream.
+
+Per seed, units are dealt into training, validation and held-out roles. Every validation and
+held-out unit loses whole patches of its main runs (runs other than the calibration protocol's)
+to testing; its calibration stream never contains a row of those patches. Training units
+contribute their main rows (a random `val_fraction` for model selection) and their calibration
+stream's pressures as label-free input statistics. Used by the cross_sensor pipeline, the shared
+architecture search and `anytip calibrate`'s benchmark twin alike.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from anytip.data.arrays import FleetArrays
+from anytip.data.calibration import CalibrationStream, calibration_stream
+from anytip.data.splits import UnitSplit, held_out_patches, split_units
+from anytip.models.mlp import BatchedMLP
+from anytip.models.scaler import Scaler
+from anytip.train.adapt import input_stats
+from anytip.train.data import FleetBatchData, pad_rows, split_validation, unit_tensors
+from anytip.train.metrics import predict
+
+
+@dataclass
+class EvalUnit:
+    """A validation or held-out unit: its test rows and its calibration stream."""
+
+    unit: str
+    test_rows: np.ndarray
+    stream: CalibrationStream
+
+
+@dataclass
+class SeedData:
+    split: UnitSplit
+    train: FleetBatchData  # training units' rows, 10% random rows for model selection
+    train_stats: Scaler  # (U_train, 1, C) label-free input statistics
+    evals: dict[str, EvalUnit]  # validation and held-out units
+
+
+@dataclass(frozen=True)
+class Roles:
+    """How many units of each role, and the row fractions: what `prepare_seed` needs of a spec."""
+
+    n_val_units: int
+    n_test_units: int
+    n_train_units: int | None
+    patch_test_fraction: float
+    val_fraction: float
+
+
+def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
+                 interleave: bool, seed: int, device: torch.device | str = "cpu") -> SeedData:
+    """Unit roles, test patches of validation and held-out units, training tensors."""
+    split = split_units(arrays.units, seed, max(roles.n_val_units, 1), max(roles.n_test_units, 1),
+                        roles.n_train_units)
+    main = main_rows(arrays, calibration_protocol)
+    evals = {}
+    for k, unit in enumerate([*split.val, *split.test]):
+        mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+        own = unit_main_rows(arrays, unit, main)
+        held = held_out_patches(arrays.patch[own], roles.patch_test_fraction, seed * 100_003 + k)
+        test_cells = np.unique(arrays.patch[own][held])
+        exclude = np.zeros(arrays.n_rows, bool)
+        exclude[mine] = np.isin(arrays.patch[mine], test_cells)
+        evals[unit] = EvalUnit(unit, own[exclude[own]],
+                               calibration_stream(arrays, unit, calibration_protocol, exclude, interleave))
+    members, stats = [], []
+    for u, unit in enumerate(split.train):
+        mine = unit_main_rows(arrays, unit, main)
+        fit, val = split_validation(mine, roles.val_fraction, np.random.default_rng(seed * 7919 + u))
+        members.append(unit_tensors(arrays, fit, val, unit))
+        stream = calibration_stream(arrays, unit, calibration_protocol, interleave=interleave)
+        stats.append(torch.from_numpy(arrays.pressure[stream.rows]))
+    train = FleetBatchData.from_units(members, device)
+    return SeedData(split, train, input_stats(stats, device), evals)
+
+
+def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarray:
+    """(N,) bool: rows of runs other than the calibration protocol's (what units are tested on)."""
+    calib_runs = [k for k, r in enumerate(arrays.runs)
+                  if calibration_protocol is not None and r.protocol == calibration_protocol]
+    return ~np.isin(arrays.run, calib_runs)
+
+
+def unit_main_rows(arrays: FleetArrays, unit: str, main: np.ndarray) -> np.ndarray:
+    """Row indices a unit is trained and tested on: its main rows, or all its rows when it
+    has only calibration-protocol runs (test patches then come out of those runs)."""
+    mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+    own = mine[main[mine]]
+    return own if len(own) else mine
+
+
+def predict_rows(model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler, arrays: FleetArrays,
+                 rows: list[np.ndarray]) -> list[np.ndarray]:
+    """Model m's physical predictions on arrays rows[m]: [(n_m, d), ...]."""
+    device = in_scaler.mean.device
+    X, n = pad_rows([arrays.pressure[r] for r in rows], device)
+    pred = predict(model.to(device), in_scaler, out_scaler.to(device), X).cpu().numpy()
+    return [pred[m, : int(n[m])] for m in range(len(rows))]
