@@ -53,10 +53,6 @@ class QuantNet:
     layers: list[QuantLayer]
     out_offset: np.ndarray
 
-    @property
-    def n_weights(self) -> int:
-        return int(sum(L.q_w.size for L in self.layers))
-
 
 def _round_clip(v: np.ndarray, limit: int = A_MAX) -> np.ndarray:
     """Round half away from zero and saturate, as the C code does."""

@@ -178,18 +178,3 @@ class AdaptedMLP(nn.Module):
                 W, b = W * gamma, b * gamma + beta
             plain.append((W, b))
         return plain
-
-    def adapter_tensors(self, units: Sequence[int]) -> dict[str, Tensor]:
-        """Copies of the adapters of `units`, for saving."""
-        idx = torch.as_tensor(list(units), device=self.weights[0].device)
-        return {k: p.detach()[idx].clone() for k, p in self.adapter.items()}
-
-    def load_adapter_tensors(self, tensors: dict[str, Tensor]) -> None:
-        """Set the adapters from `adapter_tensors` output (its unit count becomes n_units)."""
-        expected = self.identity_adapter(1)
-        if set(tensors) != set(expected):
-            raise AnytipError(f"adapter tensors {sorted(tensors)} do not match kind {self.kind!r} "
-                              f"(expects {sorted(expected)})")
-        n = next(iter(tensors.values())).shape[0] if tensors else self.n_units
-        self.n_units = n
-        self.adapter = nn.ParameterDict({k: nn.Parameter(v.clone()) for k, v in tensors.items()})

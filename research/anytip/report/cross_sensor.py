@@ -6,14 +6,10 @@ from __future__ import annotations
 from collections import defaultdict
 from typing import TYPE_CHECKING, Any
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from anytip.report.figures import save_figure  # noqa: E402
-from anytip.report.markdown import table  # noqa: E402
+from anytip.report.figures import save_figure, subplots
+from anytip.report.markdown import table
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -59,7 +55,8 @@ def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 
 def targets(lines: list[dict[str, Any]]) -> list[list[Any]]:
-    """The issue's targets, each with the best method that meets its budget condition."""
+    """The benchmark's targets (ratio to the per-unit reference per budget), each with the
+    method that comes closest under its budget condition."""
     def best(cond) -> dict[str, Any] | None:
         cands = [s for s in lines if s["method"] != "per_unit" and cond(s)]
         return min(cands, key=lambda s: max(s["force_ratio"], s["angle_ratio"]), default=None)
@@ -84,7 +81,7 @@ def targets(lines: list[dict[str, Any]]) -> list[list[Any]]:
 def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
     """Force and angle RMSE against labeled samples, per method: median over units and seeds,
     band from the 10th to the 90th percentile; per_unit as a horizontal band."""
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    fig, axes = subplots(1, 2, figsize=(12, 4.5))
     methods = sorted({r["method"] for r in rows} - {"per_unit"})
     budgets = sorted({r["calib_samples"] for r in rows if r["method"] != "per_unit"})
     pos = {b: (i if b > 0 else 0) for i, b in enumerate(budgets)}
@@ -120,7 +117,7 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Pa
     seeds = {r["seed"] for r in rows if r["n_train_units"] < max(counts, default=0)}
     if len(counts) < 2:
         return None
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = subplots(figsize=(6, 4))
     for b in sorted({r["calib_samples"] for r in sel if r["n_train_units"] < max(counts)}):
         ys = []
         for k in counts:

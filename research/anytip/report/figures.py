@@ -6,22 +6,26 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
+from matplotlib.figure import Figure
 
 OUTPUT_NAMES = ("Fx [N]", "Fy [N]", "Fz [N]", "theta [rad]", "phi [rad]")
 DPI = 120
 
 
-def save_figure(fig: plt.Figure, path: Path) -> Path:
-    """Lay out, write as PNG at the reports' DPI, close; returns the path."""
+def subplots(*grid: int, figsize: tuple[float, float], **kwargs: Any) -> tuple[Figure, Any]:
+    """A figure and its axes, like pyplot.subplots, without pyplot's global state or a GUI
+    backend (importing this module changes no matplotlib setting)."""
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(*grid, **kwargs)
+
+
+def save_figure(fig: Figure, path: Path) -> Path:
+    """Lay out and write as PNG at the reports' DPI; returns the path."""
     fig.tight_layout()
     fig.savefig(path, dpi=DPI)
-    plt.close(fig)
     return path
 
 
@@ -29,7 +33,7 @@ def parity(pred: np.ndarray, target: np.ndarray, path: Path, title: str,
            max_points: int = 20000, seed: int = 0) -> Path:
     """Predicted against true value for each of the 5 outputs; pred, target (N, 5)."""
     idx = np.random.default_rng(seed).permutation(len(pred))[:max_points]
-    fig, axes = plt.subplots(1, 5, figsize=(17, 3.6))
+    fig, axes = subplots(1, 5, figsize=(17, 3.6))
     for k, ax in enumerate(axes):
         t, p = target[idx, k], pred[idx, k]
         ax.scatter(t, p, s=1, alpha=0.25, rasterized=True)
@@ -51,7 +55,7 @@ def region_heatmap(angles: np.ndarray, err2: np.ndarray, path: Path, title: str,
     n, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges])
     with np.errstate(invalid="ignore", divide="ignore"):
         rmse = np.sqrt(s / n)
-    fig, ax = plt.subplots(figsize=(8, 4.2))
+    fig, ax = subplots(figsize=(8, 4.2))
     im = ax.pcolormesh(p_edges, t_edges, rmse, shading="flat", cmap="viridis")
     fig.colorbar(im, ax=ax, label="RMSE")
     ax.set(xlabel="phi [deg]", ylabel="theta [deg]", title=title, aspect="equal")
@@ -65,7 +69,7 @@ def error_vs_force(normal_force: np.ndarray, curves: Mapping[str, np.ndarray], p
     edges = np.linspace(0, max(float(fz.max()), 1e-6), n_bins + 1)
     which = np.clip(np.digitize(fz, edges) - 1, 0, n_bins - 1)
     centres = 0.5 * (edges[1:] + edges[:-1])
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = subplots(figsize=(6, 4))
     for label, err2 in curves.items():
         rmse = [np.sqrt(err2[which == b].mean()) if (which == b).any() else np.nan
                 for b in range(n_bins)]
@@ -80,7 +84,7 @@ def training_curves(histories: Mapping[str, Sequence[tuple[float, float]]], path
                     title: str, xlabel: str = "epoch", ylabel: str = "validation force RMSE [N]",
                     logy: bool = True) -> Path:
     """One line per label; each history a sequence of (x, y) points."""
-    fig, ax = plt.subplots(figsize=(6.5, 4))
+    fig, ax = subplots(figsize=(6.5, 4))
     for label, points in histories.items():
         if len(points):
             x, y = zip(*points, strict=True)
@@ -99,7 +103,7 @@ def bars(labels: Sequence[str], groups: Mapping[str, Sequence[float]], path: Pat
     """Grouped bars: one group per label, one bar per key of `groups`."""
     x = np.arange(len(labels))
     width = 0.8 / max(1, len(groups))
-    fig, ax = plt.subplots(figsize=(max(6, 0.5 * len(labels) + 2), 4))
+    fig, ax = subplots(figsize=(max(6, 0.5 * len(labels) + 2), 4))
     for k, (name, values) in enumerate(groups.items()):
         ax.bar(x + k * width, values, width, label=name)
     ax.set_xticks(x + width * (len(groups) - 1) / 2, labels, rotation=45, ha="right", fontsize=8)

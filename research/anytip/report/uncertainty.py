@@ -7,14 +7,10 @@ from collections import defaultdict
 from pathlib import Path
 from typing import Any
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from anytip.report.figures import save_figure  # noqa: E402
-from anytip.report.markdown import image, table  # noqa: E402
+from anytip.report.figures import save_figure, subplots
+from anytip.report.markdown import image, table
 
 BAND = (0.87, 0.93)
 
@@ -145,7 +141,7 @@ def cost_table(costs: dict[str, Any], members: int, adapted_members: int = 1,
 
 
 def calibration_curves(levels: np.ndarray, curves: list[dict[str, list[float]]], path: Path) -> None:
-    fig, ax = plt.subplots(figsize=(5.5, 5))
+    fig, ax = subplots(figsize=(5.5, 5))
     for name in curves[0]:
         ax.plot(levels, np.mean([c[name] for c in curves], 0), "o-", ms=3, label=name)
     ax.plot([0, 1], [0, 1], "k--", lw=0.8)
@@ -164,7 +160,7 @@ def coverage_map(angles: np.ndarray, covered: np.ndarray, path: Path, title: str
     n, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges])
     with np.errstate(invalid="ignore", divide="ignore"):
         cov = s / n
-    fig, ax = plt.subplots(figsize=(8, 4.2))
+    fig, ax = subplots(figsize=(8, 4.2))
     im = ax.pcolormesh(p_edges, t_edges, cov, shading="flat", cmap="RdYlGn", vmin=0.6, vmax=1.0)
     fig.colorbar(im, ax=ax, label="coverage at nominal 0.9")
     ax.set(xlabel="phi [deg]", ylabel="theta [deg]", title=title, aspect="equal")
@@ -175,7 +171,7 @@ def coverage_vs_force(force: np.ndarray, covered: dict[str, np.ndarray], path: P
     edges = np.quantile(force, np.linspace(0, 1, 11))
     which = np.clip(np.digitize(force, edges) - 1, 0, 9)
     centres = [float(np.median(force[which == b])) for b in range(10)]
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = subplots(figsize=(6, 4))
     for name, c in covered.items():
         ax.plot(centres, [c[which == b].mean() for b in range(10)], "o-", ms=3, label=name)
     ax.axhspan(*BAND, color="grey", alpha=0.2)
