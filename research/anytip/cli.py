@@ -106,13 +106,14 @@ def cmd_remove(args: argparse.Namespace) -> int:
 
 
 def quickstart_spec() -> Path:
-    """experiments/quickstart.yaml of this checkout (the main job's spec)."""
-    import anytip
+    """The main job's spec: experiments/quickstart.yaml of the current directory if there is one
+    (a lab's own), else the one shipped with the package."""
+    from anytip.rundir import builtin
 
-    for root in (Path(anytip.__file__).resolve().parents[2], Path.cwd()):
-        if (root / "experiments" / "quickstart.yaml").is_file():
-            return root / "experiments" / "quickstart.yaml"
-    raise AnytipError("experiments/quickstart.yaml not found beside the package or in the current directory")
+    for folder in (Path.cwd() / "experiments", builtin("experiments")):
+        if (folder / "quickstart.yaml").is_file():
+            return folder / "quickstart.yaml"
+    raise AnytipError("experiments/quickstart.yaml not found in the current directory or the package")
 
 
 def cmd_run(args: argparse.Namespace) -> int:

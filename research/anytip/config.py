@@ -19,6 +19,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.errors import AnytipError
 from anytip.models.mlp import MLPConfig
+from anytip.rundir import builtin
 from anytip.sensor.fleet import FleetConfig
 from anytip.train.recipe import FAST, TrainRecipe
 from anytip.validation import NAME_PATTERN, load_yaml, mask_secrets, validate_strict
@@ -93,12 +94,13 @@ class ExperimentSpec(Strict):
         return self.seeds if self.seeds else [self.seed]
 
 
-def find_configs_dir(spec_path: Path) -> Path | None:
-    """The `configs/` directory beside the spec's project: searched upward from the spec."""
-    for parent in [spec_path.resolve().parent, *spec_path.resolve().parents]:
-        if (parent / "configs").is_dir():
-            return parent / "configs"
-    return None
+def configs_dirs(spec_path: Path) -> list[Path]:
+    """Where a spec's blocks are looked up, in order: a `configs/` beside the spec's project
+    (searched upward from the spec, so a lab keeps its own blocks), then the built-in ones."""
+    dirs = [parent / "configs" for parent in [spec_path.resolve().parent, *spec_path.resolve().parents]
+            if (parent / "configs").is_dir()][:1]
+    shipped = builtin("configs")
+    return dirs + [shipped] if not dirs or dirs[0].resolve() != shipped.resolve() else dirs
 
 
 def read_yaml(path: Path) -> dict[str, Any]:
@@ -117,7 +119,7 @@ def read_yaml(path: Path) -> dict[str, Any]:
     return data
 
 
-def _resolve_block(kind: str, value: Any, configs: Path | None, spec_path: Path) -> dict[str, Any]:
+def _resolve_block(kind: str, value: Any, configs: list[Path], spec_path: Path) -> dict[str, Any]:
     if isinstance(value, str):
         value = {"use": value}
     if not isinstance(value, dict):
@@ -129,13 +131,12 @@ def _resolve_block(kind: str, value: Any, configs: Path | None, spec_path: Path)
     if not isinstance(name, str) or not re.fullmatch(NAME_PATTERN, name):
         raise AnytipError(f"{spec_path}: key '{kind}.use' must name a block in configs/{BLOCK_DIRS[kind]}/ "
                           f"(letters, digits, '_', '-', '.'; no path), got {name!r}")
-    if configs is None:
-        raise AnytipError(f"{spec_path}: key '{kind}' names {name!r} but no configs/ directory was found")
-    block_file = configs / BLOCK_DIRS[kind] / f"{name}.yaml"
-    if not block_file.is_file():
-        known = sorted(p.stem for p in (configs / BLOCK_DIRS[kind]).glob("*.yaml"))
-        raise AnytipError(f"{spec_path}: key '{kind}': no block {name!r}; allowed: {', '.join(known)}")
-    return {**read_yaml(block_file), **value}
+    for folder in configs:
+        block_file = folder / BLOCK_DIRS[kind] / f"{name}.yaml"
+        if block_file.is_file():
+            return {**read_yaml(block_file), **value}
+    known = sorted({p.stem for folder in configs for p in (folder / BLOCK_DIRS[kind]).glob("*.yaml")})
+    raise AnytipError(f"{spec_path}: key '{kind}': no block {name!r}; allowed: {', '.join(known)}")
 
 
 def apply_override(data: dict[str, Any], assignment: str) -> None:
@@ -163,7 +164,7 @@ def load_spec(path: str | Path, overrides: list[str] | None = None) -> Experimen
     """Read, compose, override and validate an experiment spec."""
     path = Path(path)
     raw = read_yaml(path)
-    configs = find_configs_dir(path)
+    configs = configs_dirs(path)
     data = copy.deepcopy(raw)
     data.setdefault("name", path.stem)
     for kind in BLOCK_DIRS:

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import importlib.resources
 import json
 import math
 import os
@@ -23,6 +24,13 @@ import anytip
 from anytip.errors import AnytipError
 
 METRIC_KEYS = ("method", "unit", "calib_samples", "seed", "force_rmse_n", "angle_rmse_rad")
+
+
+def builtin(folder: str) -> Path:
+    """A folder shipped inside the package: `configs` (the config blocks) or `experiments` (the
+    reference specs). In a checkout they are the repository's own folders (linked into the
+    package); in an installed wheel, copies."""
+    return Path(str(importlib.resources.files("anytip") / folder))
 
 
 def utc_stamp() -> str:

@@ -25,9 +25,10 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from anytip.data.runfile import CalibrationRun, parse_created
 from anytip.errors import AnytipError
+from anytip.rundir import builtin
 from anytip.validation import describe_error, format_validation_error
 
-DEFAULT_COLUMN_MAP = Path(__file__).resolve().parents[3] / "configs" / "csv" / "rig34.yaml"
+DEFAULT_COLUMN_MAP = builtin("configs") / "csv" / "rig34.yaml"
 SIDECAR_SUFFIXES = (".json", ".yaml", ".yml")
 
 ColumnRef = int | str  # 0-based column index, or a header name

@@ -20,9 +20,10 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from anytip.errors import AnytipError
+from anytip.rundir import builtin
 from anytip.validation import format_validation_error
 
-BUDGETS_DIR = Path(__file__).resolve().parents[3] / "configs" / "budgets"
+BUDGETS_DIR = builtin("configs") / "budgets"
 # Fitted to the compiled float32 export of 8-12-64-64-5 and 8-16-5 (arm-none-eabi-gcc -O2):
 # code and tables beyond the weights, RAM beyond the activation buffers, instructions.
 CODE_BYTES, CODE_BYTES_PER_LAYER = 336, 20
