@@ -55,8 +55,8 @@ def test_a_copied_spec_runs_from_the_installed_wheel(installed, tmp_path):
     shutil.copy(REPO / "experiments" / "quickstart.yaml", spec)
     result = run_installed(installed, elsewhere, "run", str(spec), "--registry", str(elsewhere / "reg"),
                            "--out", str(elsewhere / "run"), "--set", "training.epochs=1",
-                           "--set", "simulate_if_empty.units=2", "--set", "simulate_if_empty.protocols=[short]",
-                           "--set", "data.protocol=short")
+                           "--set", "simulate_if_empty.units=2",
+                           "--set", "simulate_if_empty.protocols=[short]", "--set", "data.protocol=short")
     assert result.returncode == 0, result.stderr[-2000:]
     assert (elsewhere / "run" / "metrics.json").is_file()
     assert (elsewhere / "run" / "report.md").is_file()
