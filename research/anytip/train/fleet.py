@@ -22,7 +22,7 @@ from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.train.data import FleetBatchData, UnitSampler
 from anytip.train.metrics import evaluate
-from anytip.train.recipe import FAST, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
+from anytip.train.recipe import FAST, EarlyStopping, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
 
 
 @dataclass
@@ -69,24 +69,16 @@ class BestSnapshot:
     """
 
     def __init__(self, model: BatchedMLP, patience: int | None):
-        self.patience = patience
         self.params = [p.detach().clone() for p in model.parameters()]
-        device = self.params[0].device
-        self.best = torch.full((model.n_models,), float("inf"), dtype=torch.float64, device=device)
-        self.bad = torch.zeros(model.n_models, dtype=torch.int64, device=device)
-        self.stopped = torch.zeros(model.n_models, dtype=torch.bool, device=device)
+        self.stopping = EarlyStopping(model.n_models, patience, self.params[0].device)
 
     @torch.no_grad()
     def update(self, model: BatchedMLP, val_loss: Tensor) -> bool:
         """Record one evaluation; returns True when every unit has stopped."""
-        better = (val_loss < self.best) & ~self.stopped
-        self.best = torch.where(better, val_loss, self.best)
+        better = self.stopping.update(val_loss)
         for kept, p in zip(self.params, model.parameters(), strict=True):
             kept[better] = p[better]
-        self.bad = torch.where(better, 0, self.bad + 1)
-        if self.patience is not None:
-            self.stopped |= self.bad >= self.patience
-        return bool(self.stopped.all())
+        return self.stopping.all_stopped
 
     @torch.no_grad()
     def restore(self, model: BatchedMLP) -> None:

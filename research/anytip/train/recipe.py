@@ -44,6 +44,33 @@ FAST = TrainRecipe(name="fast", optimizer="adam", lr=1e-2, batch_size=256, epoch
 RECIPES = {r.name: r for r in (PAPER, FAST)}
 
 
+class EarlyStopping:
+    """Early stopping on validation loss, for n models at once (the one home of the rule).
+
+    A model improves when its loss falls below its best so far; after `patience` evaluations
+    without improving it stops, and later evaluations of it never count as improving.
+    """
+
+    def __init__(self, n: int, patience: int | None, device: torch.device | str = "cpu"):
+        self.patience = patience
+        self.best = torch.full((n,), float("inf"), dtype=torch.float64, device=device)
+        self.bad = torch.zeros(n, dtype=torch.int64, device=device)
+        self.stopped = torch.zeros(n, dtype=torch.bool, device=device)
+
+    def update(self, val_loss: torch.Tensor) -> torch.Tensor:
+        """Record one evaluation of every model (n,); returns (n,) bool, the models that improved."""
+        better = (val_loss.to(self.best) < self.best) & ~self.stopped
+        self.best = torch.where(better, val_loss.to(self.best), self.best)
+        self.bad = torch.where(better, 0, self.bad + 1)
+        if self.patience is not None:
+            self.stopped |= self.bad >= self.patience
+        return better
+
+    @property
+    def all_stopped(self) -> bool:
+        return bool(self.stopped.all())
+
+
 def get_recipe(name: str) -> TrainRecipe:
     """A named default recipe; unknown names list the known ones."""
     if name not in RECIPES:

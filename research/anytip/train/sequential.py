@@ -19,7 +19,7 @@ from anytip.models.scaler import Scaler
 from anytip.train.data import FleetBatchData
 from anytip.train.fleet import FitResult, ProgressBar, _lap
 from anytip.train.metrics import evaluate
-from anytip.train.recipe import PAPER, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
+from anytip.train.recipe import PAPER, EarlyStopping, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
 
 
 def train_sequential(data: FleetBatchData, config: MLPConfig | None = None,
@@ -65,7 +65,7 @@ def _fit_unit(data: FleetBatchData, u: int, config: MLPConfig, recipe: TrainReci
     steps_per_epoch = math.ceil(n / B)
     total = recipe.epochs * steps_per_epoch
     eval_at = eval_points(steps_per_epoch, evals_per_epoch)
-    best, bad, best_state = math.inf, 0, _copy_state(net)
+    stopping, best_state = EarlyStopping(1, recipe.patience), _copy_state(net)
 
     rows: list[dict[str, Any]] = []
     train_s, loss_sum, n_loss = 0.0, torch.zeros((), device=device), 0
@@ -95,12 +95,10 @@ def _fit_unit(data: FleetBatchData, u: int, config: MLPConfig, recipe: TrainReci
                      "val_angle_rmse": float(val["angle_rmse"][0])})
         loss_sum.zero_()
         n_loss = 0
-        if val_loss < best:
-            best, bad, best_state = val_loss, 0, _copy_state(net)
-        else:
-            bad += 1
+        if stopping.update(torch.tensor([val_loss], dtype=torch.float64))[0]:
+            best_state = _copy_state(net)
         bar.update(step + 1, f"unit {unit.unit_id}: val force {rows[-1]['val_force_rmse']:.3f} N")
-        if recipe.patience is not None and bad >= recipe.patience:
+        if stopping.all_stopped:
             break
         tick = time.perf_counter()
     bar.close()
