@@ -23,6 +23,7 @@ from anytip.errors import AnytipError
 from anytip.models.heteroscedastic import output_scaler_2d
 from anytip.models.io import save_models
 from anytip.models.mlp import BatchedMLP
+from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, validate_options
 from anytip.pipelines.cross_sensor import Options as CrossOptions
 from anytip.pipelines.cross_sensor import calibrate_many, predict_rows
@@ -30,7 +31,7 @@ from anytip.pipelines.cross_sensor import prepare as cross_prepare
 from anytip.pipelines.uncertainty_faults import fault_rows
 from anytip.pipelines.uncertainty_options import AdaptedOptions, Options
 from anytip.report.uncertainty import BAND, write_report
-from anytip.train.adapt import AdapterRecipe, train_shared
+from anytip.train.adapt import AdapterRecipe, SharedFit, train_shared
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.metrics import scores
 from anytip.uncertainty import conformal as cp
@@ -312,12 +313,12 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
         test = [unseen_rows(arrays, st, a.budget + a.calib_rows, a.max_test_rows, seed * 4099 + m)
                 for m, st in enumerate(streams)]
     some = [c if len(c) else t[:1] for c, t in zip(cal, test, strict=True)]  # empty: no budget variant
-    variants, means, gaussian = adapted_variants(ctx, arrays, sd, co, a, streams, test, some, seed, beta)
+    variants = adapted_variants(ctx, arrays, sd, co, a, streams, test, some, seed, beta)
     y = arrays.targets.astype(np.float64)
     n_val = len(sd.split.val)
     rows = []
-    for name, (sig_t, sig_c) in variants.items():
-        mu_t, mu_c = means[name]
+    for name, v in variants.items():
+        sig_t, sig_c, mu_t, mu_c = v.sigma_test, v.sigma_cal, v.mean_test, v.mean_cal
         pooled = np.concatenate([cp.scores_of(mu_t[m], y[test[m]], sig_t[m]) for m in range(n_val)])
         for m in range(n_val, len(units)):
             patches = arrays.patch[test[m]]  # cells, as in the per-unit patch bootstrap
@@ -325,8 +326,8 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
                     "n_train_units": len(sd.split.train), "test_rows": len(test[m]),
                     "test_patches": len(np.unique(patches))}
             boot_args = (patches, bootstrap, seed * 1009 + m)
-            if name in gaussian:  # the uncalibrated Gaussian beside it
-                rows += method_rows(gaussian[name], MethodPreds(
+            if v.gaussian:  # the uncalibrated Gaussian beside it
+                rows += method_rows(v.gaussian, MethodPreds(
                     mu_t[m], sig_t[m], mu_c[m], sig_c[m], "gaussian"), y[test[m]], y[:0],
                     {**base, "members": a.members if "+ensemble" in name else 1}, levels, *boot_args)
             p = MethodPreds(mu_t[m], sig_t[m], mu_c[m], sig_c[m], "conformal")
@@ -338,12 +339,36 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     return rows
 
 
+@dataclass
+class AdaptedMember:
+    """One shared model trained from a seed, its adapters fitted on every unit's budget and
+    folded: the unit input statistics, its predictions per unit on the test rows and on the
+    conformal rows ((n, d), or (n, 2d) for a heteroscedastic model: means, then log sigma^2),
+    and the folded models."""
+
+    shared: SharedFit
+    stats: Scaler
+    pred_test: list[np.ndarray]
+    pred_cal: list[np.ndarray]
+    folded: BatchedMLP
+
+
+@dataclass
+class Variant:
+    """One conformal variant of the adapted model, per unit on test and on conformal rows: its
+    scales (None: absolute residual) and means, and the uncalibrated Gaussian method beside it."""
+
+    sigma_test: list[np.ndarray | None]
+    sigma_cal: list[np.ndarray | None]
+    mean_test: list[np.ndarray]
+    mean_cal: list[np.ndarray]
+    gaussian: str | None = None
+
+
 def adapted_variants(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: AdaptedOptions,
                      streams: list, test: list[np.ndarray], cal: list[np.ndarray], seed: int,
-                     beta: float) -> tuple[dict[str, tuple], dict[str, tuple], dict[str, str]]:
-    """The conformal variants of the adapted model: per name, the scales (None: absolute
-    residual) and the means, each as ([per unit on test rows], [per unit on `cal` rows]),
-    and for some the name of the uncalibrated Gaussian method beside it.
+                     beta: float) -> dict[str, Variant]:
+    """The conformal variants of the adapted model, by method name.
 
     `+conformal`: absolute residual. `+scale`: a scale network's sigma; `+fscale`:
     a + b |F_hat| (both `anytip.uncertainty.shared_scale`, fitted on the training units'
@@ -353,9 +378,10 @@ def adapted_variants(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a:
     its scale outputs; scaled by its own sigma."""
     members = [adapted_member(ctx, arrays, sd, co, a, streams, test, cal, seed * 1000 + k if k else seed)
                for k in range(a.members)]
-    shared, stats, pred_t, pred_c, _ = members[0]
+    first = members[0]
+    shared, stats, pred_t, pred_c = first.shared, first.stats, first.pred_test, first.pred_cal
     n = len(streams)
-    variants = {f"adapted:{a.kind}+conformal": ([None] * n, [None] * n)}
+    variants = {f"adapted:{a.kind}+conformal": Variant([None] * n, [None] * n, pred_t, pred_c)}
     if a.scale_epochs:
         net = fit_scale_network(*shared_residuals(shared, sd.train), ctx.spec.model, a.scale_epochs,
                                 seed=seed)
@@ -364,33 +390,30 @@ def adapted_variants(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a:
             return [predict_scale(net, stats.slice(m), shared.out_scaler, arrays.pressure[r])
                     for m, r in enumerate(rows)]
 
-        variants[f"adapted:{a.kind}+scale+conformal"] = (sigma(test), sigma(cal))
+        variants[f"adapted:{a.kind}+scale+conformal"] = Variant(sigma(test), sigma(cal), pred_t, pred_c)
     coef = fit_force_scale(shared, sd.train)
-    variants[f"adapted:{a.kind}+fscale+conformal"] = ([force_scale(p, coef) for p in pred_t],
-                                                      [force_scale(p, coef) for p in pred_c])
-    means = {name: (pred_t, pred_c) for name in variants}
-    gaussian = {}
+    variants[f"adapted:{a.kind}+fscale+conformal"] = Variant(
+        [force_scale(p, coef) for p in pred_t], [force_scale(p, coef) for p in pred_c], pred_t, pred_c)
     if a.members > 1:
-        name = f"adapted:{a.kind}+ensemble+conformal"
-        (ens_t, spread_t), (ens_c, spread_c) = (ensemble_of([m[i] for m in members]) for i in (2, 3))
-        variants[name], means[name] = (spread_t, spread_c), (ens_t, ens_c)
-        gaussian[name] = f"adapted:{a.kind}+ensemble"
+        (ens_t, spread_t) = ensemble_of([m.pred_test for m in members])
+        (ens_c, spread_c) = ensemble_of([m.pred_cal for m in members])
+        variants[f"adapted:{a.kind}+ensemble+conformal"] = Variant(spread_t, spread_c, ens_t, ens_c,
+                                                                   f"adapted:{a.kind}+ensemble")
     if a.hetero:
         het = adapted_member(ctx, arrays, sd, co, a, streams, test, cal, seed, hetero_beta=beta)
         save_hetero(ctx, het, list(sd.split.test), seed, beta)
-        name = f"adapted:{a.kind}+hetero+conformal"
-        means[name], variants[name] = zip(*[gaussian_heads(p) for p in (het[2], het[3])], strict=True)
-        gaussian[name] = f"adapted:{a.kind}+hetero"
-    return variants, means, gaussian
+        (mu_t, sig_t), (mu_c, sig_c) = gaussian_heads(het.pred_test), gaussian_heads(het.pred_cal)
+        variants[f"adapted:{a.kind}+hetero+conformal"] = Variant(sig_t, sig_c, mu_t, mu_c,
+                                                                 f"adapted:{a.kind}+hetero")
+    return variants
 
 
 def adapted_member(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: AdaptedOptions,
                    streams: list, test: list[np.ndarray], cal: list[np.ndarray], seed: int,
-                   hetero_beta: float | None = None):
+                   hetero_beta: float | None = None) -> AdaptedMember:
     """One shared model trained from `seed`, its adapters fitted on every unit's budget and
-    folded: (shared fit, unit input stats, predictions on `test` rows, on `cal` rows, the
-    folded models). Predictions are (n, 5), or with `hetero_beta` (n, 10): the physical
-    means, then log sigma^2 (the saved model's outputs, `output_scaler_2d`)."""
+    folded. With `hetero_beta` the predictions are (n, 2d): the physical means, then log
+    sigma^2 (the saved model's outputs, `output_scaler_2d`)."""
     recipe = ctx.spec.training.model_copy(update={"epochs": a.epochs})
     shared = train_shared(sd.train, sd.train_stats, ctx.spec.model, a.kind, recipe, seed, ctx.device,
                           adapter_decay=co.adapter_decay, hetero_beta=hetero_beta)
@@ -398,8 +421,8 @@ def adapted_member(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: A
     folded, stats = calibrate_many(shared, arrays, streams, [a.budget] * n, [a.prior] * n,
                                    AdapterRecipe(co.adapter_steps, co.adapter_lr), seed)
     out = shared.out_scaler if hetero_beta is None else output_scaler_2d(shared.out_scaler)
-    return (shared, stats, predict_rows(folded, stats, out, arrays, test),
-            predict_rows(folded, stats, out, arrays, cal), folded)
+    return AdaptedMember(shared, stats, predict_rows(folded, stats, out, arrays, test),
+                         predict_rows(folded, stats, out, arrays, cal), folded)
 
 
 def unseen_rows(arrays: FleetArrays, stream, seen: int, max_rows: int, seed: int) -> np.ndarray:
@@ -417,10 +440,10 @@ def gaussian_heads(preds: list[np.ndarray]) -> tuple[list[np.ndarray], list[np.n
     return [p[:, :d] for p in preds], [np.exp(0.5 * p[:, d:]) for p in preds]
 
 
-def save_hetero(ctx: Context, member: tuple, units: list[str], seed: int, beta: float) -> None:
+def save_hetero(ctx: Context, member: AdaptedMember, units: list[str], seed: int, beta: float) -> None:
     """Save the held-out units' folded heteroscedastic models (the last len(units) of the
     member's models), scale outputs included, ready for `anytip export`."""
-    shared, stats, _, _, folded = member
+    shared, stats, folded = member.shared, member.stats, member.folded
     keep = list(range(folded.n_models - len(units), folded.n_models))
     save_models(ctx.run_dir / "models" / f"adapted_hetero_seed{seed}",
                 BatchedMLP.from_plain([folded.to_plain(m) for m in keep], folded.config),
