@@ -51,6 +51,13 @@ def test_baseline_run_writes_contract_and_is_deterministic(small_registry, tmp_p
     assert prov["seeds"] == [0] and len(prov["units"]) == 8
     models = load_models(a / "models" / "per_unit_seed0")
     assert models.model.n_models == 16
+    report = (a / "report.md").read_text()
+    for split in ("patches", "random"):  # the report's mean row is computed from the metrics rows
+        mean = np.mean([r["force_rmse_n"] for r in rows if r["split"] == split])
+        assert f"{mean:.4g}" in report or f"{mean:.3f}" in report, (split, mean)
+    unit = rows[0]["unit"]
+    line = next(x for x in report.splitlines() if x.startswith(f"| {unit} |"))
+    assert f"{rows[0]['fx_rmse']:.4g}"[:5] in line
 
 
 def test_scalers_fit_on_training_rows_only(small_registry, tmp_path):
