@@ -23,7 +23,7 @@ import numpy as np
 import torch
 from pydantic import BaseModel, ConfigDict, Field
 
-from anytip.data.arrays import FleetArrays
+from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
 from anytip.data.calibration import CalibrationStream
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
@@ -327,4 +327,4 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[int, float], seed
             "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
             "calibration_protocol": opts.calibration_protocol,
             "calibration_interleave": opts.calibration_interleave,
-            "output_names": ["fx", "fy", "fz", "theta", "phi"]}
+            "output_names": list(OUTPUT_NAMES)}

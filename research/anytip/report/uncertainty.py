@@ -38,8 +38,7 @@ def coverage_table(rows: list[dict[str, Any]]) -> str:
 
 def target_table(rows: list[dict[str, Any]]) -> str:
     """At nominal 0.9: per method, how many (unit, seed, output) lie in the 0.87-0.93 band."""
-    sel = [r for r in rows if r.get("nominal_coverage") == 0.9 and r["group"] in
-           ("fx", "fy", "fz", "theta", "phi")]
+    sel = [r for r in rows if r.get("nominal_coverage") == 0.9 and r["group"] not in ("force", "angle")]
     body = []
     for (method,), rs in sorted(_group(sel, "method").items()):
         c = np.array([r["coverage"] for r in rs])

@@ -17,6 +17,7 @@ import torch
 from rich.progress import Progress
 from torch import Tensor
 
+from anytip.data.arrays import OUTPUT_NAMES
 from anytip.models.io import save_models
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
@@ -43,7 +44,7 @@ class FitResult:
     seed: int
     wall_s: float  # whole call, evaluation included
     unit_train_s: list[float] | None = None  # sequential only: training seconds per unit
-    output_names: tuple[str, ...] = ("fx", "fy", "fz", "theta", "phi")
+    output_names: tuple[str, ...] = OUTPUT_NAMES
     extra: dict[str, Any] = field(default_factory=dict)
 
     def unit_history(self, u: int) -> list[dict[str, Any]]:

@@ -19,6 +19,7 @@ import numpy as np
 import torch
 from torch import Tensor
 
+from anytip.data.arrays import OUTPUT_NAMES
 from anytip.models.heteroscedastic import (
     gaussian_nll,
     hetero_config,
@@ -68,7 +69,7 @@ class EnsembleFit:
 
 def hetero_meta(d: int, beta: float) -> dict[str, Any]:
     """Model-file meta of a heteroscedastic model with d means: which outputs are scales."""
-    return {"output_names": ["fx", "fy", "fz", "theta", "phi"][:d],
+    return {"output_names": list(OUTPUT_NAMES[:d]),
             "mean_outputs": list(range(d)), "scale_outputs": list(range(d, 2 * d)),
             "scale_kind": "log-variance in physical units (N^2, rad^2): sigma_k = exp(0.5 * output[d + k])",
             "loss": f"beta-NLL, beta={beta}"}
