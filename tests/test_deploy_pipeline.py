@@ -53,8 +53,13 @@ def test_bad_options_name_the_key(small_registry, tmp_path):
 
 
 def test_hand_written_reading_survives_a_rerun(tmp_path):
-    from anytip.pipelines.deploy import READING, reading
+    """Any pipeline's report keeps the run directory's hand-written reading.md after its own text."""
+    from anytip.report.writer import READING, Report
 
-    assert reading(tmp_path) == ""
+    Report(tmp_path).add("# Title", "generated").write()
+    assert (tmp_path / "report.md").read_text() == "# Title\ngenerated\n"
     (tmp_path / READING).write_text("## Reading\n\nThe figures mean this.\n")
-    assert reading(tmp_path).endswith("## Reading\n\nThe figures mean this.\n")
+    Report(tmp_path).add("# Title", "generated again").write()
+    text = (tmp_path / "report.md").read_text()
+    assert text.startswith("# Title\ngenerated again\n")
+    assert text.endswith("## Reading\n\nThe figures mean this.\n") and "check it against" in text

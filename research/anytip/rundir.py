@@ -105,10 +105,13 @@ def dumps_json(data: Any, indent: int | None = 2, sort_keys: bool = False) -> st
 
 
 def write_json(path: Path, data: Any, indent: int | None = 2) -> None:
-    """Write `dumps_json(data)` atomically (temporary file, then rename), readable like any
-    file the process writes (the umask decides, as for open())."""
-    path = Path(path)
-    text = dumps_json(data, indent)
+    """Write `dumps_json(data)` atomically (see `write_text`)."""
+    write_text(Path(path), dumps_json(data, indent))
+
+
+def write_text(path: Path, text: str) -> None:
+    """Write `text` atomically (temporary file, then rename), readable like any file the
+    process writes (the umask decides, as for open())."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
     try:
         with os.fdopen(fd, "w") as f:
@@ -127,7 +130,7 @@ def _umask() -> int:
 
 
 def write_config(run_dir: Path, spec_dict: dict[str, Any]) -> None:
-    (run_dir / "config.yaml").write_text(yaml.safe_dump(spec_dict, sort_keys=False))
+    write_text(run_dir / "config.yaml", yaml.safe_dump(spec_dict, sort_keys=False))
 
 
 def check_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

@@ -10,7 +10,6 @@ held-out patches when `held_out` names the cross_sensor run that recorded them).
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -24,12 +23,12 @@ from anytip.deploy.peers import PEERS, measure_peer
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, validate_options
 from anytip.report.markdown import table
+from anytip.report.writer import Report
 from anytip.rundir import write_json
 
 REGISTRY = "optional"  # how the runner treats the registry (anytip.runner)
 
 FORMATS = ("onnx", "c", "c-int8", "firmware")
-READING = "reading.md"
 
 
 class ModelEntry(BaseModel):
@@ -137,8 +136,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
             (out / peer).mkdir(parents=True, exist_ok=True)
             write_json(out / peer / "verification.json", rep)
             rows.append(_row(name, peer.replace("-", "_"), p, samples, ctx.spec.seed, rep))
-    (ctx.run_dir / "report.md").write_text(report(rows, ctx.provenance.get("deploy_skipped", []))
-                                           + reading(ctx.run_dir))
+    Report(ctx.run_dir).add(report(rows, ctx.provenance.get("deploy_skipped", []))).write()
     return rows
 
 
@@ -148,16 +146,6 @@ def _fmt(v: Any, spec: str = ",") -> str:
     if isinstance(v, float) and v != v:
         return "-"
     return format(v, spec)
-
-
-def reading(run_dir: Path) -> str:
-    """The run directory's hand-written `reading.md` (what the figures mean, for a committed
-    report), appended to the generated report; a rerun keeps it, so it names what to re-check."""
-    path = run_dir / READING
-    if not path.exists():
-        return ""
-    return (f"\n<!-- from {READING}: written by hand for this run; check it against the tables above "
-            f"after a rerun -->\n{path.read_text()}")
 
 
 def report(rows: list[dict[str, Any]], skipped: list[str]) -> str:

@@ -21,6 +21,7 @@ from anytip.data.splits import patch_test_mask
 from anytip.pipelines.common import Context, load, per_unit_split, predict_units, validate_options
 from anytip.report import figures
 from anytip.report.markdown import table
+from anytip.report.writer import Report
 from anytip.train.fleet import FitResult, train_fleet
 from anytip.train.metrics import scores
 from anytip.train.recipe import PAPER
@@ -106,7 +107,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     figures.training_curves(curves,
                             ctx.run_dir / "time_to_accuracy.png", "unit-mean validation force RMSE",
                             xlabel="training time [s]")
-    (ctx.run_dir / "report.md").write_text(_report(ctx, rows, summary))
+    Report(ctx.run_dir).add(_report(ctx, rows, summary)).write()
     return rows
 
 

@@ -11,6 +11,7 @@ from anytip.analysis import impulse as imp
 from anytip.analysis.filters import causal_moving_average, zero_phase_moving_average
 from anytip.report import impulse_figures as figures
 from anytip.report.markdown import table
+from anytip.report.writer import Report
 
 MS = 1e3
 
@@ -21,9 +22,7 @@ def write_report(ctx: Any, opts: Any, res: dict[str, Any]) -> Path:
     _figures(out, opts, res)
     parts = [_header(ctx, opts, res), _check(res), _maps(), _v0(opts, res), _filters(opts, res),
              _latency(opts, res)]
-    path = out / "report.md"
-    path.write_text("\n\n".join(parts) + "\n")
-    return path
+    return Report(out).add(*parts).write(sep="\n\n")
 
 
 def _figures(out: Path, opts: Any, res: dict[str, Any]) -> None:

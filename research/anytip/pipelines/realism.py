@@ -18,6 +18,7 @@ from anytip.data.splits import patch_test_mask, split_units
 from anytip.pipelines.common import Context, load, per_unit_split, predict_units
 from anytip.report import figures
 from anytip.report.markdown import table
+from anytip.report.writer import Report
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import scores
@@ -61,7 +62,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                          **scores(own[u], test.Y_test[u])})
             rows.append({"method": "pooled", "calib_samples": 0, "train_units": len(roles.train),
                          **base, **scores(shared[u], test.Y_test[u])})
-    (ctx.run_dir / "report.md").write_text(_report(ctx, rows))
+    Report(ctx.run_dir).add(_report(ctx, rows)).write()
     return rows
 
 

@@ -9,6 +9,7 @@ import numpy as np
 
 from anytip.report import figures
 from anytip.report.markdown import image, table
+from anytip.report.writer import Report
 
 
 def _by_unit(rows: list[dict[str, Any]]) -> dict[tuple[str, str], dict[str, float]]:
@@ -98,4 +99,4 @@ random split flatters a unit's model on contacts away from its calibration press
 Registry `{prov['registry']}`, content hash `{prov['registry_content_hash'][:16]}`; runs used:
 {len(prov['runs'])}; code {prov.get('code', {}).get('git_commit') or prov.get('code', {}).get('anytip')}.
 """
-    (out / "report.md").write_text(text)
+    Report(out).add(text).write()

@@ -10,6 +10,7 @@ import numpy as np
 
 from anytip.report.figures import save_figure, subplots
 from anytip.report.markdown import table
+from anytip.report.writer import Report
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -149,8 +150,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any) -> Path:
     seeds = sorted({r["seed"] for r in rows})
     cs = ctx.provenance.get("cross_sensor", {})
     first = cs.get(f"seed{seeds[0]}", {}).get("units", {})
-    path = ctx.run_dir / "report.md"
-    path.write_text(f"""# {ctx.spec.name}: one model for many units
+    return Report(ctx.run_dir).add(f"""# {ctx.spec.name}: one model for many units
 
 {ctx.spec.description.strip()}
 
@@ -178,5 +178,4 @@ validation units. Label-free rows (budget 0) use the unit's unlabeled stream for
 ## How many units to calibrate fully
 
 ![error against training units](rmse_vs_train_units.png)
-"""))
-    return path
+""")).write()

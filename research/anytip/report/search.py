@@ -11,6 +11,7 @@ import numpy as np
 
 from anytip.report.figures import save_figure, subplots
 from anytip.report.markdown import table as md_table
+from anytip.report.writer import Report
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -131,8 +132,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], trials: list[dict[str, An
     median = secs.get("complete")
     timing = "" if median is None else f"; a complete trial took {median:.1f} s (median)"
     train = f" ({len(s['train_units'])} training units)" if "train_units" in s else ""
-    path = ctx.run_dir / "report.md"
-    path.write_text(f"""# {ctx.spec.name}: architecture search under the {budget.name} budget
+    return Report(ctx.run_dir).add(f"""# {ctx.spec.name}: architecture search under the {budget.name} budget
 
 {ctx.spec.description.strip()}
 
@@ -162,5 +162,4 @@ features, or with ReLU instead of its activation (same widths, learning rate and
 {target(archs)}
 
 Browse the study: `optuna-dashboard {s['storage']}`
-""")
-    return path
+""").write()

@@ -11,6 +11,7 @@ import numpy as np
 
 from anytip.report.figures import save_figure, subplots
 from anytip.report.markdown import image, table
+from anytip.report.writer import Report
 
 BAND = (0.87, 0.93)
 
@@ -220,6 +221,4 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts
         image("coverage_vs_force.png", "coverage against force"),
         *[image(f"coverage_map_{m}.png", m) for m in ("conformal", "ensemble_conformal", "ensemble")],
     ]
-    path = d / "report.md"
-    path.write_text("\n".join(parts) + "\n")
-    return path
+    return Report(d).add(*parts).write()
