@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from anytip.data.arrays import OUTPUT_NAMES
 from anytip.data.splits import patch_test_mask, random_test_mask
 from anytip.pipelines.common import Context, load, per_unit_split, predict_units
 from anytip.report.baseline import write_report
@@ -47,6 +48,8 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                 })
             if seed == spec.all_seeds[0]:
                 figures_input[split] = (np.concatenate(preds), np.concatenate(s.Y_test))
+                pooled = scores(*figures_input[split])
+                figures_input[f"{split}_rmse"] = [pooled[f"{name}_rmse"] for name in OUTPUT_NAMES]
         if seed == spec.all_seeds[0]:
             figures_input["history"] = fit.history
             figures_input["member_names"] = [f"{u} ({s})" for s in SPLITS for u in units]

@@ -45,7 +45,8 @@ def write_report(ctx, rows: list[dict[str, Any]], fig: dict[str, Any]) -> None:
     out = ctx.run_dir
     spec = ctx.spec
     (pred_p, y_p), (pred_r, y_r) = fig["patches"], fig["random"]
-    figures.parity(pred_p, y_p, out / "parity_patches.png", "held-out patches, all units")
+    figures.parity(pred_p, y_p, fig["patches_rmse"], out / "parity_patches.png",
+                   "held-out patches, all units")
     err2_force = ((pred_p[:, :3] - y_p[:, :3]) ** 2).mean(axis=1)
     err2_angle = ((pred_p[:, 3:] - y_p[:, 3:]) ** 2).mean(axis=1)
     figures.region_heatmap(y_p[:, 3:], err2_force, out / "region_force.png",

@@ -29,9 +29,10 @@ def save_figure(fig: Figure, path: Path) -> Path:
     return path
 
 
-def parity(pred: np.ndarray, target: np.ndarray, path: Path, title: str,
+def parity(pred: np.ndarray, target: np.ndarray, rmse: Sequence[float], path: Path, title: str,
            max_points: int = 20000, seed: int = 0) -> Path:
-    """Predicted against true value for each of the 5 outputs; pred, target (N, 5)."""
+    """Predicted against true value for each of the 5 outputs; pred, target (N, 5), with each
+    output's RMSE over all N rows (`anytip.train.metrics.scores`) in its title."""
     idx = np.random.default_rng(seed).permutation(len(pred))[:max_points]
     fig, axes = subplots(1, 5, figsize=(17, 3.6))
     for k, ax in enumerate(axes):
@@ -39,8 +40,7 @@ def parity(pred: np.ndarray, target: np.ndarray, path: Path, title: str,
         ax.scatter(t, p, s=1, alpha=0.25, rasterized=True)
         lo, hi = float(min(t.min(), p.min())), float(max(t.max(), p.max()))
         ax.plot([lo, hi], [lo, hi], "k--", lw=0.8)
-        rmse = float(np.sqrt(np.mean((target[:, k] - pred[:, k]) ** 2)))
-        ax.set(title=f"{OUTPUT_NAMES[k]}  RMSE {rmse:.3g}", xlabel="true", ylabel="predicted")
+        ax.set(title=f"{OUTPUT_NAMES[k]}  RMSE {rmse[k]:.3g}", xlabel="true", ylabel="predicted")
     fig.suptitle(title)
     return save_figure(fig, path)
 
