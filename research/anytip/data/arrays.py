@@ -117,7 +117,7 @@ def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
         run = registry.open_run(rec.run_id)  # validated, and hashed against the catalog
         pressure, force, angles, contact = run.pressure, run.force, run.angles, contact_mask(run)
         time = run.time - run.time[0]
-        tare = rest_reading(pressure, contact, str(registry.payload_path(rec.run_id)))
+        tare = rest_reading(pressure, contact, f"run {rec.run_id}")
         tares.append(tare)
         n = int(contact.sum())
         parts["p"].append((pressure[contact] - tare).astype(np.float32))

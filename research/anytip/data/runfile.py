@@ -292,9 +292,16 @@ def check_self_contained(f: h5py.File, path: str | Path) -> None:
 
 
 def _free_memory_bytes() -> int:
-    """Memory the process could still take (physical pages available), in bytes."""
+    """Memory the process could still take, in bytes: the kernel's MemAvailable (free pages plus
+    the cache it can reclaim), else all physical memory, else no limit known (1 TiB)."""
     try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):
         return 2**40
 
