@@ -169,9 +169,10 @@ def test_interleaved_stream_takes_the_orientations_in_turn(small_registry):
     assert len(np.unique(arrays.run[mixed.first(len(mixed.rows) // n_runs)])) == n_runs
 
 
-def _mean_val_loss(path: Path) -> float:
-    meta = json.loads(path.with_suffix(".json").read_text())["meta"]
-    return float(np.mean(list(meta["val_loss_by_budget"].values())))
+def _val_loss_at(path: Path, budget: int) -> float:
+    table = {int(b): v for b, v in json.loads(path.with_suffix(".json").read_text())["meta"]
+             ["val_loss_by_budget"].items()}
+    return table[max(b for b in table if b <= budget)]
 
 
 def test_calibrate_picks_the_adapter_with_the_lowest_validation_loss(cross_run, two_protocol_registry,
@@ -185,12 +186,14 @@ def test_calibrate_picks_the_adapter_with_the_lowest_validation_loss(cross_run, 
     for f in (run / "models").glob("shared_input_affine-film_*"):
         f.unlink()
     have = sorted((run / "models").glob("shared_*_seed0.safetensors"))
-    best = min(have, key=_mean_val_loss)
-    path, why = find_shared(run)
-    assert path == best and "lowest validation-unit loss" in why
+    for budget in (0, 50, 400):
+        best = min(have, key=lambda p, b=budget: _val_loss_at(p, b))
+        path, why = find_shared(run, budget=budget)
+        assert path == best and "lowest validation-unit loss" in why, budget
     unit = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]["test"][0]
     result = calibrate_unit(run, unit, two_protocol_registry, tmp_path / "cal", budget_samples=50)
-    assert any(path.name in n for n in result.notes)
+    chosen = min(have, key=lambda p: _val_loss_at(p, 50))
+    assert any(chosen.name in n and "<= 50 labeled samples" in n for n in result.notes)
 
 
 def test_calibrate_reports_clipped_budgets_and_training_units(cross_run, two_protocol_registry, tmp_path,

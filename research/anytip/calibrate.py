@@ -44,14 +44,15 @@ class Calibrated:
     notes: list[str]  # which shared model and why, clipped budgets, warnings
 
 
-def find_shared(model: str | Path, adapter: str | None = None,
-                seed: int | None = None) -> tuple[Path, str]:
+def find_shared(model: str | Path, adapter: str | None = None, seed: int | None = None,
+                budget: int | None = None) -> tuple[Path, str]:
     """A shared model file and why it was picked: `model` itself, or the one a cross_sensor run
     directory holds for `adapter` and `seed` (default: the run's first seed).
 
-    Without `adapter`, the run's shared model with the lowest validation-unit loss recorded
-    in its metadata (mean over budgets) is taken; a run that recorded none falls back to
-    its `sweep_adapter`.
+    Without `adapter`, the run's shared model with the lowest validation-unit loss recorded in
+    its metadata is taken: at the largest benchmarked budget <= `budget` labeled samples (so a
+    label-free calibration compares zero-shot losses), or the mean over budgets without one.
+    A run that recorded none falls back to its `sweep_adapter`.
     """
     model = Path(model)
     if model.suffix in (".safetensors", ".json"):
@@ -66,12 +67,13 @@ def find_shared(model: str | Path, adapter: str | None = None,
             raise AnytipError(f"{path}: no shared model for adapter {adapter!r}, seed {seed}; "
                               f"the run holds: {', '.join(have) or 'none'}")
         return path, f"adapter {adapter!r} as asked"
-    losses = {stem: _mean_val_loss(path) for stem, path in have.items()}
+    losses = {stem: _val_loss(path, budget) for stem, path in have.items()}
     scored = {stem: v for stem, v in losses.items() if v is not None}
     if scored:
         best = min(scored, key=scored.__getitem__)
-        return have[best], (f"lowest validation-unit loss of the run ({scored[best]:.3g} standardised MSE; "
-                            + ", ".join(f"{k}: {v:.3g}" for k, v in sorted(scored.items())) + ")")
+        at = "mean over budgets" if budget is None else f"at <= {budget} labeled samples"
+        return have[best], (f"lowest validation-unit loss of the run, {at} ({scored[best]:.3g} standardised "
+                            "MSE; " + ", ".join(f"{k}: {v:.3g}" for k, v in sorted(scored.items())) + ")")
     fallback = str(config.get("options", {}).get("sweep_adapter", "input_affine+film"))
     stem = f"shared_{fallback.replace('+', '-')}_seed{seed}"
     if stem not in have:
@@ -101,14 +103,19 @@ def _run_config(run_dir: Path) -> dict[str, Any]:
     return config
 
 
-def _mean_val_loss(path: Path) -> float | None:
-    """Mean of `val_loss_by_budget` in a shared model's metadata, or None if it has none."""
+def _val_loss(path: Path, budget: int | None) -> float | None:
+    """A shared model's recorded validation-unit loss (`val_loss_by_budget` in its metadata) at
+    the largest budget <= `budget`, or its mean over budgets for None; None if it has none."""
     meta = read_header(model_paths(path)[1], SHARED_FORMAT).get("meta", {})
     losses = meta.get("val_loss_by_budget") if isinstance(meta, dict) else None
-    if not isinstance(losses, dict) or not losses:
+    if not isinstance(losses, dict):
         return None
-    values = [v for v in losses.values() if isinstance(v, (int, float)) and math.isfinite(v)]
-    return float(np.mean(values)) if values else None
+    table = {int(b): float(v) for b, v in losses.items()
+             if str(b).isdigit() and isinstance(v, (int, float)) and math.isfinite(v)}
+    if budget is None:
+        return float(np.mean(list(table.values()))) if table else None
+    below = [b for b in table if b <= budget]
+    return table[max(below)] if below else None
 
 
 def budget_rows(stream: CalibrationStream, samples: int | None, seconds: float | None) -> tuple[int, str]:
@@ -144,7 +151,8 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     """Fit, fold and save one unit's model; see the module docstring."""
     if budget_samples is not None and budget_seconds is not None:
         raise AnytipError("give --budget-samples or --budget-seconds, not both")
-    shared_path, choice = find_shared(model, adapter, seed)
+    wanted = (1000 if budget_samples is None else budget_samples) if budget_seconds is None else None
+    shared_path, choice = find_shared(model, adapter, seed, wanted)
     shared = load_shared(shared_path)
     meta = shared.meta
     records = registry.list_runs(unit=unit)
