@@ -336,7 +336,9 @@ def test_list_of_nothing_exits_non_zero(tmp_path, capsys):
 
 def test_a_closed_pipe_ends_quietly(tmp_path):
     reg = Registry(tmp_path / "reg")
-    reg.add_runs([make_run(f"FT-{i}", created=f"2024-05-01T12:00:{i:02d}Z") for i in range(40)])
+    # more output than a pipe buffer holds (64 KiB), so the writer meets the closed pipe
+    reg.add_runs([make_run(f"FT-{i}", n=8, created=f"2024-05-01T12:{i // 60:02d}:{i % 60:02d}Z")
+                  for i in range(400)])
     cmd = (f"{sys.executable} -c 'from anytip.cli import main; import sys; sys.exit(main())' "
            f"data list --json --registry {reg.root} | head -1")
     proc = subprocess.run(["bash", "-o", "pipefail", "-c", cmd], capture_output=True, text=True, timeout=120)
