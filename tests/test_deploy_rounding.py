@@ -16,7 +16,7 @@ from anytip.deploy.export import errors, verify_c, verify_onnx
 from anytip.deploy.net import DeployNet, load_deploy_net, model_predict
 from anytip.deploy.onnx_export import write_onnx
 from anytip.deploy.reference import synthetic_reference
-from anytip.deploy.rounding import U_FLOAT32, error_bound, gamma
+from anytip.deploy.rounding import U_FLOAT32, error_bound, gamma, network_tolerance
 from test_deploy_helpers import save_baseline, save_folded
 
 needs_gcc = pytest.mark.skipif(shutil.which("gcc") is None, reason="gcc is not installed")
@@ -46,7 +46,7 @@ def test_float32_forward_stays_within_the_bound_on_random_networks(activation):
         net = random_net(rng, in_scale=10.0 ** rng.uniform(-5, -2), bias=rng.uniform(0.01, 3))
         net.activation = activation
         x = rng.normal(0, 10.0 ** rng.uniform(1, 5), (256, 8))
-        bound = net.tolerance(x)
+        bound = network_tolerance(net, x)
         err = np.abs(net.forward(x, np.float32) - net.forward(x))
         assert (err <= bound).all(), trial
         worst = max(worst, float((err / bound).max()))

@@ -28,7 +28,7 @@ from anytip.deploy.net import DeployNet, deploy_net, model_predict, require_relu
 from anytip.deploy.onnx_export import float32_parameters, onnx_parameters, run_onnx, write_onnx
 from anytip.deploy.quantize import QuantNet, quantize, simulate
 from anytip.deploy.reference import Reference, registry_reference, synthetic_reference
-from anytip.deploy.rounding import U_FLOAT32, U_FLOAT64, check
+from anytip.deploy.rounding import U_FLOAT32, U_FLOAT64, check, network_tolerance
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, save_models
 from anytip.rundir import write_json
@@ -59,7 +59,7 @@ def errors(y: np.ndarray, ref: np.ndarray, net: DeployNet, x: np.ndarray, copies
     """Outputs y (B, out) of a float32 export of `net` on rows x against the float64 reference:
     passed when every error lies within the float32 rounding bound (`copies` exports compared
     with each other: each may err by the bound)."""
-    return check(y, ref, copies * net.tolerance(x), net.out_scale)
+    return check(y, ref, copies * network_tolerance(net, x), net.out_scale)
 
 
 def parameters(found: np.ndarray, expected: np.ndarray) -> dict[str, Any]:
@@ -284,9 +284,9 @@ def _model(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
                        loaded.out_scaler.slice(index), _slice_meta(loaded.meta, index))
     path = save_models(out_dir / "model.safetensors", one.model, one.in_scaler, one.out_scaler, one.meta)
     back = load_models(path)
+    tolerance = network_tolerance(net, ref.x, U_FLOAT64)
     return {"files": [path.name, path.with_suffix(".json").name],
-            "reloaded": check(model_predict(back, 0, ref.x), y_model, net.tolerance(ref.x, U_FLOAT64),
-                              net.out_scale)}
+            "reloaded": check(model_predict(back, 0, ref.x), y_model, tolerance, net.out_scale)}
 
 
 def _slice_meta(meta: dict[str, Any], index: int) -> dict[str, Any]:

@@ -18,7 +18,6 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from anytip.deploy.rounding import U_FLOAT32, Layer, export_tolerance
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models
 
@@ -74,17 +73,6 @@ class DeployNet:
     @property
     def n_params(self) -> int:
         return int(sum(W.size + b.size for W, b in self.layers))
-
-    def rounding_layers(self) -> list[Layer]:
-        """The layers with the activation after each, as `anytip.deploy.rounding` takes them."""
-        last = len(self.layers) - 1
-        return [(W, b, self.activation if k < last else ("relu" if self.output_relu else None))
-                for k, (W, b) in enumerate(self.layers)]
-
-    def tolerance(self, x: np.ndarray, u: float = U_FLOAT32) -> np.ndarray:
-        """(B, out) how far this network computed in precision u (float32 by default) may lie
-        from the float64 reference on rows x: its rounding error bound (anytip.deploy.rounding)."""
-        return export_tolerance(self.rounding_layers(), x, self.out_offset, u)
 
     def forward(self, x: np.ndarray, dtype: type = np.float64) -> np.ndarray:
         """x (B, in) Pa -> (B, out) physical units, computed in `dtype`."""
