@@ -416,3 +416,18 @@ def test_the_package_does_not_pin_torch_exactly():
     torch_spec = next(d for d in deps if d.startswith("torch"))
     assert "==" not in torch_spec and ">=" in torch_spec
     assert "torch==2.13.0" in (REPO / "Makefile").read_text()
+
+
+@pytest.mark.parametrize("fmt", ["onnx", "all"])
+def test_model_export_onto_an_earlier_export_needs_force(tmp_path, capsys, fmt):
+    from test_deploy_helpers import save_baseline
+
+    model = save_baseline(tmp_path)
+    out = tmp_path / "export"
+    args = ["export", str(model), "--format", fmt, "--out", str(out), "--no-embedded", "--rows", "50",
+            "--registry", str(tmp_path / "none")]
+    assert cli(capsys, *args)[0] == 0
+    first = sorted((p, p.stat().st_mtime_ns) for p in out.rglob("verification.json"))
+    refused(capsys, *args, names="--force")
+    assert sorted((p, p.stat().st_mtime_ns) for p in out.rglob("verification.json")) == first
+    assert cli(capsys, *args, "--force")[0] == 0

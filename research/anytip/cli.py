@@ -153,13 +153,14 @@ def cmd_export_model(args: argparse.Namespace) -> int:
     out_root = Path(args.out)
     if out_root.exists() and not out_root.is_dir():
         raise AnytipError(f"--out {out_root}: exists and is not a directory")
-    if (out_root / "verification.json").exists() and not args.force:
-        raise AnytipError(f"--out {out_root}: already holds an export; choose another or pass --force")
     formats = [f for f in FORMATS if f != "model"] if args.format == "all" else [args.format]
+    targets = {fmt: out_root / fmt if len(formats) > 1 else out_root for fmt in formats}
+    taken = [str(out) for out in targets.values() if (out / "verification.json").exists()]
+    if taken and not args.force:
+        raise AnytipError(f"--out {taken[0]}: already holds an export; choose another or pass --force")
     held_out = args.held_out or "auto"
     failed = 0
-    for fmt in formats:
-        out = Path(args.out) / fmt if len(formats) > 1 else Path(args.out)
+    for fmt, out in targets.items():
         r = export_model(args.model, fmt, out, unit=args.unit, registry=registry, rows=args.rows,
                          embedded_checks=not args.no_embedded, held_out=held_out)
         failed += not r["passed"]
