@@ -61,8 +61,8 @@ def test_bad_yaml_and_bad_override(tmp_path):
 
 @pytest.mark.parametrize("name", ["paper", "fast"])
 def test_recipe_files_equal_the_code_defaults(name):
-    from anytip.config import read_yaml
     from anytip.train.recipe import TrainRecipe, get_recipe
+    from anytip.validation import read_yaml
 
     block = read_yaml(REPO / "configs" / "training" / f"{name}.yaml")
     assert TrainRecipe.model_validate(block) == get_recipe(name)

@@ -431,3 +431,14 @@ def test_model_export_onto_an_earlier_export_needs_force(tmp_path, capsys, fmt):
     refused(capsys, *args, names="--force")
     assert sorted((p, p.stat().st_mtime_ns) for p in out.rglob("verification.json")) == first
     assert cli(capsys, *args, "--force")[0] == 0
+
+
+def test_sidecars_and_budgets_read_yaml_like_specs(tmp_path):
+    """Every YAML the project reads goes through one safe loader: aliases are refused in a CSV
+    log's sidecar as in a spec."""
+    from anytip.data.csv_import import _load_mapping
+
+    sidecar = tmp_path / "log.yaml"
+    sidecar.write_text("sensor_id: &s A-1\nnotes: *s\n")
+    with pytest.raises(AnytipError, match="aliases"):
+        _load_mapping(sidecar)

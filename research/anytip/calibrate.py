@@ -18,7 +18,6 @@ from typing import Any
 import numpy as np
 import torch
 
-from anytip.config import read_yaml
 from anytip.data.arrays import load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.registry import Registry
@@ -28,6 +27,7 @@ from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.metrics import predict, scores
+from anytip.validation import read_yaml
 
 
 @dataclass

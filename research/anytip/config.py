@@ -22,7 +22,7 @@ from anytip.models.mlp import MLPConfig
 from anytip.rundir import builtin
 from anytip.sensor.fleet import FleetConfig
 from anytip.train.recipe import FAST, TrainRecipe
-from anytip.validation import NAME_PATTERN, load_yaml, mask_secrets, validate_strict
+from anytip.validation import NAME_PATTERN, load_yaml, mask_secrets, read_yaml, validate_strict
 
 BLOCK_DIRS = {"fleet": "fleets", "model": "models", "training": "training"}
 Pipeline = Literal["baseline", "cross_sensor", "deploy", "fleet_speed", "impulse_ratio", "realism",
@@ -101,22 +101,6 @@ def configs_dirs(spec_path: Path) -> list[Path]:
             if (parent / "configs").is_dir()][:1]
     shipped = builtin("configs")
     return dirs + [shipped] if not dirs or dirs[0].resolve() != shipped.resolve() else dirs
-
-
-def read_yaml(path: Path) -> dict[str, Any]:
-    """A YAML mapping from `path` (safe, no aliases), or an AnytipError naming the file."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise AnytipError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise AnytipError(f"{path}: cannot read ({e})") from None
-    data = load_yaml(text, str(path))
-    if data is None:
-        return {}
-    if not isinstance(data, dict):
-        raise AnytipError(f"{path}: expected a mapping of keys to values, got {type(data).__name__}")
-    return data
 
 
 def _resolve_block(kind: str, value: Any, configs: list[Path], spec_path: Path) -> dict[str, Any]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 from typing import Any, TypeVar
 
 import yaml
@@ -77,6 +78,22 @@ def load_yaml(text: str, source: str) -> Any:
     except yaml.YAMLError as e:
         text = " ".join(str(e).replace('in "<unicode string>", ', "").split())
         raise AnytipError(f"{source}: not valid YAML: {text}") from None
+
+
+def read_yaml(path: Path) -> dict[str, Any]:
+    """A YAML mapping from `path` (safe, no aliases), or an AnytipError naming the file."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise AnytipError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise AnytipError(f"{path}: cannot read ({e})") from None
+    data = load_yaml(text, str(path))
+    if data is None:
+        return {}
+    if not isinstance(data, dict):
+        raise AnytipError(f"{path}: expected a mapping of keys to values, got {type(data).__name__}")
+    return data
 
 
 M = TypeVar("M", bound=BaseModel)

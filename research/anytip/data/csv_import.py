@@ -20,13 +20,12 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from anytip.data.runfile import CalibrationRun, parse_created
 from anytip.errors import AnytipError
 from anytip.rundir import builtin
-from anytip.validation import describe_error, format_validation_error
+from anytip.validation import describe_error, format_validation_error, load_yaml
 
 DEFAULT_COLUMN_MAP = builtin("configs") / "csv" / "rig34.yaml"
 SIDECAR_SUFFIXES = (".json", ".yaml", ".yml")
@@ -137,8 +136,8 @@ class Sidecar(_Strict):
 def _load_mapping(path: Path) -> dict[str, Any]:
     try:
         text = path.read_text(encoding="utf-8")
-        data = json.loads(text) if path.suffix == ".json" else yaml.safe_load(text)
-    except (OSError, UnicodeDecodeError, ValueError, yaml.YAMLError) as e:
+        data = json.loads(text) if path.suffix == ".json" else load_yaml(text, str(path))
+    except (OSError, UnicodeDecodeError, ValueError) as e:
         raise AnytipError(f"{path}: cannot read ({e})") from None
     if not isinstance(data, dict):
         raise AnytipError(f"{path}: expected a mapping of keys to values")

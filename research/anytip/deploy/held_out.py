@@ -19,10 +19,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, model_paths
+from anytip.validation import read_yaml
 
 
 @dataclass
@@ -61,8 +61,8 @@ def _read_json(path: Path) -> dict[str, Any]:
 
 def _pipeline(run_dir: Path) -> str | None:
     try:
-        return (yaml.safe_load((run_dir / "config.yaml").read_text()) or {}).get("pipeline")
-    except (OSError, yaml.YAMLError):
+        return read_yaml(run_dir / "config.yaml").get("pipeline")
+    except AnytipError:
         return None
 
 
@@ -110,7 +110,7 @@ def _baseline(run_dir: Path, prov: dict[str, Any], seed: int | None, unit: str, 
     if registry is None:
         raise AnytipError(f"{run_dir}: the baseline's held-out patches are re-drawn from the registry; "
                           "give --registry")
-    cfg = yaml.safe_load((run_dir / "config.yaml").read_text())
+    cfg = read_yaml(run_dir / "config.yaml")
     fraction = float(cfg["splits"]["patch_test_fraction"])
     runs = [r for r in registry.list_runs(unit=unit) if r.run_id in set(prov.get("runs") or [])]
     if not runs:

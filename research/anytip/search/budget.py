@@ -16,12 +16,11 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from anytip.errors import AnytipError
 from anytip.rundir import builtin
-from anytip.validation import format_validation_error
+from anytip.validation import format_validation_error, read_yaml
 
 BUDGETS_DIR = builtin("configs") / "budgets"
 # Fitted to the compiled float32 export of 8-12-64-64-5 and 8-16-5 (arm-none-eabi-gcc -O2):
@@ -61,11 +60,10 @@ def load_budget(name_or_path: str | Path) -> Budget:
     path = Path(name_or_path)
     if not path.suffix:
         path = BUDGETS_DIR / f"{name_or_path}.yaml"
-    try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as e:
+    if not path.is_file():
         known = sorted(p.stem for p in BUDGETS_DIR.glob("*.yaml"))
-        raise AnytipError(f"{path}: cannot read budget ({e.strerror}); known budgets: {known}") from None
+        raise AnytipError(f"{path}: cannot read budget (no such file); known budgets: {known}")
+    data = read_yaml(path)
     try:
         return Budget.model_validate(data or {})
     except ValidationError as e:
