@@ -104,11 +104,8 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     best, best_loss, history, train_s = None, float("inf"), [], 0.0
     bar = ProgressBar(progress, total, f"shared over {U} units ({kind})")
     tick = time.perf_counter()
-    for step in range(total):
-        if step % sampler.steps_per_epoch == 0:
-            order = sampler.epoch()
+    for step, idx in sampler.steps(total):
         set_lr(opt, lr_at(step, total, recipe))
-        idx = order[step % sampler.steps_per_epoch]
         loss = unit_loss(model(X[rows_of, idx]), Y[rows_of, idx], hetero_beta).mean()
         if adapter_decay > 0:
             loss = loss + adapter_decay * model.deviation().mean()
@@ -185,11 +182,8 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
     prior = prior.to(device).float() / n_safe.float()
     opt = torch.optim.Adam(model.adapter_parameters(), lr=recipe.lr)
     constant = TrainRecipe(name="adapter", lr=recipe.lr, schedule="cosine", final_lr_frac=0.05)
-    for step in range(recipe.steps):
-        if step % sampler.steps_per_epoch == 0:
-            order = sampler.epoch()
+    for step, idx in sampler.steps(recipe.steps):
         set_lr(opt, lr_at(step, recipe.steps, constant))
-        idx = order[step % sampler.steps_per_epoch]
         fit_loss = unit_loss(model(Xs[rows_of, idx]), Ys[rows_of, idx], hetero_beta)
         loss = (weight * (fit_loss + prior * model.deviation())).sum()
         opt.zero_grad(set_to_none=True)

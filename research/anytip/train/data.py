@@ -7,7 +7,7 @@ n[u] rows of unit u are real. Nothing here reads files: `data/` builds these.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -138,6 +138,13 @@ class UnitSampler:
             orders.append(torch.cat(passes)[:length])
         U = len(self.n)
         return torch.stack(orders).view(U, self.steps_per_epoch, self.batch_size).transpose(0, 1)
+
+    def steps(self, total: int) -> Iterator[tuple[int, Tensor]]:
+        """(step, row indices (U, B)) for `total` steps, drawing a new epoch order as each ends."""
+        for step in range(total):
+            if step % self.steps_per_epoch == 0:
+                order = self.epoch()
+            yield step, order[step % self.steps_per_epoch]
 
 
 def _check_unit(u: UnitTensors, uid: str) -> None:

@@ -114,12 +114,9 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     train_s, loss_sum, n_loss = 0.0, torch.zeros(U, device=device), 0
     bar = ProgressBar(progress, total, f"fleet of {U} ({recipe.name})")
     tick = time.perf_counter()
-    for step in range(total):
-        if step % steps_per_epoch == 0:
-            order = sampler.epoch()  # (steps_per_epoch, U, B)
+    for step, idx in sampler.steps(total):
         lr = lr_at(step, total, recipe)
         set_lr(opt, lr)
-        idx = order[step % steps_per_epoch]
         loss_u = ((model(X[rows_of, idx]) - Y[rows_of, idx]) ** 2).mean(dim=(1, 2))  # (U,)
         opt.zero_grad(set_to_none=True)
         loss_u.sum().backward()

@@ -101,11 +101,8 @@ def train_hetero_fleet(data: FleetBatchData, config: MLPConfig | None = None,
     eval_at = eval_points(sampler.steps_per_epoch, recipe.evals_per_epoch)
     snapshot = BestSnapshot(model, recipe.patience)
     history: list[dict[str, Any]] = []
-    for step in range(total):
-        if step % sampler.steps_per_epoch == 0:
-            order = sampler.epoch()  # (steps, M, B)
+    for step, idx in sampler.steps(total):
         set_lr(opt, lr_at(step, total, recipe))
-        idx = order[step % sampler.steps_per_epoch]
         loss_m = unit_loss(model(X[unit_of, idx]), Y[unit_of, idx], beta)  # (M,)
         opt.zero_grad(set_to_none=True)
         loss_m.sum().backward()
