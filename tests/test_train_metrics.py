@@ -1,5 +1,6 @@
 import math
 
+import numpy as np
 import pytest
 import torch
 
@@ -18,6 +19,7 @@ from anytip.train import (
     rmse_per_output,
     time_to_target,
 )
+from anytip.train.metrics import binned_rmse, region_rmse, rmse
 from anytip.train.timing import select_units
 
 
@@ -83,3 +85,22 @@ def test_time_to_target():
     assert time_to_target([{"elapsed_s": 4.0, "val_force_rmse": 0.3}], 0.3) == 4.0
     assert time_to_target(history, [1.0, 1.2]) == 2.0  # one target per unit: all must be there
     assert time_to_target(select_units(history, [1]), [1.0]) == 1.0
+
+
+def test_binned_rmse_is_the_rmse_of_each_bin_and_nan_where_empty():
+    rng = np.random.default_rng(0)
+    pred, target = rng.normal(size=(200, 5)), rng.normal(size=(200, 5))
+    err2 = ((pred - target) ** 2).mean(axis=1)
+    bins = rng.integers(-1, 4, size=200)  # -1: outside every bin
+    out = binned_rmse(err2, bins, 5)
+    for b in range(4):
+        assert out[b] == pytest.approx(rmse(pred[bins == b], target[bins == b]), rel=1e-12)
+    assert np.isnan(out[4])
+
+
+def test_region_rmse_puts_each_row_in_its_cell_of_the_sensing_region():
+    angles = np.radians([[-44.0, -134.0], [-44.0, -134.0], [44.0, 44.0], [60.0, 0.0]])
+    grid, t_edges, p_edges = region_rmse(angles, np.array([1.0, 9.0, 4.0, 100.0]), cell_deg=7.5)
+    assert grid.shape == (len(t_edges) - 1, len(p_edges) - 1) == (12, 24)
+    assert grid[0, 0] == pytest.approx(np.sqrt(5.0)) and grid[-1, -1] == pytest.approx(2.0)
+    assert np.isfinite(grid).sum() == 2  # theta 60 deg lies outside the region

@@ -16,7 +16,7 @@ from anytip.pipelines.common import Context, load, per_unit_split, predict_units
 from anytip.report.baseline import write_report
 from anytip.train.data import FleetBatchData
 from anytip.train.fleet import train_fleet
-from anytip.train.metrics import scores
+from anytip.train.metrics import region_rmse, rmse_by_level, scores
 
 SPLITS = ("patches", "random")
 
@@ -50,8 +50,20 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                 figures_input[split] = (np.concatenate(preds), np.concatenate(s.Y_test))
                 pooled = scores(*figures_input[split])
                 figures_input[f"{split}_rmse"] = [pooled[f"{name}_rmse"] for name in OUTPUT_NAMES]
+                figures_input |= binned_errors(split, *figures_input[split])
         if seed == spec.all_seeds[0]:
             figures_input["history"] = fit.history
             figures_input["member_names"] = [f"{u} ({s})" for s in SPLITS for u in units]
     write_report(ctx, rows, figures_input)
     return rows
+
+
+def binned_errors(split: str, pred: np.ndarray, y: np.ndarray) -> dict[str, Any]:
+    """The report's binned RMSEs of one split's pooled rows pred, y (N, 5): force RMSE by |Fz|
+    bin, and (held-out patches only) force and angle RMSE over the contact region."""
+    err2_force = ((pred[:, :3] - y[:, :3]) ** 2).mean(axis=1)
+    out: dict[str, Any] = {f"force_by_fz_{split}": rmse_by_level(y[:, 2], err2_force)}
+    if split == "patches":
+        out["region_force"] = region_rmse(y[:, 3:], err2_force)
+        out["region_angle"] = region_rmse(y[:, 3:], ((pred[:, 3:] - y[:, 3:]) ** 2).mean(axis=1))
+    return out

@@ -44,20 +44,16 @@ def summary_table(rows: list[dict[str, Any]]) -> str:
 def write_report(ctx, rows: list[dict[str, Any]], fig: dict[str, Any]) -> None:
     out = ctx.run_dir
     spec = ctx.spec
-    (pred_p, y_p), (pred_r, y_r) = fig["patches"], fig["random"]
+    pred_p, y_p = fig["patches"]
     figures.parity(pred_p, y_p, fig["patches_rmse"], out / "parity_patches.png",
                    "held-out patches, all units")
-    err2_force = ((pred_p[:, :3] - y_p[:, :3]) ** 2).mean(axis=1)
-    err2_angle = ((pred_p[:, 3:] - y_p[:, 3:]) ** 2).mean(axis=1)
-    figures.region_heatmap(y_p[:, 3:], err2_force, out / "region_force.png",
-                           "force RMSE [N] over the contact region (held-out patches)")
-    figures.region_heatmap(y_p[:, 3:], err2_angle, out / "region_angle.png",
-                           "angle RMSE [rad] over the contact region (held-out patches)")
-    err2_force_r = ((pred_r[:, :3] - y_r[:, :3]) ** 2).mean(axis=1)
-    figures.error_vs_force(y_p[:, 2], {"held-out patches": err2_force}, out / "force_vs_fz.png",
-                           "force error against normal force")
-    figures.error_vs_force(y_r[:, 2], {"random rows": err2_force_r}, out / "force_vs_fz_random.png",
-                           "force error against normal force (random rows)")
+    for name, label in (("force", "force RMSE [N]"), ("angle", "angle RMSE [rad]")):
+        figures.region_heatmap(*fig[f"region_{name}"], out / f"region_{name}.png",
+                               f"{label} over the contact region (held-out patches)")
+    for split, label, suffix in (("patches", "held-out patches", ""), ("random", "random rows", "_random")):
+        centres, values = fig[f"force_by_fz_{split}"]
+        figures.error_vs_force(centres, {label: values}, out / f"force_vs_fz{suffix}.png",
+                               "force error against normal force" + (f" ({label})" if suffix else ""))
     names = fig["member_names"]
     curves = {names[u]: [(h["epoch"], h["val_force_rmse"][u]) for h in fig["history"]]
               for u in range(len(names)) if "(patches)" in names[u]}

@@ -45,35 +45,23 @@ def parity(pred: np.ndarray, target: np.ndarray, rmse: Sequence[float], path: Pa
     return save_figure(fig, path)
 
 
-def region_heatmap(angles: np.ndarray, err2: np.ndarray, path: Path, title: str,
-                   cell_deg: float = 7.5) -> Path:
-    """RMSE over the contact region. angles (N, 2) rad; err2 (N,) squared error per row."""
-    deg = np.degrees(angles)
-    t_edges = np.arange(-45, 45 + cell_deg, cell_deg)
-    p_edges = np.arange(-135, 45 + cell_deg, cell_deg)
-    s, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges], weights=err2)
-    n, _, _ = np.histogram2d(deg[:, 0], deg[:, 1], bins=[t_edges, p_edges])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rmse = np.sqrt(s / n)
+def region_heatmap(grid: np.ndarray, t_edges: np.ndarray, p_edges: np.ndarray, path: Path,
+                   title: str) -> Path:
+    """A value per cell of the contact region: grid (T, P) over theta edges (T+1,) and phi
+    edges (P+1,), in degrees."""
     fig, ax = subplots(figsize=(8, 4.2))
-    im = ax.pcolormesh(p_edges, t_edges, rmse, shading="flat", cmap="viridis")
+    im = ax.pcolormesh(p_edges, t_edges, grid, shading="flat", cmap="viridis")
     fig.colorbar(im, ax=ax, label="RMSE")
     ax.set(xlabel="phi [deg]", ylabel="theta [deg]", title=title, aspect="equal")
     return save_figure(fig, path)
 
 
-def error_vs_force(normal_force: np.ndarray, curves: Mapping[str, np.ndarray], path: Path,
-                   title: str, ylabel: str = "force RMSE [N]", n_bins: int = 10) -> Path:
-    """RMSE against |Fz| bins; `curves` maps a label to (N,) squared errors on the same rows."""
-    fz = np.abs(normal_force)
-    edges = np.linspace(0, max(float(fz.max()), 1e-6), n_bins + 1)
-    which = np.clip(np.digitize(fz, edges) - 1, 0, n_bins - 1)
-    centres = 0.5 * (edges[1:] + edges[:-1])
+def error_vs_force(centres: np.ndarray, curves: Mapping[str, np.ndarray], path: Path,
+                   title: str, ylabel: str = "force RMSE [N]") -> Path:
+    """Error against |Fz|: `curves` maps a label to one value per bin centre (N)."""
     fig, ax = subplots(figsize=(6, 4))
-    for label, err2 in curves.items():
-        rmse = [np.sqrt(err2[which == b].mean()) if (which == b).any() else np.nan
-                for b in range(n_bins)]
-        ax.plot(centres, rmse, "o-", label=label)
+    for label, values in curves.items():
+        ax.plot(centres, values, "o-", label=label)
     ax.set(xlabel="|Fz| [N]", ylabel=ylabel, title=title)
     ax.legend()
     ax.grid(alpha=0.3)

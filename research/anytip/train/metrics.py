@@ -67,6 +67,41 @@ def scores(pred: np.ndarray, target: np.ndarray) -> dict[str, float]:
     return out
 
 
+def binned_rmse(err2: np.ndarray, bins: np.ndarray, n_bins: int) -> np.ndarray:
+    """RMSE within each bin: err2 (N,) squared errors, bins (N,) int bin of each row (rows
+    outside 0..n_bins-1 are left out) -> (n_bins,) float64, NaN where a bin is empty."""
+    keep = (bins >= 0) & (bins < n_bins)
+    total = np.bincount(bins[keep], weights=err2[keep], minlength=n_bins)
+    count = np.bincount(bins[keep], minlength=n_bins)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.sqrt(total / count)
+
+
+def region_rmse(angles: np.ndarray, err2: np.ndarray,
+                cell_deg: float = 7.5) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """RMSE over the sensing region (theta in [-45, 45] deg, phi in [-135, 45] deg) in square
+    cells: angles (N, 2) rad, err2 (N,) -> (grid (T, P), theta edges (T+1,), phi edges (P+1,)),
+    edges in degrees; a cell without rows is NaN."""
+    deg = np.degrees(angles)
+    t_edges = np.arange(-45, 45 + cell_deg, cell_deg)
+    p_edges = np.arange(-135, 45 + cell_deg, cell_deg)
+    t = np.digitize(deg[:, 0], t_edges) - 1
+    p = np.digitize(deg[:, 1], p_edges) - 1
+    T, P = len(t_edges) - 1, len(p_edges) - 1
+    inside = (t >= 0) & (t < T) & (p >= 0) & (p < P)
+    bins = np.where(inside, t * P + p, -1)
+    return binned_rmse(err2, bins, T * P).reshape(T, P), t_edges, p_edges
+
+
+def rmse_by_level(level: np.ndarray, err2: np.ndarray, n_bins: int = 10) -> tuple[np.ndarray, np.ndarray]:
+    """RMSE in `n_bins` equal bins of |level| from 0 to its maximum (e.g. normal force in N):
+    level, err2 (N,) -> (bin centres (n_bins,), RMSE (n_bins,), NaN where empty)."""
+    mag = np.abs(level)
+    edges = np.linspace(0, max(float(mag.max()), 1e-6), n_bins + 1)
+    which = np.clip(np.digitize(mag, edges) - 1, 0, n_bins - 1)
+    return 0.5 * (edges[1:] + edges[:-1]), binned_rmse(err2, which, n_bins)
+
+
 @torch.no_grad()
 def predict(model: Callable[[Tensor], Tensor], in_scaler: Scaler, out_scaler: Scaler, X: Tensor,
             chunk_elems: int = 1 << 22) -> Tensor:
