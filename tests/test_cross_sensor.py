@@ -222,3 +222,81 @@ def test_calibrate_refuses_a_damaged_run_config(cross_run, two_protocol_registry
                  str(two_protocol_registry.root), "--out", str(tmp_path / "c")])
     err = capsys.readouterr().err
     assert code == 2 and "config.yaml" in err and key in err and "Traceback" not in err
+
+
+SECONDS = [*TINY[:3], "options.budget_unit=seconds", "options.budgets=[0,8,40]",
+           "options.plan_strategies=[first,spread]", "options.adapters=[input_affine+film]",
+           "options.priors=[1,100]", "options.calibration_protocol=null", "options.adapter_steps=60",
+           "options.scratch.epochs=5", "options.sweep_seeds=0", "splits.n_val_units=1",
+           "splits.n_test_units=2"]
+
+
+@pytest.fixture(scope="module")
+def seconds_run(two_protocol_registry, tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("run") / "seconds"
+    return run_experiment(SPEC, two_protocol_registry, out=out, overrides=SECONDS, progress=False)
+
+
+def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run):
+    rows = json.loads((seconds_run / "metrics.json").read_text())["results"]
+    timed = [r for r in rows if "budget_s" in r and r["budget_s"] > 0]
+    assert {r["method"] for r in timed} == {f"{m}@{s}" for m in ("scratch", "adapted:input_affine+film")
+                                            for s in ("first", "spread")}
+    for r in timed:
+        assert 0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1
+        assert r["n_effective"] <= r["calib_samples"]
+    big = [r for r in timed if r["budget_s"] == 40]
+    assert all(r["presses"] > 1 for r in big)
+    report = (seconds_run / "report.md").read_text()
+    assert "robot seconds of whole presses" in report and "<= 120 s of robot time" in report
+    meta = load_shared(find_shared(seconds_run, "input_affine+film")[0]).meta
+    assert meta["budget_unit"] == "seconds" and meta["plan_strategy"] == "spread"
+    assert set(meta["priors_by_budget"]) == {"8", "40"}
+
+
+def test_plans_never_touch_test_patches(two_protocol_registry, tmp_path):
+    from anytip.pipelines.cross_sensor import budget_list, plan_of
+
+    spec = load_spec(SPEC, SECONDS)
+    ctx = Context(spec, two_protocol_registry, tmp_path, torch.device("cpu"), False)
+    opts = parse_options(ctx)
+    arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs())
+    sd = prepare(ctx, arrays, opts, seed=0)
+    for unit, ev in sd.evals.items():
+        test_cells = set(arrays.patch[ev.test_rows])
+        for b in budget_list(opts, [8.0, 40.0, 1e5]):
+            plan = plan_of(sd, unit, b, opts, 0)
+            assert test_cells.isdisjoint(arrays.patch[plan.rows])
+            assert not np.isin(plan.rows, ev.test_rows).any()
+            assert plan.calib_seconds <= b.amount
+
+
+def test_calibrate_by_seconds_selects_presses_like_the_benchmark(seconds_run, two_protocol_registry, tmp_path,
+                                                                 capsys):
+    prov = json.loads((seconds_run / "provenance.json").read_text())
+    unit = prov["cross_sensor"]["seed0"]["units"]["test"][0]
+    result = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "s", budget_seconds=40.0)
+    assert 0 < result.calib_seconds <= 40.0
+    loaded = load_models(tmp_path / "s")
+    assert loaded.meta["calib_presses"] > 1 and loaded.meta["n_effective"] <= loaded.meta["calib_samples"]
+    assert result.prior == loaded.meta["prior"]
+    with pytest.raises(AnytipError, match="give --budget-seconds"):
+        calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "x", budget_samples=100)
+
+
+def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):
+    out = tmp_path / "plan.csv"
+    assert main(["calibrate", "--plan", "120", "--out", str(out)]) == 0
+    assert "112.3 s of robot time" in capsys.readouterr().out
+    table = np.genfromtxt(out, delimiter=",", names=True)
+    assert table.dtype.names == ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
+    assert np.all(np.diff(table["time_s"]) >= 0) and table["time_s"][-1] <= 120
+    assert set(table["orientation_deg"]) == {0.0, -90.0}  # together they cover phi in [-135, 45]
+    assert table["theta_deg"].min() >= -45 and table["theta_deg"].max() <= 45
+    assert table["phi_deg"].min() >= -135 and table["phi_deg"].max() <= 45
+    assert -table["fz_n"].max() >= 0 and -table["fz_n"].min() <= 25.0
+    shear = np.hypot(table["fx_n"], table["fy_n"])
+    assert shear.max() > 0 and np.all(shear <= 0.8 * -table["fz_n"] + 1e-9)
+    assert main(["calibrate", "--plan", "120", "--out", str(out)]) == 2  # exists, no --force
+    assert main(["calibrate", "--plan", "1", "--out", str(tmp_path / "p1.csv")]) == 2
+    assert "holds no press" in capsys.readouterr().err

@@ -2,10 +2,12 @@
 
 Takes the unit's calibration stream from the registry (its runs of the shared model's
 calibration protocol, in recorded order), sets its input statistics from the stream's
-pressures (no labels), fits its adapter on the first N labeled rows, folds it into a plain
+pressures (no labels), fits its adapter on a budget of labeled rows, folds it into a plain
 MLP of the deployed shape and saves it in the per-unit model format (models/io.py), which
-is what export reads. Rows of the unit's other runs, which calibration never touched,
-score the result when there are any.
+is what export reads. The budget is chosen as the shared model's benchmark chose it: whole
+presses up to a number of robot seconds (data/plans.py, for models benchmarked in seconds),
+or the first N rows of the stream. Rows of the unit's other runs, which calibration never
+touched, score the result when there are any.
 """
 
 from __future__ import annotations
@@ -18,8 +20,9 @@ from typing import Any
 import numpy as np
 import torch
 
-from anytip.data.arrays import load_arrays
+from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
+from anytip.data.plans import Plan, RigTiming, find_presses, select_presses, stream_plan
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import SHARED_FORMAT, load_shared, model_paths, read_header, save_models
@@ -110,8 +113,8 @@ def _val_loss(path: Path, budget: int | None) -> float | None:
     losses = meta.get("val_loss_by_budget") if isinstance(meta, dict) else None
     if not isinstance(losses, dict):
         return None
-    table = {int(b): float(v) for b, v in losses.items()
-             if str(b).isdigit() and isinstance(v, (int, float)) and math.isfinite(v)}
+    table = {float(b): float(v) for b, v in losses.items()
+             if _is_amount(b) and isinstance(v, (int, float)) and math.isfinite(v)}
     if budget is None:
         return float(np.mean(list(table.values()))) if table else None
     below = [b for b in table if b <= budget]
@@ -138,11 +141,61 @@ def budget_rows(stream: CalibrationStream, samples: int | None, seconds: float |
     return n, ""
 
 
-def prior_for(meta: dict[str, Any], n: int) -> float:
-    """The validation-chosen prior of the largest benchmarked budget <= n (else the default)."""
-    table = {int(b): float(p) for b, p in meta.get("priors_by_budget", {}).items()}
+def _is_amount(text: Any) -> bool:
+    try:
+        return math.isfinite(float(text)) and float(text) >= 0
+    except (TypeError, ValueError):
+        return False
+
+
+def prior_for(meta: dict[str, Any], n: float) -> float:
+    """The validation-chosen prior of the largest benchmarked budget <= n (labeled samples, or
+    robot seconds for a model benchmarked in seconds), else the default."""
+    table = {float(b): float(p) for b, p in meta.get("priors_by_budget", {}).items() if _is_amount(b)}
     below = [b for b in table if b <= n]
     return table[max(below)] if below else float(meta.get("default_prior", 10.0))
+
+
+DEFAULT_SECONDS = 120.0  # a budget in seconds when none is given: the 2-minute calibration
+
+
+def benchmarked_in(model: str | Path) -> str:
+    """'seconds' or 'samples': how the benchmark behind `model` (a run directory or a shared
+    model file) budgeted calibrations."""
+    model = Path(model)
+    if model.suffix in (".safetensors", ".json"):
+        meta = read_header(model_paths(model.with_suffix(".safetensors"))[1], SHARED_FORMAT).get("meta", {})
+        unit = meta.get("budget_unit", "samples") if isinstance(meta, dict) else "samples"
+    else:
+        unit = _run_config(model).get("options", {}).get("budget_unit", "samples")
+    if unit not in ("samples", "seconds"):
+        raise AnytipError(f"{model}: budget_unit {unit!r} is neither 'samples' nor 'seconds'")
+    return unit
+
+
+def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationStream,
+                budget_samples: int | None, budget_seconds: float | None) -> tuple[Plan, float, str]:
+    """The labeled rows of a new unit's calibration, the budget they were chosen for (the key
+    of the prior) and a note when a budget was clipped to what the unit recorded."""
+    if meta.get("budget_unit", "samples") == "seconds":
+        if budget_samples is not None:
+            raise AnytipError("the shared model was benchmarked with budgets in robot seconds; "
+                              "give --budget-seconds, not --budget-samples")
+        seconds = DEFAULT_SECONDS if budget_seconds is None else budget_seconds
+        if not math.isfinite(seconds) or seconds < 0:
+            raise AnytipError(f"--budget-seconds must be a finite number >= 0, got {seconds}")
+        outside = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
+        presses = find_presses(arrays, stream.unit, outside)
+        rig = RigTiming(**{k: float(v) for k, v in meta.get("rig", {}).items()})
+        plan = select_presses(presses, seconds, rig, meta.get("plan_strategy", "spread"),
+                              int(meta.get("seed", 0)))
+        total = float(presses.duration_s.sum() + rig.move_s * len(presses))
+        note = (f"--budget-seconds {seconds:g}: the unit's runs hold {len(presses)} presses, all of them "
+                f"used ({plan.calib_seconds:.1f} robot-s)") if plan.presses == len(presses) and \
+            seconds > total else ""
+        return plan, seconds, note
+    n, note = budget_rows(stream, budget_samples, budget_seconds)
+    return stream_plan(stream, n), float(n), note
 
 
 def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | Path,
@@ -151,7 +204,10 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     """Fit, fold and save one unit's model; see the module docstring."""
     if budget_samples is not None and budget_seconds is not None:
         raise AnytipError("give --budget-samples or --budget-seconds, not both")
-    wanted = (1000 if budget_samples is None else budget_samples) if budget_seconds is None else None
+    if benchmarked_in(model) == "seconds":
+        wanted = DEFAULT_SECONDS if budget_seconds is None else budget_seconds
+    else:
+        wanted = (1000 if budget_samples is None else budget_samples) if budget_seconds is None else None
     shared_path, choice = find_shared(model, adapter, seed, wanted)
     shared = load_shared(shared_path)
     meta = shared.meta
@@ -166,28 +222,29 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     arrays = load_arrays(registry, records)
     stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"),
                                 interleave=bool(meta.get("calibration_interleave", False)))
-    n, clipped = budget_rows(stream, budget_samples, budget_seconds)
+    plan, budget, clipped = choose_plan(meta, arrays, stream, budget_samples, budget_seconds)
+    n = len(plan.rows)
     notes = [f"shared model {shared_path.name}: {choice}"] + ([clipped] if clipped else [])
     if unit in meta.get("unit_ids", []):
         notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
                      "calibration check is not an unseen-unit result")
-    prior = prior_for(meta, n)
-    labeled = stream.first(n)
+    prior = prior_for(meta, budget)
     unlabeled = [torch.from_numpy(arrays.pressure[stream.rows])]
-    X, Y = [torch.from_numpy(arrays.pressure[labeled])], [torch.from_numpy(arrays.targets[labeled])]
+    X, Y = [torch.from_numpy(arrays.pressure[plan.rows])], [torch.from_numpy(arrays.targets[plan.rows])]
     recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
     folded, stats = calibrate_and_fold(shared, unlabeled, X, Y, [n], [prior], recipe,
-                                       seed=int(meta.get("seed", 0)))
+                                       seed=int(meta.get("seed", 0)), n_effective=[plan.n_effective])
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
     check = None
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
         check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other])}
-    result = Calibrated(Path(out), unit, n, stream.seconds_for(n), len(stream.rows), prior, check, notes)
+    result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(stream.rows), prior, check, notes)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
         "adapter": shared.model.kind, "calib_samples": n, "calib_seconds": result.calib_seconds,
+        "calib_presses": plan.presses, "n_effective": plan.n_effective,
         "unlabeled_samples": result.unlabeled_samples, "prior": prior,
         "calibration_runs": list(stream.runs), "check_on_other_runs": check,
     })

@@ -10,7 +10,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from anytip.errors import AnytipError
-from anytip.rundir import dumps_json
+from anytip.rundir import dumps_json, write_text
 from anytip.validation import mask_secrets
 
 
@@ -127,6 +127,11 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_calibrate(args: argparse.Namespace) -> int:
     from anytip.calibrate import calibrate_unit
 
+    if args.plan is not None:
+        return write_plan(args)
+    missing = [f"--{k}" for k in ("model", "unit") if getattr(args, k) is None]
+    if missing:
+        raise AnytipError(f"calibrate needs {' and '.join(missing)} (or --plan SECONDS to write a plan)")
     out = Path(args.out)
     if (out / "model.safetensors").exists() and not args.force:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
@@ -140,6 +145,24 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     if r.check is not None:
         print(f"on the unit's other runs ({r.check['rows']} rows, not used to calibrate): force RMSE "
               f"{r.check['force_rmse_n']:.3f} N, angle RMSE {r.check['angle_rmse_rad']:.4f} rad")
+    return 0
+
+
+def write_plan(args: argparse.Namespace) -> int:
+    """`anytip calibrate --plan SECONDS --out plan.csv`: the designed calibration as waypoints."""
+    from anytip.data.plans import RigTiming, designed_plan_csv
+
+    given = [f"--{k.replace('_', '-')}" for k in ("model", "unit", "budget_samples", "budget_seconds")
+             if getattr(args, k) is not None]
+    if given:
+        raise AnytipError(f"--plan writes a plan for the rig; it takes no {', '.join(given)}")
+    out = Path(args.out)
+    if out.exists() and not args.force:
+        raise AnytipError(f"--out {out}: exists; choose another or pass --force")
+    text, seconds = designed_plan_csv(args.plan, RigTiming(args.move_s, args.remount_s), args.seed or 0)
+    write_text(out, text)
+    print(f"wrote {out}: {text.count(chr(10)) - 1} waypoints, {seconds:.1f} s of robot time "
+          f"(moves {args.move_s:g} s, re-mounts {args.remount_s:g} s)")
     return 0
 
 
@@ -228,18 +251,28 @@ def build_parser() -> argparse.ArgumentParser:
     search.add_argument("--workers", type=int, default=None, help="processes sharing the study here")
     cal = sub.add_parser("calibrate", help="fit a new unit's adapter and save its folded model")
     _add_registry_opt(cal)
-    cal.add_argument("--model", required=True,
-                     help="a cross_sensor run directory, or a shared model .safetensors file")
-    cal.add_argument("--unit", required=True, help="the unit's id in the registry")
+    cal.add_argument("--model", help="a cross_sensor run directory, or a shared model .safetensors file")
+    cal.add_argument("--unit", help="the unit's id in the registry")
+    cal.add_argument("--plan", type=float, default=None, metavar="SECONDS",
+                     help="write the designed calibration of SECONDS robot-seconds to --out as "
+                          "robot waypoints (CSV, docs/cross_sensor.md) instead of calibrating")
+    cal.add_argument("--move-s", type=float, default=2.0,
+                     help="with --plan: seconds per move between presses")
+    cal.add_argument("--remount-s", type=float, default=30.0,
+                     help="with --plan: seconds per change of orientation")
     budget = cal.add_mutually_exclusive_group()
     budget.add_argument("--budget-samples", type=int, default=None,
                         help="labeled rows from the start of the calibration stream "
                              "(default 1000; 0: label-free)")
     budget.add_argument("--budget-seconds", type=float, default=None,
-                        help="labeled rows within this many robot-seconds of the stream")
+                        help="robot-seconds of calibration: whole presses chosen as the shared "
+                             "model's benchmark chose them, or, for a model benchmarked in samples, "
+                             "the rows within this many robot-seconds of the stream")
     cal.add_argument("--adapter", default=None, help="adapter kind of the run's shared models")
-    cal.add_argument("--seed", type=int, default=None, help="which seed's shared model of the run")
-    cal.add_argument("--out", required=True, help="directory for the folded per-unit model")
+    cal.add_argument("--seed", type=int, default=None,
+                     help="which seed's shared model of the run (with --plan: the press points' draw)")
+    cal.add_argument("--out", required=True,
+                     help="directory for the folded per-unit model (with --plan: the CSV file)")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",

@@ -24,6 +24,8 @@ PATCH_GRID = (6, 12)  # theta cells x phi cells of the sensing region
 CONTACT_FORCE_N = 0.5  # |F| threshold that marks contact when a run has no in_contact
 # the targets' columns, in the order of FleetArrays.targets: force in N, then angles in rad
 OUTPUT_NAMES = ("fx", "fy", "fz", "theta", "phi")
+# each target's columns in FleetArrays.targets: force (N) and contact angles (rad)
+TARGET_SLICES = {"force": slice(0, 3), "angles": slice(3, 5)}
 
 
 @dataclass

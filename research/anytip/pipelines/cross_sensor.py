@@ -24,7 +24,7 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
-from anytip.data.calibration import CalibrationStream
+from anytip.data.plans import Budget, BudgetUnit, Plan, RigTiming, Strategy, plan_for
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.io import save_shared
@@ -57,13 +57,33 @@ SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1
                       epochs=100, schedule="cosine", final_lr_frac=0.01, keep_best=False)
 
 
+class RigOptions(BaseModel):
+    """`options.rig`: rig time besides contact, and the labels' decorrelation rate."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    move_s: float = Field(default=RigTiming.move_s, ge=0, le=3600)
+    remount_s: float = Field(default=RigTiming.remount_s, ge=0, le=36_000)
+    effective_hz: float = Field(default=RigTiming.effective_hz, gt=0, le=100_000)
+
+    def timing(self) -> RigTiming:
+        return RigTiming(self.move_s, self.remount_s, self.effective_hz)
+
+
 class Options(BaseModel):
     """`options:` of a cross_sensor spec."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
-    budgets: list[Annotated[int, Field(ge=0, le=10_000_000)]] = Field(default=[0, 50, 200, 1000, 5000],
-                                                                  min_length=1)
+    budgets: list[Annotated[float, Field(ge=0, le=10_000_000)]] = Field(
+        default=[0, 50, 200, 1000, 5000], min_length=1,
+        description="labeled samples (budget_unit samples) or robot seconds (budget_unit seconds)")
+    budget_unit: BudgetUnit = Field(
+        default="samples", description="samples: the first rows of the calibration stream; seconds: "
+                                       "whole presses up to that robot time (data/plans.py)")
+    plan_strategies: list[Strategy] = Field(
+        default=["spread"], min_length=1, description="press selections compared (budget_unit seconds)")
+    rig: RigOptions = RigOptions()
     adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
     priors: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
         default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
@@ -78,7 +98,7 @@ class Options(BaseModel):
     scratch: TrainRecipe = SCRATCH
     train_unit_counts: list[Annotated[int, Field(ge=1, le=100_000)]] = [4, 8, 16]
     sweep_adapter: str = "input_affine+film"
-    sweep_budget: int = Field(default=1000, ge=0, le=10_000_000)
+    sweep_budget: float = Field(default=1000, ge=0, le=10_000_000)
     sweep_seeds: int = Field(default=1, ge=0, le=1000)  # the first k seeds also run the unit-count sweep
 
 
@@ -89,9 +109,20 @@ def parse_options(ctx: Context) -> Options:
     opts = validate_options(ctx, Options, raw)
     for kind in [*opts.adapters, opts.sweep_adapter]:
         parse_kind(kind)
-    if any(b < 0 for b in opts.budgets):
-        raise AnytipError(f"options.budgets: budgets are sample counts >= 0, got {opts.budgets}")
+    if opts.budget_unit == "samples" and any(b != int(b) for b in opts.budgets):
+        raise AnytipError(f"options.budgets: with budget_unit samples, budgets are whole sample counts, "
+                          f"got {opts.budgets}")
     return opts
+
+
+def budget_list(opts: Options, amounts: list[float] | None = None) -> list[Budget]:
+    """The spec's budgets (or `amounts`): one per amount, or in seconds one per amount and press
+    selection strategy (the label-free budget 0 once)."""
+    amounts = opts.budgets if amounts is None else amounts
+    if opts.budget_unit == "samples":
+        return [Budget(int(b)) for b in amounts]
+    return [Budget(float(b), "seconds", s) for b in amounts
+            for s in (opts.plan_strategies if b > 0 else opts.plan_strategies[:1])]
 
 
 def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> SeedData:
@@ -119,10 +150,10 @@ def run(ctx: Context) -> list[dict[str, Any]]:
 
 def summarise(rows: list[dict[str, Any]]) -> str:
     """One screen: mean RMSE and ratio to per_unit per (method, labeled samples)."""
-    lines = [f"{'method':<38}{'samples':>8}{'force [N]':>11}{'ratio':>8}{'angle [rad]':>13}{'ratio':>8}"]
+    lines = [f"{'method':<46}{'budget':>8}{'force [N]':>11}{'ratio':>8}{'angle [rad]':>13}{'ratio':>8}"]
     for s in summary(full_set_rows(rows)):
-        budget = "full" if s["budget"] < 0 else str(s["budget"])
-        lines.append(f"{s['method']:<38}{budget:>8}{s['force']:>11.3f}{s['force_ratio']:>7.2f}x"
+        budget = "full" if s["budget"] < 0 else f"{s['budget']:g}"
+        lines.append(f"{s['method']:<46}{budget:>8}{s['force']:>11.3f}{s['force_ratio']:>7.2f}x"
                      f"{s['angle']:>13.4f}{s['angle_ratio']:>7.2f}x")
     return "\n".join(lines)
 
@@ -137,19 +168,20 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), spec.model,
                           "none", spec.training, seed, ctx.device, ctx.progress)
     rows += [dict(base, **r) for r in pooled_rows(pooled, arrays, sd)]
-    priors_chosen: dict[str, dict[int, float]] = {}
+    priors_chosen: dict[str, dict[Budget, float]] = {}
     for kind in ["none", *opts.adapters]:
         shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay)
-        kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, opts.budgets)
+        kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts))
         rows += [dict(base, **r) for r in kind_rows]
         priors_chosen[kind] = chosen
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"))
-        meta["val_loss_by_budget"] = {str(b): v for b, v in sorted(val_loss.items())}
+        meta["val_loss_by_budget"] = by_budget(val_loss, opts)
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
-        "units": sd.split.to_json(), "priors_chosen": priors_chosen,
+        "units": sd.split.to_json(),
+        "priors_chosen": {k: {b.label: p for b, p in v.items()} for k, v in priors_chosen.items()},
         "test_patches": {u: np.unique(arrays.patch[e.test_rows]).tolist() for u, e in sd.evals.items()},
         "calibration_runs": {u: list(e.stream.runs) for u, e in sd.evals.items()},
     }
@@ -195,44 +227,62 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
             for k, u in enumerate(units)]
 
 
+def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int) -> Plan:
+    """The labeled rows `budget` grants `unit` (a stream prefix or whole presses)."""
+    ev = sd.evals[unit]
+    return plan_for(budget, ev.stream, ev.presses, opts.rig.timing(), seed)
+
+
+def budget_fields(budget: Budget, plan: Plan) -> dict[str, Any]:
+    """What a row says of its calibration: labeled samples and robot seconds, and for a
+    budget in seconds the budget, the press selection and the plan's presses."""
+    out: dict[str, Any] = {"calib_samples": int(len(plan.rows)), "calib_seconds": plan.calib_seconds}
+    if budget.unit == "seconds":
+        out |= {"budget_s": budget.amount, "plan": budget.strategy, "presses": plan.presses,
+                "n_effective": plan.n_effective, "orientations": len(plan.orientations)}
+    return out
+
+
+def _suffix(budget: Budget) -> str:
+    return f"@{budget.strategy}" if budget.unit == "seconds" and budget.amount > 0 else ""
+
+
 def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                  seed: int) -> list[dict[str, Any]]:
     """The paper's MLP trained on the budget alone (no held-out rows; no model selection)."""
-    jobs = [(u, b) for u in sd.split.test for b in opts.budgets if b > 0]
+    jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in sd.split.test for b in budget_list(opts)
+            if b.amount > 0]
+    jobs = [j for j in jobs if len(j[2].rows)]
     if not jobs:
         return []
-    members = []
-    for u, b in jobs:
-        r = sd.evals[u].stream.first(b)
-        members.append(unit_tensors(arrays, r, r, f"{u}@{b}"))
+    members = [unit_tensors(arrays, plan.rows, plan.rows, f"{u}@{b.label}") for u, b, plan in jobs]
     data = FleetBatchData.from_units(members, ctx.device)
     fit = train_fleet(data, ctx.spec.model, opts.scratch, seed=seed, device=ctx.device,
                       progress=ctx.progress)
     preds = predict_rows(fit.model, fit.in_scaler, fit.out_scaler, arrays,
-                         [sd.evals[u].test_rows for u, _ in jobs])
-    return [{"method": "scratch", "unit": u, "calib_samples": int(data.n_train[k]),
-             "calib_seconds": sd.evals[u].stream.seconds_for(b),
+                         [sd.evals[u].test_rows for u, _, _ in jobs])
+    return [{"method": "scratch" + _suffix(b), "unit": u, **budget_fields(b, plan),
              **scores(preds[k], arrays.targets[sd.evals[u].test_rows])}
-            for k, (u, b) in enumerate(jobs)]
+            for k, (u, b, plan) in enumerate(jobs)]
 
 
-def calibrate_many(shared: SharedFit, arrays: FleetArrays, streams: list[CalibrationStream],
-                   budgets: list[int], priors: list[float], recipe: AdapterRecipe,
+def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
+                   plans: list[Plan], priors: list[float], recipe: AdapterRecipe,
                    seed: int, fit_kind: str | None = None) -> tuple[BatchedMLP, Scaler]:
-    """Fit and fold one adapter per (stream, budget, prior) job; each unit's input statistics
-    come from its whole stream's pressures (no labels)."""
-    rows = [s.first(b) for s, b in zip(streams, budgets, strict=True)]
-    unlabeled = [torch.from_numpy(arrays.pressure[s.rows]) for s in streams]
-    X = [torch.from_numpy(arrays.pressure[r]) for r in rows]
-    Y = [torch.from_numpy(arrays.targets[r]) for r in rows]
-    return calibrate_and_fold(shared, unlabeled, X, Y, [len(r) for r in rows], priors, recipe, seed,
-                              fit_kind)
+    """Fit and fold one adapter per (unit, plan, prior) job: its input statistics from the
+    unit's unlabeled rows (its whole stream's pressures), its adapter from the plan's rows, the
+    prior scaled by the plan's effective sample count."""
+    unlabeled = [torch.from_numpy(arrays.pressure[r]) for r in unlabeled_rows]
+    X = [torch.from_numpy(arrays.pressure[p.rows]) for p in plans]
+    Y = [torch.from_numpy(arrays.targets[p.rows]) for p in plans]
+    return calibrate_and_fold(shared, unlabeled, X, Y, [len(p.rows) for p in plans], priors, recipe, seed,
+                              fit_kind, [p.n_effective for p in plans])
 
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
-                 seed: int, budgets: list[int], fixed_priors: dict[int, float] | None = None,
+                 seed: int, budgets: list[Budget], fixed_priors: dict[Budget, float] | None = None,
                  fit_kind: str | None = None
-                 ) -> tuple[list[dict[str, Any]], dict[int, float], dict[int, float]]:
+                 ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
     """Rows of one shared model on the held-out units at every budget, the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead), and
     the validation units' mean standardised MSE per budget at that prior (empty when fixed)."""
@@ -240,16 +290,17 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     method = "adapted:input_stats" if kind == "none" else f"adapted:{kind}"
     fits = kind != "none"
     if fixed_priors is not None:
-        priors_of = {b: [fixed_priors[b]] for b in budgets if b > 0}
+        priors_of = {b: [fixed_priors[b]] for b in budgets if b.amount > 0}
     else:
-        priors_of = {b: list(opts.priors) for b in budgets if b > 0}
+        priors_of = {b: list(opts.priors) for b in budgets if b.amount > 0}
     targets = list(sd.split.test) + ([] if fixed_priors is not None else list(sd.split.val))
     jobs = [(u, b, p) for u in targets for b in budgets
-            for p in (priors_of.get(b, [0.0]) if b > 0 else [0.0]) if fits or b == 0]
+            for p in (priors_of.get(b, [0.0]) if b.amount > 0 else [0.0]) if fits or b.amount == 0]
+    plans = {(u, b): plan_of(sd, u, b, opts, seed) for u, b, _ in jobs}
     recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
-    folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream for u, _, _ in jobs],
-                                   [b for _, b, _ in jobs], [p for _, _, p in jobs], recipe, seed,
-                                   fit_kind)
+    folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.rows for u, _, _ in jobs],
+                                   [plans[(u, b)] for u, b, _ in jobs], [p for _, _, p in jobs], recipe,
+                                   seed, fit_kind)
     preds = predict_rows(folded, stats, shared.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     chosen, val_loss = dict(fixed_priors or {}), {}
@@ -259,21 +310,21 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         val_loss = {b: float(np.mean(v)) for (b, p), v in loss.items() if p == chosen.get(b, p)}
     rows = []
     for (u, b, p), pred in zip(jobs, preds, strict=True):
-        if u not in sd.split.test or (b > 0 and p != chosen.get(b, p)):
+        if u not in sd.split.test or (b.amount > 0 and p != chosen.get(b, p)):
             continue
-        stream = sd.evals[u].stream
-        rows.append({"method": method, "unit": u, "calib_samples": min(b, len(stream.rows)),
-                     "calib_seconds": stream.seconds_for(b), "unlabeled_samples": len(stream.rows),
-                     "prior": p if b > 0 else None, **scores(pred, arrays.targets[sd.evals[u].test_rows])})
+        rows.append({"method": method + _suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
+                     "unlabeled_samples": len(sd.evals[u].stream.rows),
+                     "prior": p if b.amount > 0 else None,
+                     **scores(pred, arrays.targets[sd.evals[u].test_rows])})
     return rows, chosen, val_loss
 
 
-def validation_losses(jobs: list[tuple[str, int, float]], preds: list[np.ndarray], sd: SeedData,
+def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndarray], sd: SeedData,
                       arrays: FleetArrays, val_units: set[str],
-                      out_scaler: Scaler) -> dict[tuple[int, float], list[float]]:
+                      out_scaler: Scaler) -> dict[tuple[Budget, float], list[float]]:
     """(budget, prior) -> each validation unit's standardised MSE on its test patches."""
     std = out_scaler.std.reshape(-1).cpu().numpy()
-    loss: dict[tuple[int, float], list[float]] = {}
+    loss: dict[tuple[Budget, float], list[float]] = {}
     for (u, b, p), pred in zip(jobs, preds, strict=True):
         if u in val_units:
             err = (pred - arrays.targets[sd.evals[u].test_rows]) / std
@@ -281,11 +332,11 @@ def validation_losses(jobs: list[tuple[str, int, float]], preds: list[np.ndarray
     return loss
 
 
-def choose_priors(loss: dict[tuple[int, float], list[float]]) -> dict[int, float]:
+def choose_priors(loss: dict[tuple[Budget, float], list[float]]) -> dict[Budget, float]:
     """Per budget > 0, the prior with the lowest mean validation loss."""
-    chosen: dict[int, float] = {}
-    for (b, p), v in sorted(loss.items()):
-        if b == 0:
+    chosen: dict[Budget, float] = {}
+    for (b, p), v in sorted(loss.items(), key=lambda kv: (kv[0][0].amount, kv[0][0].strategy, kv[0][1])):
+        if b.amount == 0:
             continue
         if b not in chosen or np.mean(v) < np.mean(loss[(b, chosen[b])]):
             chosen[b] = p
@@ -293,11 +344,11 @@ def choose_priors(loss: dict[tuple[int, float], list[float]]) -> dict[int, float
 
 
 def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
-                    priors: dict[int, float]) -> list[dict[str, Any]]:
+                    priors: dict[Budget, float]) -> list[dict[str, Any]]:
     """The sweep adapter's shared model trained on fewer units: zero-shot and one budget."""
     rows = []
     order = list(np.random.default_rng(seed).permutation(len(sd.split.train)))
-    budgets = sorted({0, opts.sweep_budget})
+    budgets = budget_list(opts, sorted({0, opts.sweep_budget}))
     for k in opts.train_unit_counts:
         if k >= len(sd.split.train):
             continue
@@ -306,7 +357,7 @@ def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
         stats = sd.train_stats.take(keep)
         shared = train_shared(sub, stats, ctx.spec.model, opts.sweep_adapter, ctx.spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay)
-        fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b > 0}
+        fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b.amount > 0}
         kind_rows, _, _ = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed)
         rows += [dict(r, seed=seed, split="patches", n_train_units=k) for r in kind_rows]
     return rows
@@ -317,12 +368,27 @@ def default_prior(opts: Options) -> float:
     return sorted(opts.priors)[len(opts.priors) // 2]
 
 
-def shared_meta(shared: SharedFit, opts: Options, chosen: dict[int, float], seed: int,
+def calibrate_strategy(opts: Options) -> Strategy:
+    """The press selection `anytip calibrate` uses for a budget in seconds: spread where the spec
+    compared it, else the spec's first."""
+    return "spread" if "spread" in opts.plan_strategies else opts.plan_strategies[0]
+
+
+def by_budget(values: dict[Budget, float], opts: Options) -> dict[str, float]:
+    """Per-budget values keyed by amount (samples, or seconds of calibrate's strategy)."""
+    keep = {b: v for b, v in values.items()
+            if b.unit == "samples" or b.strategy == calibrate_strategy(opts)}
+    return {(str(int(b.amount)) if b.unit == "samples" else f"{b.amount:g}"): v
+            for b, v in sorted(keep.items(), key=lambda kv: kv[0].amount)}
+
+
+def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], seed: int,
                 sensor_model: str | None) -> dict[str, Any]:
     """What `anytip calibrate` needs to fit a new unit's adapter like the benchmark did."""
     return {"unit_ids": shared.unit_ids, "seed": seed, "sensor_model": sensor_model,
             "recipe": shared.recipe.model_dump(mode="json"),
-            "priors_by_budget": {str(b): p for b, p in sorted(chosen.items())},
+            "priors_by_budget": by_budget(chosen, opts), "budget_unit": opts.budget_unit,
+            "plan_strategy": calibrate_strategy(opts), "rig": opts.rig.model_dump(),
             "default_prior": default_prior(opts),
             "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
             "calibration_protocol": opts.calibration_protocol,

@@ -25,13 +25,22 @@ def full_set_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return [r for r in rows if r["n_train_units"] == full]
 
 
+def budget_of(r: dict[str, Any]) -> float:
+    """A row's budget: robot seconds where the spec budgets in seconds, else labeled samples."""
+    return r["budget_s"] if "budget_s" in r else r["calib_samples"]
+
+
+def in_seconds(rows: list[dict[str, Any]]) -> bool:
+    return any("budget_s" in r for r in rows)
+
+
 def ratios(rows: list[dict[str, Any]], key: str) -> dict[tuple[str, int], list[float]]:
     """(method, budget) -> per (unit, seed) ratios of `key` to that unit's per_unit value."""
     ref = {(r["unit"], r["seed"]): r[key] for r in rows if r["method"] == "per_unit"}
     out: dict[tuple[str, int], list[float]] = defaultdict(list)
     for r in rows:
         if r["method"] != "per_unit" and (r["unit"], r["seed"]) in ref:
-            out[(r["method"], r["calib_samples"])].append(r[key] / ref[(r["unit"], r["seed"])])
+            out[(r["method"], budget_of(r))].append(r[key] / ref[(r["unit"], r["seed"])])
     return out
 
 
@@ -40,7 +49,7 @@ def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     rf, ra = ratios(rows, "force_rmse_n"), ratios(rows, "angle_rmse_rad")
     groups: dict[tuple[str, int], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
-        groups[(r["method"], r["calib_samples"] if r["method"] != "per_unit" else -1)].append(r)
+        groups[(r["method"], budget_of(r) if r["method"] != "per_unit" else -1)].append(r)
     out = []
     for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
         secs = [r["calib_seconds"] for r in rs if r.get("calib_seconds") is not None]
@@ -55,9 +64,10 @@ def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-def targets(lines: list[dict[str, Any]]) -> list[list[Any]]:
+def targets(lines: list[dict[str, Any]], seconds: bool = False) -> list[list[Any]]:
     """The benchmark's targets (ratio to the per-unit reference per budget), each with the
-    method that comes closest under its budget condition."""
+    method that comes closest under its budget condition: in labeled samples, or in robot
+    seconds where the spec budgets in seconds."""
     def best(cond) -> dict[str, Any] | None:
         cands = [s for s in lines if s["method"] != "per_unit" and cond(s)]
         return min(cands, key=lambda s: max(s["force_ratio"], s["angle_ratio"]), default=None)
@@ -67,6 +77,12 @@ def targets(lines: list[dict[str, Any]]) -> list[list[Any]]:
         ("<= 1000 labeled samples", "<= 1.10x", 1.10, best(lambda s: 0 < s["budget"] <= 1000)),
         ("5000 labeled samples", "< 1.0x", 1.0, best(lambda s: s["budget"] >= 5000)),
     ]
+    if seconds:
+        checks = [
+            ("zero-shot (no labels)", "<= 2.0x", 2.0, best(lambda s: s["budget"] == 0)),
+            ("<= 120 s of robot time", "<= 1.10x", 1.10, best(lambda s: 0 < s["budget"] <= 120)),
+            ("600 s of robot time", "< 1.0x", 1.0, best(lambda s: s["budget"] >= 600)),
+        ]
     out = []
     for name, goal, limit, s in checks:
         if s is None:
@@ -84,9 +100,9 @@ def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
     band from the 10th to the 90th percentile; per_unit as a horizontal band."""
     fig, axes = subplots(1, 2, figsize=(12, 4.5))
     methods = sorted({r["method"] for r in rows} - {"per_unit"})
-    budgets = sorted({r["calib_samples"] for r in rows if r["method"] != "per_unit"})
+    budgets = sorted({budget_of(r) for r in rows if r["method"] != "per_unit"})
     pos = {b: (i if b > 0 else 0) for i, b in enumerate(budgets)}
-    secs = {b: np.mean([r["calib_seconds"] for r in rows if r["calib_samples"] == b
+    secs = {b: np.mean([r["calib_seconds"] for r in rows if budget_of(r) == b and r["method"] != "per_unit"
                         and r.get("calib_seconds") is not None] or [0.0]) for b in budgets}
     for ax, (key, label) in zip(axes, METRICS, strict=True):
         ref = [r[key] for r in rows if r["method"] == "per_unit"]
@@ -95,15 +111,19 @@ def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
             ax.axhspan(lo, hi, color="k", alpha=0.08)
             ax.axhline(med, color="k", ls="--", lw=1.2, label="per_unit (full calibration)")
         for m in methods:
-            pts = sorted({r["calib_samples"] for r in rows if r["method"] == m})
-            vals = [[r[key] for r in rows if r["method"] == m and r["calib_samples"] == b] for b in pts]
+            pts = sorted({budget_of(r) for r in rows if r["method"] == m})
+            vals = [[r[key] for r in rows if r["method"] == m and budget_of(r) == b] for b in pts]
             x = [pos[b] for b in pts]
             p = np.array([np.percentile(v, [10, 50, 90]) for v in vals])
             ax.plot(x, p[:, 1], marker="o", label=m)
             ax.fill_between(x, p[:, 0], p[:, 2], alpha=0.12)
-        ax.set_xticks([pos[b] for b in budgets],
-                      [f"{b}\n{secs[b]:.1f} s" if b > 0 else "0" for b in budgets])
-        ax.set(xlabel="labeled calibration samples (robot-seconds)", ylabel=label, yscale="log")
+        if in_seconds(rows):
+            ax.set_xticks([pos[b] for b in budgets], [f"{b:g}" for b in budgets])
+            ax.set(xlabel="calibration budget [robot-seconds]", ylabel=label, yscale="log")
+        else:
+            ax.set_xticks([pos[b] for b in budgets],
+                          [f"{b}\n{secs[b]:.1f} s" if b > 0 else "0" for b in budgets])
+            ax.set(xlabel="labeled calibration samples (robot-seconds)", ylabel=label, yscale="log")
         ax.grid(alpha=0.3, which="both")
     axes[0].legend(fontsize=7)
     fig.suptitle("held-out units: error against calibration budget (median, 10-90% band)")
@@ -113,20 +133,21 @@ def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
 def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Path | None:
     """Force RMSE ratio to per_unit against the number of training units, one line per budget."""
     ref = {(r["unit"], r["seed"]): r["force_rmse_n"] for r in rows if r["method"] == "per_unit"}
-    sel = [r for r in rows if r["method"] == method and (r["unit"], r["seed"]) in ref]
+    sel = [r for r in rows if r["method"].split("@")[0] == method and (r["unit"], r["seed"]) in ref]
     counts = sorted({r["n_train_units"] for r in sel})
     seeds = {r["seed"] for r in rows if r["n_train_units"] < max(counts, default=0)}
     if len(counts) < 2:
         return None
     fig, ax = subplots(figsize=(6, 4))
-    for b in sorted({r["calib_samples"] for r in sel if r["n_train_units"] < max(counts)}):
+    unit = "robot-s" if in_seconds(sel) else "labeled samples"
+    for b in sorted({budget_of(r) for r in sel if r["n_train_units"] < max(counts)}):
         ys = []
         for k in counts:
             v = [r["force_rmse_n"] / ref[(r["unit"], r["seed"])] for r in sel
-                 if r["n_train_units"] == k and r["calib_samples"] == b and r["seed"] in seeds]
+                 if r["n_train_units"] == k and budget_of(r) == b and r["seed"] in seeds]
             ys.append(np.percentile(v, [10, 50, 90]) if v else [np.nan] * 3)
         ys = np.array(ys)
-        ax.plot(counts, ys[:, 1], marker="o", label=f"{b} labeled samples")
+        ax.plot(counts, ys[:, 1], marker="o", label=f"{b:g} {unit}")
         ax.fill_between(counts, ys[:, 0], ys[:, 2], alpha=0.15)
     ax.axhline(1.0, color="k", ls="--", lw=1, label="per_unit")
     ax.set(xscale="log", xlabel="training units", ylabel="force RMSE / per_unit",
@@ -144,7 +165,8 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any) -> Path:
     budget_figure(main, ctx.run_dir / "rmse_vs_budget.png")
     units_fig = unit_count_figure(rows, f"adapted:{opts.sweep_adapter}",
                                   ctx.run_dir / "rmse_vs_train_units.png")
-    body = [[s["method"], "full" if s["budget"] < 0 else s["budget"],
+    seconds = in_seconds(main)
+    body = [[s["method"], "full" if s["budget"] < 0 else f"{s['budget']:g}",
              "" if s["seconds"] is None else f"{s['seconds']:.1f}", s["force"], f"{s['force_ratio']:.2f}x",
              s["angle"], f"{s['angle_ratio']:.2f}x", s["n"]] for s in lines]
     seeds = sorted({r["seed"] for r in rows})
@@ -158,20 +180,19 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any) -> Path:
 {len(first.get('train', []))} training, {len(first.get('val', []))} validation and
 {len(first.get('test', []))} held-out units (seeds {seeds}). Every method is scored on the
 same held-out patches ({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's patches)
-that no method saw in any run. A budget is the first N contact rows of the unit's
-`{opts.calibration_protocol}` calibration stream (test patches removed); seconds are robot
-time into that stream. `adapted:*` models are scored after folding into the plain
+that no method saw in any run. {_budget_text(opts, seconds)}
+`adapted:*` models are scored after folding into the plain
 {' -> '.join(map(str, ctx.spec.model.sizes))} MLP; the adapter prior is chosen per budget on the
 validation units. Label-free rows (budget 0) use the unit's unlabeled stream for input statistics.
 
 ## Targets (ratios to the held-out units' own per-unit models)
 
-{table(['target', 'goal', 'best method', 'force ratio', 'angle ratio', ''], targets(lines))}
+{table(['target', 'goal', 'best method', 'force ratio', 'angle ratio', ''], targets(lines, seconds))}
 
 ## All methods (mean over held-out units and seeds)
 
-{table(['method', 'labeled samples', 'robot-s', 'force RMSE [N]', 'force / per_unit',
-        'angle RMSE [rad]', 'angle / per_unit', 'rows'], body)}
+{table(['method', 'budget [robot-s]' if seconds else 'labeled samples', 'robot-s', 'force RMSE [N]',
+        'force / per_unit', 'angle RMSE [rad]', 'angle / per_unit', 'rows'], body)}
 
 ![error against calibration budget](rmse_vs_budget.png)
 """ + ("" if units_fig is None else """
@@ -179,3 +200,17 @@ validation units. Label-free rows (budget 0) use the unit's unlabeled stream for
 
 ![error against training units](rmse_vs_train_units.png)
 """)).write()
+
+
+def _budget_text(opts: Any, seconds: bool) -> str:
+    """How a budget becomes a calibration (for the report's reader)."""
+    if not seconds:
+        return (f"A budget is the first N contact rows of the unit's `{opts.calibration_protocol}` "
+                "calibration stream (test patches removed); seconds are robot time into that stream.")
+    rig = opts.rig
+    return (f"A budget is robot seconds of whole presses from the unit's calibration runs "
+            f"(`{opts.calibration_protocol or 'all runs'}`, test patches removed), chosen by "
+            f"{', '.join(f'`{s}`' for s in opts.plan_strategies)} (method suffix `@strategy`; "
+            f"data/plans.py). Robot time counts each press, a {rig.move_s:g} s move before it "
+            f"and {rig.remount_s:g} s per change of orientation; the adapter prior is scaled by "
+            f"{rig.effective_hz:g} effective samples per contact second.")

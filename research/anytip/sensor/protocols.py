@@ -11,6 +11,7 @@ up to min(shear_max_n, friction * Fn). Segments are cosine-interpolated.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Literal
 
@@ -116,14 +117,18 @@ PROTOCOLS: dict[str, Protocol] = {
 
 
 def get_protocol(protocol: str | Protocol | dict) -> Protocol:
-    """A built-in protocol by name ('full', 'short', 'quick', 'sweep'), or a Protocol / its dict as given."""
+    """A built-in protocol by name ('full', 'short', 'quick', 'sweep', or 'plan<seconds>': the
+    designed calibration of that many robot seconds, `design_protocol`), or a Protocol / its dict."""
     if isinstance(protocol, Protocol):
         return protocol
     if isinstance(protocol, dict):
         return Protocol.model_validate(protocol)
+    designed = re.fullmatch(r"plan(\d+(?:\.\d+)?)", protocol)
+    if designed:
+        return design_protocol(float(designed.group(1)))
     if protocol not in PROTOCOLS:
         raise AnytipError(
-            f"unknown protocol {protocol!r}; built-in protocols: {', '.join(PROTOCOLS)}"
+            f"unknown protocol {protocol!r}; built-in protocols: {', '.join(PROTOCOLS)}, plan<seconds>"
         )
     return PROTOCOLS[protocol]
 
@@ -223,3 +228,66 @@ def build_trajectory(
         patch=patch,
         cells=cells,
     )
+
+
+# A designed calibration: presses spread over the region, each at the next of four force levels
+# with an 8-direction shear asterisk, on as few orientations as cover phi in [-135, 45] deg.
+DESIGNED_PRESS = dict(layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=True, directions=8, ramp_s=0.25,
+                      hold_s=0.05, shear_s=0.12, gap_s=0.1, order="spread")
+COVERING_ORIENTATIONS_DEG = (0.0, -90.0)  # phi in [-45, 45] and [-135, -45]: the whole region
+CENTRE_ORIENTATION_DEG = -45.0  # phi in [-90, 0]: the one orientation of a plan too short to re-mount
+
+
+def design_protocol(seconds: float, move_s: float = 2.0, remount_s: float = 30.0) -> Protocol:
+    """The designed calibration of a new unit that fits `seconds` of robot time.
+
+    Covers theta in [-45, 45] deg and phi in [-135, 45] deg from two orientations when the
+    re-mount between them takes at most half the budget, else the middle orientation alone;
+    a budget that presses every cell of two orientations adds the third (as the full protocol).
+    Each press: the next force level up to 25 N and a shear asterisk in 8 directions; the rig
+    takes `move_s` before each press (the protocol's rest between patches). As many patches
+    per orientation as fit after the re-mounts. Name: plan<seconds>.
+    """
+    if not np.isfinite(seconds) or seconds <= 0:
+        raise AnytipError(f"a calibration plan needs a finite duration > 0 s, got {seconds}")
+    if not (np.isfinite(move_s) and move_s > 0 and np.isfinite(remount_s) and remount_s >= 0):
+        raise AnytipError(f"a designed plan needs a move time > 0 s and a re-mount time >= 0 s, "
+                          f"got {move_s} and {remount_s}")
+    probe = Protocol(name="probe", patches=1, patch_rest_s=move_s, **DESIGNED_PRESS)
+    per_patch = probe.rows_per_orientation() / probe.sample_rate_hz
+
+    def patches_with(orientations: tuple[float, ...]) -> int:
+        return int((seconds - remount_s * (len(orientations) - 1)) // (per_patch * len(orientations)))
+
+    orientations = (COVERING_ORIENTATIONS_DEG if remount_s <= seconds / 2 else (CENTRE_ORIENTATION_DEG,))
+    if patches_with(orientations) > 36:  # every cell of two orientations pressed: add the third
+        orientations = PROTOCOLS["full"].orientations_deg
+    patches = patches_with(orientations)
+    if patches < 1:
+        raise AnytipError(f"{seconds:g} s of robot time holds no press of the designed plan "
+                          f"(one takes {per_patch:.1f} s with its move)")
+    return Protocol(name=f"plan{seconds:g}", orientations_deg=orientations, patches=min(patches, 36),
+                    patch_rest_s=move_s, **DESIGNED_PRESS)
+
+
+def waypoints(protocol: Protocol, remount_s: float, rng: np.random.Generator) -> np.ndarray:
+    """The protocol as robot waypoints, one row per segment end of every press:
+    (K, 7) float64 columns time [s from the start, re-mounts included], orientation [deg],
+    theta [deg], phi [deg], commanded Fx, Fy, Fz [N] (contact frame; Fz < 0 presses).
+    Between presses the commanded force is 0 and the rig moves to the next point."""
+    out, clock = [], 0.0
+    seg = protocol.segment_samples() / protocol.sample_rate_hz
+    for k, o in enumerate(protocol.orientations_deg):
+        clock += remount_s if k else 0.0
+        cells = patch_cells(protocol, o)
+        n_layers = protocol.presses_per_patch
+        points = np.degrees(_press_points(cells, n_layers, protocol.margin_deg, rng))
+        force = _waypoints(protocol, len(points), rng)  # (Q, segments + 1, 3)
+        ends = np.concatenate([[0.0], np.cumsum(seg)])
+        for q in range(len(points)):
+            if q % n_layers == 0:
+                clock += protocol.patch_rest_s
+            for j, t in enumerate(ends):
+                out.append([clock + t, o, *points[q], *force[q, j]])
+            clock += ends[-1]
+    return np.array(out)

@@ -150,7 +150,7 @@ class AdapterRecipe:
 
 def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tensor, in_scaler: Scaler,
                  prior: Tensor, recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0,
-                 kind: str | None = None) -> AdaptedMLP:
+                 kind: str | None = None, n_effective: Tensor | None = None) -> AdaptedMLP:
     """Adapters for M new models, the shared weights frozen.
 
     X (M, N, d_in), Y (M, N, d_out) physical calibration rows, the first n[m] real;
@@ -158,6 +158,8 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
     `kind` fits another adapter kind than the shared model was trained with (e.g. with
     `+delta` added); new units start at the identity either way. Returns a model with the
     shared weights and the M fitted adapters. n[m] == 0 leaves model m at the identity.
+    The prior's weight is lambda / n[m], or lambda / n_effective[m] (M,) where given: the
+    calibration's effective sample count (data/plans.py), for rows that are autocorrelated.
     A heteroscedastic shared model's adapters are fitted by its beta-NLL.
     """
     device = shared.model.weights[0].device
@@ -179,7 +181,8 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
     sampler = UnitSampler(n_safe, min(recipe.batch_size, int(n.max())), seed, device)
     rows_of = torch.arange(X.shape[0], device=device)[:, None]
     weight = fit.to(device).float()
-    prior = prior.to(device).float() / n_safe.float()
+    count = n_safe.float() if n_effective is None else n_effective.to(device).float().clamp_min(1.0)
+    prior = prior.to(device).float() / count
     opt = torch.optim.Adam(model.adapter_parameters(), lr=recipe.lr)
     constant = TrainRecipe(name="adapter", lr=recipe.lr, schedule="cosine", final_lr_frac=0.05)
     for step, idx in sampler.steps(recipe.steps):
@@ -197,14 +200,17 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
 def calibrate_and_fold(shared: SharedFit | LoadedShared, unlabeled: list[Tensor], X: list[Tensor],
                        Y: list[Tensor], n: list[int], priors: list[float],
                        recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0,
-                       kind: str | None = None) -> tuple[BatchedMLP, Scaler]:
+                       kind: str | None = None,
+                       n_effective: list[float] | None = None) -> tuple[BatchedMLP, Scaler]:
     """New units' deployable models: M jobs, each a unit's unlabeled pressures (n_u, d_in),
     its labeled rows X (k, d_in), Y (k, d_out) of which the first n[m] are used (0: label-free),
-    and a prior. Returns the M folded MLPs and their input scalers (M, 1, d_in)."""
+    and a prior (scaled by n_effective[m] instead of n[m] where given). Returns the M folded
+    MLPs and their input scalers (M, 1, d_in)."""
     device = shared.model.weights[0].device
     stats = input_stats(unlabeled, device)
     Xp, _ = pad_rows([x if len(x) else x.new_zeros(1, x.shape[1]) for x in X], device)
     Yp, _ = pad_rows([y if len(y) else y.new_zeros(1, y.shape[1]) for y in Y], device)
     counts = torch.tensor(n, device=device)
-    adapted = fit_adapters(shared, Xp, Yp, counts, stats, torch.tensor(priors), recipe, seed, kind)
+    effective = None if n_effective is None else torch.tensor(n_effective, dtype=torch.float64)
+    adapted = fit_adapters(shared, Xp, Yp, counts, stats, torch.tensor(priors), recipe, seed, kind, effective)
     return adapted.fold(), stats

@@ -13,12 +13,12 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from anytip.data.arrays import OUTPUT_NAMES
+from anytip.data.arrays import OUTPUT_NAMES, TARGET_SLICES
 from anytip.models.scaler import Scaler
 from anytip.train.data import pad_rows
 
-FORCE = slice(0, 3)
-ANGLE = slice(3, 5)
+FORCE = TARGET_SLICES["force"]
+ANGLE = TARGET_SLICES["angles"]
 
 
 def _mse_per_output(pred: Tensor, target: Tensor, mask: Tensor | None) -> Tensor:

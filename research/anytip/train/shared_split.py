@@ -18,6 +18,7 @@ import torch
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
+from anytip.data.plans import Presses, find_presses
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
@@ -28,11 +29,13 @@ from anytip.train.metrics import predict
 
 @dataclass
 class EvalUnit:
-    """A validation or held-out unit: its test rows and its calibration stream."""
+    """A validation or held-out unit: its test rows, its calibration stream and the whole
+    presses of the stream's runs outside its test patches (what a plan may select)."""
 
     unit: str
     test_rows: np.ndarray
     stream: CalibrationStream
+    presses: Presses
 
 
 @dataclass
@@ -68,8 +71,9 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         test_cells = np.unique(arrays.patch[own][held])
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
-        evals[unit] = EvalUnit(unit, own[exclude[own]],
-                               calibration_stream(arrays, unit, calibration_protocol, exclude, interleave))
+        stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
+        outside = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
+        evals[unit] = EvalUnit(unit, own[exclude[own]], stream, find_presses(arrays, unit, exclude | outside))
     members, stats = [], []
     for u, unit in enumerate(split.train):
         mine = unit_main_rows(arrays, unit, main)

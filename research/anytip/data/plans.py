@@ -1,0 +1,267 @@
+"""Calibration plans priced in robot time: which whole presses a new unit's calibration holds.
+
+A press is a contiguous segment of contact rows of one run: the rows between the rig
+touching the unit and letting go. A plan is a set of whole presses, never isolated rows,
+chosen from a unit's recorded runs (any registry: simulated, imported rig logs, full
+protocols only) up to a budget of robot seconds. It spreads the presses over the target
+space (farthest-point order on each press's mean targets, every target scaled by its own
+spread so force and location weigh equally) and so over the rig orientations, which is
+where a location lies on the dome; nothing here knows the fingertip's patch grid.
+
+Robot time (`calib_seconds`) counts all rig time the calibration uses:
+- each press's own duration (first to last contact row, plus one sample period);
+- one move before each press (`RigTiming.move_s`, 2 s where the plan does not know better:
+  the selected presses are not the neighbours the recorded protocol visited in turn);
+- a re-mount for each change of orientation (`RigTiming.remount_s`, 30 s by default).
+Presses run grouped by orientation, so a plan with k orientations pays k - 1 re-mounts.
+
+Labels of a press are autocorrelated at the rig's sample rate: 1000 rows of one press say
+far less than 1000 rows of 100 presses. A plan's effective sample count is its contact
+time times `RigTiming.effective_hz` (one independent label per 0.1 s by default, the
+shortest shear segment of the built-in protocols), capped at its row count; the adapter
+prior is scaled by that count, not by rows.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from anytip.data.arrays import TARGET_SLICES, FleetArrays
+from anytip.data.calibration import CalibrationStream
+from anytip.errors import AnytipError
+from anytip.sensor.protocols import design_protocol, waypoints
+
+WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
+
+Strategy = Literal["spread", "random", "first"]
+BudgetUnit = Literal["samples", "seconds"]
+
+
+@dataclass(frozen=True)
+class RigTiming:
+    """What the rig costs besides contact, in seconds, and how fast labels decorrelate (Hz)."""
+
+    move_s: float = 2.0
+    remount_s: float = 30.0
+    effective_hz: float = 10.0
+
+    def __post_init__(self) -> None:
+        for name in ("move_s", "remount_s"):
+            if not np.isfinite(getattr(self, name)) or getattr(self, name) < 0:
+                raise AnytipError(f"rig timing {name} must be a finite number >= 0, "
+                                  f"got {getattr(self, name)}")
+        if not np.isfinite(self.effective_hz) or self.effective_hz <= 0:
+            raise AnytipError(f"rig timing effective_hz must be a finite number > 0, got {self.effective_hz}")
+
+
+@dataclass(frozen=True)
+class Presses:
+    """A unit's candidate presses, P of them, in recorded order (runs by creation time, then time).
+
+    rows (R,) int64 indices into the FleetArrays, press by press; start (P + 1,) offsets of
+    each press in `rows`; run (P,) run index; orientation_deg (P,); duration_s (P,) contact
+    seconds; summary (P, d) the press's mean targets, each target scaled by its spread over
+    all candidate rows (dimensionless).
+    """
+
+    rows: np.ndarray
+    start: np.ndarray
+    run: np.ndarray
+    orientation_deg: np.ndarray
+    duration_s: np.ndarray
+    summary: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.run)
+
+    def rows_of(self, k: int) -> np.ndarray:
+        return self.rows[self.start[k]:self.start[k + 1]]
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A calibration: labeled rows (indices into the FleetArrays, press by press, in the order
+    the plan runs them) and what it costs. calib_seconds: robot time, all of it;
+    contact_seconds: time in contact; n_effective: the effective labeled sample count."""
+
+    rows: np.ndarray
+    presses: int
+    calib_seconds: float
+    contact_seconds: float
+    orientations: tuple[float, ...]
+    n_effective: float
+
+    @classmethod
+    def empty(cls) -> Plan:
+        return cls(np.zeros(0, np.int64), 0, 0.0, 0.0, (), 0.0)
+
+
+def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = None) -> Presses:
+    """The unit's presses: rows of one run whose times follow each other within 1.5 sample
+    periods. A press with any row where `exclude` (N,) bool holds (a held-out unit's test
+    rows) is dropped whole, so a plan never touches test data."""
+    if arrays.time is None:
+        raise AnytipError("calibration plans need row times; load the runs with load_arrays")
+    if unit not in arrays.units:
+        raise AnytipError(f"unit {unit!r} is not among the loaded units {arrays.units}")
+    mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+    rank = _recorded_rank(arrays)
+    mine = mine[np.lexsort((arrays.time[mine], rank[arrays.run[mine]]))]
+    run, t = arrays.run[mine], arrays.time[mine]
+    period_of = np.array([r.duration_s / max(r.rows, 1) for r in arrays.runs])  # one sample, s
+    period = period_of[run]
+    cut = np.flatnonzero((np.diff(run) != 0) | (np.diff(t) > 1.5 * period[1:])) + 1
+    bounds = np.concatenate([[0], cut, [len(mine)]]).astype(np.int64)
+    keep = [k for k in range(len(bounds) - 1)
+            if exclude is None or not exclude[mine[bounds[k]:bounds[k + 1]]].any()]
+    if not keep:
+        return Presses(np.zeros(0, np.int64), np.zeros(1, np.int64), np.zeros(0, np.int64),
+                       np.zeros(0), np.zeros(0), np.zeros((0, arrays.targets.shape[1])))
+    pieces = [mine[bounds[k]:bounds[k + 1]] for k in keep]
+    rows = np.concatenate(pieces)
+    start = np.concatenate([[0], np.cumsum([len(p) for p in pieces])]).astype(np.int64)
+    first = np.array([p[0] for p in pieces])
+    last = np.array([p[-1] for p in pieces])
+    runs = arrays.run[first].astype(np.int64)
+    duration = arrays.time[last] - arrays.time[first] + period_of[runs]
+    orientation = np.array([arrays.runs[r].orientation_deg for r in runs], float)
+    return Presses(rows, start, runs, orientation, duration, _summaries(arrays, rows, start))
+
+
+def _recorded_rank(arrays: FleetArrays) -> np.ndarray:
+    """(R,) each run's place when runs are sorted by creation time, then id (recorded order)."""
+    order = sorted(range(len(arrays.runs)), key=lambda k: (arrays.runs[k].created, arrays.runs[k].run_id))
+    rank = np.empty(len(order), np.int64)
+    rank[order] = np.arange(len(order))
+    return rank
+
+
+def _summaries(arrays: FleetArrays, rows: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """(P, d) each press's mean targets, each target divided by its RMS spread over `rows`."""
+    y = arrays.targets[rows].astype(np.float64)
+    for cols in TARGET_SLICES.values():
+        spread = np.sqrt(((y[:, cols] - y[:, cols].mean(0)) ** 2).sum(1).mean())
+        y[:, cols] /= max(spread, 1e-12)
+    return np.add.reduceat(y, start[:-1], axis=0) / np.diff(start)[:, None]
+
+
+def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming(),
+                   strategy: Strategy = "spread", seed: int = 0) -> Plan:
+    """Whole presses up to `budget_s` robot seconds (see the module docstring for the cost).
+
+    `spread`: farthest-point order in the press summaries, starting from the press nearest
+    their mean (ties broken by a seeded draw); a press whose orientation is new must also
+    pay its re-mount. `random`: presses in a seeded random order. `first`: presses in
+    recorded order (what a budget cut from the start of a recorded stream gives, in whole
+    presses). Each strategy adds presses while the budget allows and skips those it cannot
+    afford.
+    """
+    if not np.isfinite(budget_s) or budget_s < 0:
+        raise AnytipError(f"a calibration budget must be a finite number of seconds >= 0, got {budget_s}")
+    if budget_s == 0 or len(presses) == 0:
+        return Plan.empty()
+    cost = presses.duration_s + rig.move_s
+    if strategy == "spread":
+        chosen = _spread(presses, cost, budget_s, rig.remount_s, seed)
+    elif strategy in ("random", "first"):
+        order = (np.random.default_rng(seed).permutation(len(presses)) if strategy == "random"
+                 else np.arange(len(presses)))
+        chosen = _in_order(presses, cost, order, budget_s, rig.remount_s)
+    else:
+        raise AnytipError(f"unknown plan strategy {strategy!r}; use spread, random or first")
+    return _plan(presses, chosen, rig)
+
+
+def _spread(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:
+    z = presses.summary
+    jitter = np.random.default_rng(seed).random(len(presses)) * 1e-9
+    score = -np.linalg.norm(z - z.mean(0), axis=1)  # the first press: nearest the mean
+    chosen: list[int] = []
+    spent, used = 0.0, set()
+    while True:
+        extra = np.where(np.isin(presses.orientation_deg, list(used)) | (not used), 0.0, remount_s)
+        affordable = spent + cost + extra <= budget_s + 1e-9
+        affordable[chosen] = False
+        if not affordable.any():
+            return chosen
+        k = int(np.argmax(np.where(affordable, score + jitter, -np.inf)))
+        chosen.append(k)
+        spent += cost[k] + extra[k]
+        used.add(float(presses.orientation_deg[k]))
+        nearest = np.linalg.norm(z - z[k], axis=1)
+        score = nearest if len(chosen) == 1 else np.minimum(score, nearest)
+
+
+def _in_order(presses: Presses, cost: np.ndarray, order: np.ndarray, budget_s: float,
+              remount_s: float) -> list[int]:
+    chosen: list[int] = []
+    spent, used = 0.0, set()
+    for k in order:
+        o = float(presses.orientation_deg[k])
+        c = cost[k] + (remount_s if used and o not in used else 0.0)
+        if spent + c <= budget_s + 1e-9:
+            chosen.append(int(k))
+            spent += c
+            used.add(o)
+    return chosen
+
+
+def _plan(presses: Presses, chosen: list[int], rig: RigTiming) -> Plan:
+    """The chosen presses grouped by orientation (in order of first use), priced."""
+    if not chosen:
+        return Plan.empty()
+    orientations = tuple(dict.fromkeys(float(presses.orientation_deg[k]) for k in chosen))
+    ordered = sorted(chosen, key=lambda k: (orientations.index(float(presses.orientation_deg[k])),
+                                            chosen.index(k)))
+    rows = np.concatenate([presses.rows_of(k) for k in ordered])
+    contact = float(presses.duration_s[ordered].sum())
+    seconds = contact + rig.move_s * len(ordered) + rig.remount_s * (len(orientations) - 1)
+    return Plan(rows, len(ordered), seconds, contact, orientations,
+                min(float(len(rows)), contact * rig.effective_hz))
+
+
+@dataclass(frozen=True)
+class Budget:
+    """One calibration budget: `amount` labeled samples, the first rows of the unit's
+    calibration stream (unit "samples"), or `amount` robot seconds of whole presses chosen
+    by `strategy` (unit "seconds"). An amount of 0 is label-free."""
+
+    amount: float
+    unit: BudgetUnit = "samples"
+    strategy: Strategy = "spread"
+
+    @property
+    def label(self) -> str:
+        if self.unit == "samples":
+            return f"{int(self.amount)}"
+        return f"{self.amount:g} s" if self.amount == 0 else f"{self.amount:g} s {self.strategy}"
+
+
+def stream_plan(stream: CalibrationStream, n: int) -> Plan:
+    """The first n rows of a calibration stream as a plan (its robot time is the stream's
+    clock at the n-th row; every row counts as an effective sample)."""
+    rows = stream.first(n)
+    return Plan(rows, 0, stream.seconds_for(n), stream.seconds_for(n), (), float(len(rows)))
+
+
+def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: RigTiming = RigTiming(),
+             seed: int = 0) -> Plan:
+    """The labeled rows a budget grants one unit: a stream prefix or a selection of presses."""
+    if budget.unit == "samples":
+        return stream_plan(stream, int(budget.amount))
+    return select_presses(presses, budget.amount, rig, budget.strategy, seed)
+
+
+def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0) -> tuple[str, float]:
+    """The designed calibration of `seconds` robot seconds (sensor.protocols.design_protocol)
+    as robot waypoints in CSV (columns WAYPOINT_COLUMNS; docs/cross_sensor.md), and the plan's
+    robot time in seconds, re-mounts included."""
+    protocol = design_protocol(seconds, rig.move_s, rig.remount_s)
+    table = waypoints(protocol, rig.remount_s, np.random.default_rng(seed))
+    lines = [",".join(WAYPOINT_COLUMNS)]
+    lines += [",".join(f"{v:.4f}" for v in row) for row in table]
+    total = protocol.duration_s + rig.remount_s * (len(protocol.orientations_deg) - 1)
+    return "\n".join(lines) + "\n", total

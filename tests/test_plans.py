@@ -1,0 +1,130 @@
+"""Calibration plans: whole presses, the budget's robot time honoured, test rows never touched."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from anytip.data.arrays import FleetArrays, load_arrays
+from anytip.data.catalog import RunRecord
+from anytip.data.plans import RigTiming, find_presses, select_presses
+from anytip.errors import AnytipError
+from anytip.sensor.protocols import get_protocol
+
+RATE = 200.0
+PRESS_ROWS, GAP_ROWS, PRESSES_PER_RUN = 40, 100, 12
+
+
+def record(k: int, orientation: float, rows: int) -> RunRecord:
+    return RunRecord(f"run{k}", "U1", "pad", orientation, "measured", rows, 4, rows / RATE, None,
+                     "0" * 64, "2024-01-01T00:00:00Z", f"runs/run{k}.h5", "2024-01-01T00:00:00Z")
+
+
+def fleet(orientations=(0.0, -90.0), seed=0) -> FleetArrays:
+    """One unit, one run per orientation; each run presses PRESSES_PER_RUN times at a fresh
+    location and force level, with contact-free gaps (dropped, as load_arrays drops them)."""
+    rng = np.random.default_rng(seed)
+    parts = {k: [] for k in ("p", "f", "a", "r", "t")}
+    runs = []
+    for k, o in enumerate(orientations):
+        n_run = PRESSES_PER_RUN * (PRESS_ROWS + GAP_ROWS)
+        runs.append(record(k, o, n_run))
+        for q in range(PRESSES_PER_RUN):
+            first = q * (PRESS_ROWS + GAP_ROWS) + GAP_ROWS
+            parts["t"].append((first + np.arange(PRESS_ROWS)) / RATE)
+            parts["r"].append(np.full(PRESS_ROWS, k, np.int32))
+            parts["p"].append(rng.normal(size=(PRESS_ROWS, 4)).astype(np.float32))
+            force = np.zeros((PRESS_ROWS, 3), np.float32)
+            force[:, 2] = -rng.uniform(2, 25)
+            parts["f"].append(force)
+            where = np.radians([rng.uniform(-45, 45), o + rng.uniform(-45, 45)])
+            parts["a"].append(np.tile(where, (PRESS_ROWS, 1)).astype(np.float32))
+    n = sum(len(t) for t in parts["t"])
+    return FleetArrays(np.concatenate(parts["p"]), np.concatenate(parts["f"]), np.concatenate(parts["a"]),
+                       np.zeros(n, np.int32), np.concatenate(parts["r"]), np.zeros(n, np.int16),
+                       np.zeros((len(runs), 4)), ["U1"], runs, np.concatenate(parts["t"]))
+
+
+def test_presses_are_the_contiguous_contact_segments_of_each_run():
+    arrays = fleet()
+    presses = find_presses(arrays, "U1")
+    assert len(presses) == 2 * PRESSES_PER_RUN
+    for k in range(len(presses)):
+        rows = presses.rows_of(k)
+        assert len(rows) == PRESS_ROWS and len(set(arrays.run[rows])) == 1
+        assert np.allclose(np.diff(arrays.time[rows]), 1 / RATE)
+    assert presses.duration_s == pytest.approx(np.full(len(presses), PRESS_ROWS / RATE))
+
+
+@pytest.mark.parametrize("strategy", ["spread", "random", "first"])
+@pytest.mark.parametrize("budget", [3.0, 12.0, 40.0, 90.0])
+def test_a_plan_is_whole_presses_within_its_robot_time(strategy, budget):
+    arrays, rig = fleet(), RigTiming(move_s=2.0, remount_s=30.0)
+    presses = find_presses(arrays, "U1")
+    plan = select_presses(presses, budget, rig, strategy, seed=1)
+    assert plan.calib_seconds <= budget + 1e-9
+    assert plan.rows.size == plan.presses * PRESS_ROWS  # whole presses, each once
+    whole = [set(presses.rows_of(k)) for k in range(len(presses))]
+    assert all(s <= set(plan.rows) or not s & set(plan.rows) for s in whole)
+    contact = plan.presses * PRESS_ROWS / RATE
+    expected = contact + rig.move_s * plan.presses + rig.remount_s * max(len(plan.orientations) - 1, 0)
+    assert plan.calib_seconds == pytest.approx(expected)
+    assert plan.n_effective == pytest.approx(min(plan.rows.size, contact * rig.effective_hz))
+    # a press at a time: the budget leaves no room for one more of the strategy's next choices
+    assert budget - plan.calib_seconds < 2 * (PRESS_ROWS / RATE + rig.move_s) + rig.remount_s
+
+
+def test_a_plan_changes_orientation_only_where_the_remount_fits():
+    arrays, rig = fleet(), RigTiming(remount_s=30.0)
+    presses = find_presses(arrays, "U1")
+    assert len(select_presses(presses, 25.0, rig).orientations) == 1
+    assert len(select_presses(presses, 120.0, rig).orientations) == 2
+
+
+def test_spread_covers_the_target_space_better_than_the_first_presses():
+    arrays = fleet(orientations=(0.0,))
+    presses = find_presses(arrays, "U1")
+    z = presses.summary
+
+    def radius(plan_rows):
+        chosen = [k for k in range(len(presses)) if presses.rows_of(k)[0] in set(plan_rows)]
+        return max(np.min(np.linalg.norm(z[:, None] - z[None, chosen], axis=2), axis=1))
+
+    spread, first = (select_presses(presses, 15.0, strategy=s) for s in ("spread", "first"))
+    assert spread.presses == first.presses
+    assert radius(spread.rows) < radius(first.rows)
+
+
+def test_a_press_that_touches_an_excluded_row_is_dropped_whole():
+    arrays = fleet()
+    exclude = np.zeros(arrays.n_rows, bool)
+    exclude[[5, PRESS_ROWS + 7]] = True  # one row in each of the first two presses
+    presses = find_presses(arrays, "U1", exclude)
+    assert len(presses) == 2 * PRESSES_PER_RUN - 2
+    plan = select_presses(presses, 1e6)
+    assert not exclude[plan.rows].any() and plan.presses == len(presses)
+    assert not np.isin(np.arange(2 * PRESS_ROWS), plan.rows).any()
+
+
+def test_budgets_grow_plans_and_bad_budgets_are_refused():
+    presses = find_presses(fleet(), "U1")
+    sizes = [select_presses(presses, b).presses for b in (0, 5, 20, 60, 200, 1e4)]
+    assert sizes[0] == 0 and sizes == sorted(sizes) and sizes[-1] == len(presses)
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(AnytipError, match="budget"):
+            select_presses(presses, bad)
+    with pytest.raises(AnytipError, match="move_s"):
+        RigTiming(move_s=-1)
+    with pytest.raises(AnytipError, match="strategy"):
+        select_presses(presses, 10.0, strategy="best")
+
+
+def test_presses_of_simulated_runs_are_the_protocol_presses(small_registry):
+    arrays = load_arrays(small_registry, small_registry.list_runs())
+    unit = arrays.units[0]
+    presses = find_presses(arrays, unit)
+    protocol = get_protocol("short")
+    runs = {r.run_id for r in arrays.runs if r.unit == unit}
+    assert len(presses) == len(runs) * protocol.patches * protocol.presses_per_patch
+    plan = select_presses(presses, 60.0)
+    assert 0 < plan.calib_seconds <= 60.0 and len(plan.orientations) >= 1
