@@ -169,18 +169,20 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
                           "none", spec.training, seed, ctx.device, ctx.progress)
     rows += [dict(base, **r) for r in pooled_rows(pooled, arrays, sd)]
     priors_chosen: dict[str, dict[Budget, float]] = {}
+    val_by_method: dict[str, dict[str, float]] = {}
     for kind in ["none", *opts.adapters]:
         shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay)
         kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts))
         rows += [dict(base, **r) for r in kind_rows]
         priors_chosen[kind] = chosen
+        val_by_method.update(validation_by_method(kind, val_loss))
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"))
         meta["val_loss_by_budget"] = by_budget(val_loss, opts)
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
-        "units": sd.split.to_json(),
+        "units": sd.split.to_json(), "val_loss": val_by_method,
         "priors_chosen": {k: {b.label: p for b, p in v.items()} for k, v in priors_chosen.items()},
         "test_patches": {u: np.unique(arrays.patch[e.test_rows]).tolist() for u, e in sd.evals.items()},
         "calibration_runs": {u: list(e.stream.runs) for u, e in sd.evals.items()},
@@ -188,6 +190,16 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     if sweep:
         rows += unit_count_rows(ctx, arrays, sd, opts, seed, priors_chosen.get(opts.sweep_adapter, {}))
     return rows
+
+
+def validation_by_method(kind: str, val_loss: dict[Budget, float]) -> dict[str, dict[str, float]]:
+    """{row method: {budget: validation-unit loss}} of one shared model, keyed as the report
+    keys rows (method with its plan suffix; budget in samples or seconds)."""
+    method = "adapted:input_stats" if kind == "none" else f"adapted:{kind}"
+    out: dict[str, dict[str, float]] = {}
+    for b, v in val_loss.items():
+        out.setdefault(method + _suffix(b), {})[f"{b.amount:g}"] = v
+    return out
 
 
 def pooled_rows(pooled: SharedFit, arrays: FleetArrays, sd: SeedData) -> list[dict[str, Any]]:

@@ -1,0 +1,52 @@
+"""The cross-sensor report's arithmetic: ratios per distinct unit against its own reference,
+intervals over units, and targets judged for the method validation units chose."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from anytip.errors import AnytipError
+from anytip.report.cross_sensor import chosen_methods, mean_interval, summary, targets, unit_ratios
+
+
+def row(method, unit, seed, force, angle=0.1, budget=100):
+    return {"method": method, "unit": unit, "seed": seed, "calib_samples": budget, "calib_seconds": 1.0,
+            "force_rmse_n": force, "angle_rmse_rad": angle, "n_train_units": 16}
+
+
+def test_unit_ratios_average_seeds_before_dividing():
+    rows = [row("per_unit", "A", 0, 1.0), row("per_unit", "A", 1, 3.0),
+            row("m", "A", 0, 2.0), row("m", "A", 1, 2.0),
+            row("per_unit", "B", 0, 2.0), row("m", "B", 0, 5.0)]
+    r = unit_ratios(rows, "force_rmse_n")[("m", 100)]
+    assert r == pytest.approx({"A": 2.0 / 2.0, "B": 2.5})  # A: mean 2 over mean 2, not mean(2, 2/3)
+
+
+def test_a_row_without_its_own_reference_fails():
+    rows = [row("per_unit", "A", 0, 1.0), row("m", "A", 1, 2.0)]
+    with pytest.raises(AnytipError, match="unit A, seed 1 has no per_unit reference"):
+        unit_ratios(rows, "force_rmse_n")
+
+
+def test_the_interval_is_over_units_and_covers_the_mean():
+    rng = np.random.default_rng(1)
+    values = list(1.2 + 0.1 * rng.standard_normal(64))
+    mean, lo, hi = mean_interval(values)
+    assert lo < mean < hi and mean == pytest.approx(np.mean(values))
+    assert hi - lo == pytest.approx(2 * 1.96 * np.std(values) / np.sqrt(64), rel=0.2)
+    assert np.isnan(mean_interval([1.0])[1])
+
+
+def test_targets_report_the_validation_choice_not_the_best_held_out_method():
+    units = [f"U{k}" for k in range(8)]
+    rows = [row("per_unit", u, 0, 1.0) for u in units]
+    rows += [row("adapted:a", u, 0, 1.05, 0.105) for u in units]  # best on held-out units
+    rows += [row("adapted:b", u, 0, 1.5, 0.15) for u in units]
+    val = {"seed0": {"adapted:a": {"100": 0.9}, "adapted:b": {"100": 0.5}}}
+    chosen = chosen_methods(val)
+    assert chosen == {100.0: "adapted:b"}
+    table = targets(summary(rows), chosen)
+    few_shot = table[1]
+    assert "adapted:b" in few_shot[2] and few_shot[3].startswith("1.50x") and few_shot[-1] == "**not met**"
+    assert table[0][2].startswith("n/a")  # no zero-shot budget was validated
