@@ -29,6 +29,7 @@ from anytip.models.io import SHARED_FORMAT, load_shared, model_paths, read_heade
 from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
+from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import predict, scores
 from anytip.validation import read_yaml
 
@@ -232,8 +233,13 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     unlabeled = [torch.from_numpy(arrays.pressure[stream.rows])]
     X, Y = [torch.from_numpy(arrays.pressure[plan.rows])], [torch.from_numpy(arrays.targets[plan.rows])]
     recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
+    family = None
+    if shared.model.adapter_parameters():
+        family = make_prior(meta.get("adapter_prior", "identity"), shared.model,
+                            int(meta.get("prior_rank", 4)))
     folded, stats = calibrate_and_fold(shared, unlabeled, X, Y, [n], [prior], recipe,
-                                       seed=int(meta.get("seed", 0)), n_effective=[plan.n_effective])
+                                       seed=int(meta.get("seed", 0)), n_effective=[plan.n_effective],
+                                       adapter_prior=family)
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
     check = None

@@ -160,10 +160,11 @@ class AdaptedMLP(nn.Module):
     def _fold_one(self, m: int) -> list[tuple[Tensor, Tensor]]:
         a = self.adapter
         d_in = self.config.sizes[0]
-        A = a["in_A"][m] if "in_A" in a else torch.eye(d_in, device=self.weights[0].device)
+        like = {"device": self.weights[0].device, "dtype": self.weights[0].dtype}
+        A = a["in_A"][m] if "in_A" in a else torch.eye(d_in, **like)
         if "in_a" in a:
             A = torch.diag(a["in_a"][m, 0])
-        c = a["in_c"][m, 0] if "in_c" in a else torch.zeros(d_in, device=A.device)
+        c = a["in_c"][m, 0] if "in_c" in a else torch.zeros(d_in, **like)
         plain = []
         for k, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
             W, b = W.detach().clone(), b.detach().clone()

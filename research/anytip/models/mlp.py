@@ -116,10 +116,9 @@ class BatchedMLP(nn.Module):
 
     @classmethod
     def from_plain(cls, models: Sequence[Plain], config: MLPConfig) -> BatchedMLP:
-        """Stack per-model [(W (in, out), b (out,)), ...] lists into one BatchedMLP."""
+        """Stack per-model [(W (in, out), b (out,)), ...] lists into one BatchedMLP (of their dtype)."""
         out = cls(len(models), config, seed=[0] * len(models))
-        device = models[0][0][0].device
-        out.to(device)
+        out.to(device=models[0][0][0].device, dtype=models[0][0][0].dtype)
         with torch.no_grad():
             for k, (W, b) in enumerate(zip(out.weights, out.biases, strict=True)):
                 W.copy_(torch.stack([m[k][0] for m in models]))

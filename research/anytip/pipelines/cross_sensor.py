@@ -40,6 +40,7 @@ from anytip.train.adapt import (
     pooled_scaler,
     train_shared,
 )
+from anytip.train.adapter_prior import AdapterPrior, PriorFamily, make_prior
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import scores
@@ -84,6 +85,10 @@ class Options(BaseModel):
     plan_strategies: list[Strategy] = Field(
         default=["spread"], min_length=1, description="press selections compared (budget_unit seconds)")
     rig: RigOptions = RigOptions()
+    adapter_prior: PriorFamily = Field(
+        default="identity", description="identity: new adapters start at and are pulled to the identity; "
+        "empirical: to a Gaussian learnt from the training units' adapters (train/adapter_prior.py)")
+    prior_rank: int = Field(default=4, ge=0, le=1000)
     adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
     priors: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
         default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
@@ -280,7 +285,8 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
 
 def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
                    plans: list[Plan], priors: list[float], recipe: AdapterRecipe,
-                   seed: int, fit_kind: str | None = None) -> tuple[BatchedMLP, Scaler]:
+                   seed: int, fit_kind: str | None = None,
+                   adapter_prior: AdapterPrior | None = None) -> tuple[BatchedMLP, Scaler]:
     """Fit and fold one adapter per (unit, plan, prior) job: its input statistics from the
     unit's unlabeled rows (its whole stream's pressures), its adapter from the plan's rows, the
     prior scaled by the plan's effective sample count."""
@@ -288,7 +294,7 @@ def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[
     X = [torch.from_numpy(arrays.pressure[p.rows]) for p in plans]
     Y = [torch.from_numpy(arrays.targets[p.rows]) for p in plans]
     return calibrate_and_fold(shared, unlabeled, X, Y, [len(p.rows) for p in plans], priors, recipe, seed,
-                              fit_kind, [p.n_effective for p in plans])
+                              fit_kind, [p.n_effective for p in plans], adapter_prior)
 
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
@@ -310,9 +316,12 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
             for p in (priors_of.get(b, [0.0]) if b.amount > 0 else [0.0]) if fits or b.amount == 0]
     plans = {(u, b): plan_of(sd, u, b, opts, seed) for u, b, _ in jobs}
     recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
+    family = None
+    if fits and fit_kind in (None, shared.model.kind):
+        family = make_prior(opts.adapter_prior, shared.model, opts.prior_rank)
     folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.rows for u, _, _ in jobs],
                                    [plans[(u, b)] for u, b, _ in jobs], [p for _, _, p in jobs], recipe,
-                                   seed, fit_kind)
+                                   seed, fit_kind, family)
     preds = predict_rows(folded, stats, shared.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     chosen, val_loss = dict(fixed_priors or {}), {}
@@ -401,6 +410,7 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], s
             "recipe": shared.recipe.model_dump(mode="json"),
             "priors_by_budget": by_budget(chosen, opts), "budget_unit": opts.budget_unit,
             "plan_strategy": calibrate_strategy(opts), "rig": opts.rig.model_dump(),
+            "adapter_prior": opts.adapter_prior, "prior_rank": opts.prior_rank,
             "default_prior": default_prior(opts),
             "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
             "calibration_protocol": opts.calibration_protocol,

@@ -21,11 +21,13 @@ from typing import Any
 import torch
 from torch import Tensor
 
+from anytip.errors import AnytipError
 from anytip.models.adapted import AdaptedMLP
 from anytip.models.heteroscedastic import hetero_config, unit_loss
 from anytip.models.io import LoadedShared
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
+from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, UnitSampler, pad_rows
 from anytip.train.fleet import ProgressBar, _lap
 from anytip.train.metrics import evaluate
@@ -150,7 +152,8 @@ class AdapterRecipe:
 
 def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tensor, in_scaler: Scaler,
                  prior: Tensor, recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0,
-                 kind: str | None = None, n_effective: Tensor | None = None) -> AdaptedMLP:
+                 kind: str | None = None, n_effective: Tensor | None = None,
+                 adapter_prior: AdapterPrior | None = None) -> AdaptedMLP:
     """Adapters for M new models, the shared weights frozen.
 
     X (M, N, d_in), Y (M, N, d_out) physical calibration rows, the first n[m] real;
@@ -160,6 +163,8 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
     shared weights and the M fitted adapters. n[m] == 0 leaves model m at the identity.
     The prior's weight is lambda / n[m], or lambda / n_effective[m] (M,) where given: the
     calibration's effective sample count (data/plans.py), for rows that are autocorrelated.
+    `adapter_prior` (train/adapter_prior.py) sets where the adapters start and what the prior
+    measures; None is the identity prior (start at the identity, |adapter - identity|^2).
     A heteroscedastic shared model's adapters are fitted by its beta-NLL.
     """
     device = shared.model.weights[0].device
@@ -171,6 +176,13 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
         model = fresh
     model.reset_adapter(X.shape[0])
     model.to(device)
+    if adapter_prior is not None:
+        if kind is not None and kind != shared.model.kind:
+            raise AnytipError(f"an adapter prior learnt for {shared.model.kind!r} adapters cannot "
+                              f"fit {kind!r} adapters")
+        adapter_prior = adapter_prior.to(device)
+        adapter_prior.start(model)
+    penalty = model.deviation if adapter_prior is None else (lambda: adapter_prior.penalty(model))
     for p in model.shared_parameters():
         p.requires_grad_(False)
     fit = n > 0
@@ -188,7 +200,7 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
     for step, idx in sampler.steps(recipe.steps):
         set_lr(opt, lr_at(step, recipe.steps, constant))
         fit_loss = unit_loss(model(Xs[rows_of, idx]), Ys[rows_of, idx], hetero_beta)
-        loss = (weight * (fit_loss + prior * model.deviation())).sum()
+        loss = (weight * (fit_loss + prior * penalty())).sum()
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()
@@ -200,8 +212,8 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
 def calibrate_and_fold(shared: SharedFit | LoadedShared, unlabeled: list[Tensor], X: list[Tensor],
                        Y: list[Tensor], n: list[int], priors: list[float],
                        recipe: AdapterRecipe = AdapterRecipe(), seed: int = 0,
-                       kind: str | None = None,
-                       n_effective: list[float] | None = None) -> tuple[BatchedMLP, Scaler]:
+                       kind: str | None = None, n_effective: list[float] | None = None,
+                       adapter_prior: AdapterPrior | None = None) -> tuple[BatchedMLP, Scaler]:
     """New units' deployable models: M jobs, each a unit's unlabeled pressures (n_u, d_in),
     its labeled rows X (k, d_in), Y (k, d_out) of which the first n[m] are used (0: label-free),
     and a prior (scaled by n_effective[m] instead of n[m] where given). Returns the M folded
@@ -212,5 +224,6 @@ def calibrate_and_fold(shared: SharedFit | LoadedShared, unlabeled: list[Tensor]
     Yp, _ = pad_rows([y if len(y) else y.new_zeros(1, y.shape[1]) for y in Y], device)
     counts = torch.tensor(n, device=device)
     effective = None if n_effective is None else torch.tensor(n_effective, dtype=torch.float64)
-    adapted = fit_adapters(shared, Xp, Yp, counts, stats, torch.tensor(priors), recipe, seed, kind, effective)
+    adapted = fit_adapters(shared, Xp, Yp, counts, stats, torch.tensor(priors), recipe, seed, kind, effective,
+                           adapter_prior)
     return adapted.fold(), stats
