@@ -227,6 +227,7 @@ def test_calibrate_refuses_a_damaged_run_config(cross_run, two_protocol_registry
 SECONDS = [*TINY[:3], "options.budget_unit=seconds", "options.budgets=[0,8,40]",
            "options.plan_strategies=[first,spread]", "options.adapters=[input_affine+film]",
            "options.priors=[1,100]", "options.calibration_protocol=null", "options.adapter_steps=60",
+           "options.adapter_priors=[identity,empirical]",
            "options.scratch.epochs=5", "options.sweep_seeds=0", "splits.n_val_units=1",
            "splits.n_test_units=2"]
 
@@ -240,8 +241,8 @@ def seconds_run(two_protocol_registry, tmp_path_factory) -> Path:
 def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run):
     rows = json.loads((seconds_run / "metrics.json").read_text())["results"]
     timed = [r for r in rows if "budget_s" in r and r["budget_s"] > 0]
-    assert {r["method"] for r in timed} == {f"{m}@{s}" for m in ("scratch", "adapted:input_affine+film")
-                                            for s in ("first", "spread")}
+    methods = ("scratch", "adapted:input_affine+film", "adapted:input_affine+film/empirical")
+    assert {r["method"] for r in timed} == {f"{m}@{s}" for m in methods for s in ("first", "spread")}
     for r in timed:
         assert 0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1
         assert r["n_effective"] <= r["calib_samples"]

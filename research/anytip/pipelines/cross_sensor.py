@@ -85,9 +85,11 @@ class Options(BaseModel):
     plan_strategies: list[Strategy] = Field(
         default=["spread"], min_length=1, description="press selections compared (budget_unit seconds)")
     rig: RigOptions = RigOptions()
-    adapter_prior: PriorFamily = Field(
-        default="identity", description="identity: new adapters start at and are pulled to the identity; "
-        "empirical: to a Gaussian learnt from the training units' adapters (train/adapter_prior.py)")
+    adapter_priors: list[PriorFamily] = Field(
+        default=["identity"], min_length=1,
+        description="identity: new adapters start at and are pulled to the identity; empirical: to a "
+        "Gaussian learnt from the training units' adapters (train/adapter_prior.py). Each is a method "
+        "(suffix /empirical); the first is what anytip calibrate uses")
     prior_rank: int = Field(default=4, ge=0, le=1000)
     adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
     priors: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
@@ -178,10 +180,15 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     for kind in ["none", *opts.adapters]:
         shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay)
-        kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts))
-        rows += [dict(base, **r) for r in kind_rows]
-        priors_chosen[kind] = chosen
-        val_by_method.update(validation_by_method(kind, val_loss))
+        first: tuple[dict[Budget, float], dict[Budget, float]] | None = None
+        for family in (opts.adapter_priors if kind != "none" else ["identity"]):
+            kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts),
+                                                       family=family)
+            rows += [dict(base, **r) for r in kind_rows]
+            priors_chosen[kind if family == "identity" else f"{kind}/{family}"] = chosen
+            val_by_method.update(validation_by_method(adapted_method(kind, family), val_loss))
+            first = first or (chosen, val_loss)
+        chosen, val_loss = first
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"))
         meta["val_loss_by_budget"] = by_budget(val_loss, opts)
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
@@ -197,10 +204,17 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     return rows
 
 
-def validation_by_method(kind: str, val_loss: dict[Budget, float]) -> dict[str, dict[str, float]]:
-    """{row method: {budget: validation-unit loss}} of one shared model, keyed as the report
-    keys rows (method with its plan suffix; budget in samples or seconds)."""
-    method = "adapted:input_stats" if kind == "none" else f"adapted:{kind}"
+def adapted_method(kind: str, family: PriorFamily = "identity") -> str:
+    """The method name of a shared model's rows: its adapter kind, and its prior family unless
+    the identity prior (`adapted:input_affine+film/empirical`); plans add `@strategy`."""
+    if kind == "none":
+        return "adapted:input_stats"
+    return f"adapted:{kind}" + ("" if family == "identity" else f"/{family}")
+
+
+def validation_by_method(method: str, val_loss: dict[Budget, float]) -> dict[str, dict[str, float]]:
+    """{row method: {budget: validation-unit loss}} of one shared model and prior, keyed as the
+    report keys rows (method with its plan suffix; budget in samples or seconds)."""
     out: dict[str, dict[str, float]] = {}
     for b, v in val_loss.items():
         out.setdefault(method + _suffix(b), {})[f"{b.amount:g}"] = v
@@ -299,13 +313,13 @@ def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
                  seed: int, budgets: list[Budget], fixed_priors: dict[Budget, float] | None = None,
-                 fit_kind: str | None = None
+                 fit_kind: str | None = None, family: PriorFamily = "identity"
                  ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
     """Rows of one shared model on the held-out units at every budget, the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead), and
     the validation units' mean standardised MSE per budget at that prior (empty when fixed)."""
     kind = fit_kind or shared.model.kind
-    method = "adapted:input_stats" if kind == "none" else f"adapted:{kind}"
+    method = adapted_method(kind, family)
     fits = kind != "none"
     if fixed_priors is not None:
         priors_of = {b: [fixed_priors[b]] for b in budgets if b.amount > 0}
@@ -316,12 +330,10 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
             for p in (priors_of.get(b, [0.0]) if b.amount > 0 else [0.0]) if fits or b.amount == 0]
     plans = {(u, b): plan_of(sd, u, b, opts, seed) for u, b, _ in jobs}
     recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
-    family = None
-    if fits and fit_kind in (None, shared.model.kind):
-        family = make_prior(opts.adapter_prior, shared.model, opts.prior_rank)
+    prior = make_prior(family, shared.model, opts.prior_rank) if fits and kind == shared.model.kind else None
     folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.rows for u, _, _ in jobs],
                                    [plans[(u, b)] for u, b, _ in jobs], [p for _, _, p in jobs], recipe,
-                                   seed, fit_kind, family)
+                                   seed, fit_kind, prior)
     preds = predict_rows(folded, stats, shared.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     chosen, val_loss = dict(fixed_priors or {}), {}
@@ -410,7 +422,7 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], s
             "recipe": shared.recipe.model_dump(mode="json"),
             "priors_by_budget": by_budget(chosen, opts), "budget_unit": opts.budget_unit,
             "plan_strategy": calibrate_strategy(opts), "rig": opts.rig.model_dump(),
-            "adapter_prior": opts.adapter_prior, "prior_rank": opts.prior_rank,
+            "adapter_prior": opts.adapter_priors[0], "prior_rank": opts.prior_rank,
             "default_prior": default_prior(opts),
             "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
             "calibration_protocol": opts.calibration_protocol,
