@@ -6,10 +6,14 @@ import numpy as np
 import pytest
 
 from anytip.data.arrays import FleetArrays, load_arrays
+from anytip.data.calibration import calibration_stream
 from anytip.data.catalog import RunRecord
-from anytip.data.plans import RigTiming, find_presses, select_presses
+from anytip.data.plans import Budget, RigTiming, find_presses, plan_for, select_presses
+from anytip.data.registry import Registry
+from anytip.data.simulated import simulate_into
 from anytip.errors import AnytipError
-from anytip.sensor.protocols import get_protocol
+from anytip.sensor.fleet import FleetConfig
+from anytip.sensor.protocols import design_protocol, get_protocol
 
 RATE = 200.0
 PRESS_ROWS, GAP_ROWS, PRESSES_PER_RUN = 40, 100, 12
@@ -128,3 +132,17 @@ def test_presses_of_simulated_runs_are_the_protocol_presses(small_registry):
     assert len(presses) == len(runs) * protocol.patches * protocol.presses_per_patch
     plan = select_presses(presses, 60.0)
     assert 0 < plan.calib_seconds <= 60.0 and len(plan.orientations) >= 1
+
+
+def test_designed_plans_take_the_presses_of_the_units_designed_runs(tmp_path):
+    registry = Registry(tmp_path / "r")
+    simulate_into(registry, FleetConfig(), 1, seed=2, protocols=("short", "plan30"))
+    arrays = load_arrays(registry, registry.list_runs())
+    unit = arrays.units[0]
+    presses, stream = find_presses(arrays, unit), calibration_stream(arrays, unit, None)
+    plan = plan_for(Budget(30.0, "seconds", "designed"), stream, presses)
+    designed = design_protocol(30.0)
+    assert plan.presses == designed.patches * len(designed.orientations_deg)
+    assert {arrays.runs[k].protocol for k in np.unique(arrays.run[plan.rows])} == {"plan30"}
+    assert 0.85 * 30 < plan.calib_seconds <= 30.0  # the plan uses its budget, moves included
+    assert plan_for(Budget(60.0, "seconds", "designed"), stream, presses).presses == 0  # no plan60 runs

@@ -36,7 +36,7 @@ from anytip.sensor.protocols import design_protocol, waypoints
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
-Strategy = Literal["spread", "random", "first"]
+Strategy = Literal["spread", "random", "first", "designed"]
 BudgetUnit = Literal["samples", "seconds"]
 
 
@@ -64,7 +64,7 @@ class Presses:
     rows (R,) int64 indices into the FleetArrays, press by press; start (P + 1,) offsets of
     each press in `rows`; run (P,) run index; orientation_deg (P,); duration_s (P,) contact
     seconds; summary (P, d) the press's mean targets, each target scaled by its spread over
-    all candidate rows (dimensionless).
+    all candidate rows (dimensionless); protocol (P,) object, its run's protocol name or None.
     """
 
     rows: np.ndarray
@@ -73,12 +73,22 @@ class Presses:
     orientation_deg: np.ndarray
     duration_s: np.ndarray
     summary: np.ndarray
+    protocol: np.ndarray
 
     def __len__(self) -> int:
         return len(self.run)
 
     def rows_of(self, k: int) -> np.ndarray:
         return self.rows[self.start[k]:self.start[k + 1]]
+
+    def subset(self, keep: np.ndarray) -> Presses:
+        """The presses where `keep` (P,) bool holds, in the same order."""
+        idx = np.flatnonzero(keep)
+        pieces = [self.rows_of(k) for k in idx]
+        rows = np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
+        start = np.concatenate([[0], np.cumsum([len(q) for q in pieces])]).astype(np.int64)
+        return Presses(rows, start, self.run[idx], self.orientation_deg[idx], self.duration_s[idx],
+                       self.summary[idx], self.protocol[idx])
 
 
 @dataclass(frozen=True)
@@ -118,8 +128,8 @@ def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = No
     keep = [k for k in range(len(bounds) - 1)
             if exclude is None or not exclude[mine[bounds[k]:bounds[k + 1]]].any()]
     if not keep:
-        return Presses(np.zeros(0, np.int64), np.zeros(1, np.int64), np.zeros(0, np.int64),
-                       np.zeros(0), np.zeros(0), np.zeros((0, arrays.targets.shape[1])))
+        return Presses(np.zeros(0, np.int64), np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros(0),
+                       np.zeros(0), np.zeros((0, arrays.targets.shape[1])), np.zeros(0, object))
     pieces = [mine[bounds[k]:bounds[k + 1]] for k in keep]
     rows = np.concatenate(pieces)
     start = np.concatenate([[0], np.cumsum([len(p) for p in pieces])]).astype(np.int64)
@@ -128,7 +138,8 @@ def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = No
     runs = arrays.run[first].astype(np.int64)
     duration = arrays.time[last] - arrays.time[first] + period_of[runs]
     orientation = np.array([arrays.runs[r].orientation_deg for r in runs], float)
-    return Presses(rows, start, runs, orientation, duration, _summaries(arrays, rows, start))
+    protocol = np.array([arrays.runs[r].protocol for r in runs], object)
+    return Presses(rows, start, runs, orientation, duration, _summaries(arrays, rows, start), protocol)
 
 
 def _recorded_rank(arrays: FleetArrays) -> np.ndarray:
@@ -166,7 +177,7 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
     cost = presses.duration_s + rig.move_s
     if strategy == "spread":
         chosen = _spread(presses, cost, budget_s, rig.remount_s, seed)
-    elif strategy in ("random", "first"):
+    elif strategy in ("random", "first", "designed"):
         order = (np.random.default_rng(seed).permutation(len(presses)) if strategy == "random"
                  else np.arange(len(presses)))
         chosen = _in_order(presses, cost, order, budget_s, rig.remount_s)
@@ -249,10 +260,21 @@ def stream_plan(stream: CalibrationStream, n: int) -> Plan:
 
 def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: RigTiming = RigTiming(),
              seed: int = 0) -> Plan:
-    """The labeled rows a budget grants one unit: a stream prefix or a selection of presses."""
+    """The labeled rows a budget grants one unit: a stream prefix or a selection of presses.
+    Strategy `designed` takes, in recorded order, the presses of the unit's runs of the designed
+    protocol of that budget (`plan<seconds>`, sensor.protocols.design_protocol), as a lab that
+    ran the designed plan on the unit would; a unit without such runs gets an empty plan."""
     if budget.unit == "samples":
         return stream_plan(stream, int(budget.amount))
+    if budget.strategy == "designed":
+        mine = presses.subset(presses.protocol == designed_name(budget.amount))
+        return select_presses(mine, budget.amount, rig, "first", seed)
     return select_presses(presses, budget.amount, rig, budget.strategy, seed)
+
+
+def designed_name(seconds: float) -> str:
+    """The protocol name of the designed calibration of `seconds` robot seconds."""
+    return f"plan{seconds:g}"
 
 
 def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0) -> tuple[str, float]:
