@@ -227,7 +227,8 @@ def test_calibrate_refuses_a_damaged_run_config(cross_run, two_protocol_registry
 SECONDS = [*TINY[:3], "options.budget_unit=seconds", "options.budgets=[0,8,40]",
            "options.plan_strategies=[first,spread]", "options.adapters=[input_affine+film]",
            "options.priors=[1,100]", "options.calibration_protocol=null", "options.adapter_steps=60",
-           "options.adapter_priors=[identity,empirical]",
+           "options.adapter_priors=[identity,empirical]", "options.reference_lrs=[0.003,0.01]",
+           "options.reference_val=patches",
            "options.scratch.epochs=5", "options.sweep_seeds=0", "splits.n_val_units=1",
            "splits.n_test_units=2"]
 
@@ -243,6 +244,8 @@ def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run)
     timed = [r for r in rows if "budget_s" in r and r["budget_s"] > 0]
     methods = ("scratch", "adapted:input_affine+film", "adapted:input_affine+film/empirical")
     assert {r["method"] for r in timed} == {f"{m}@{s}" for m in methods for s in ("first", "spread")}
+    refs = [r for r in rows if r["method"] == "per_unit"]
+    assert refs and all(r["reference_lr"] in (0.003, 0.01) for r in refs)
     for r in timed:
         assert 0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1
         assert r["n_effective"] <= r["calib_samples"]

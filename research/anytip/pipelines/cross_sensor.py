@@ -17,7 +17,7 @@ stream (data/calibration.py). Methods, all scored on the same held-out patches:
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
 import torch
@@ -25,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
 from anytip.data.plans import Budget, BudgetUnit, Plan, RigTiming, Strategy, plan_for
+from anytip.data.splits import held_out_patches
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.io import save_shared
@@ -91,6 +92,14 @@ class Options(BaseModel):
         "Gaussian learnt from the training units' adapters (train/adapter_prior.py). Each is a method "
         "(suffix /empirical); the first is what anytip calibrate uses")
     prior_rank: int = Field(default=4, ge=0, le=1000)
+    reference: TrainRecipe | None = Field(
+        default=None, description="the per-unit reference's recipe (default: the spec's training)")
+    reference_lrs: list[Annotated[float, Field(gt=0, le=10)]] = Field(
+        default=[], description="learning rates tried for the reference, each unit keeping the one with "
+        "the lowest loss on its own validation rows (empty: the recipe's own)")
+    reference_val: Literal["rows", "patches"] = Field(
+        default="rows", description="the reference's validation: random rows, or whole patches of its "
+        "calibration (early stopping and the learning-rate choice then judge unseen patches)")
     adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
     priors: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
         default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
@@ -113,6 +122,8 @@ def parse_options(ctx: Context) -> Options:
     raw = dict(ctx.spec.options)
     if isinstance(raw.get("scratch"), dict):  # a partial recipe overrides the default's keys
         raw["scratch"] = {**SCRATCH.model_dump(), **raw["scratch"]}
+    if isinstance(raw.get("reference"), dict):  # likewise over the spec's training recipe
+        raw["reference"] = {**ctx.spec.training.model_dump(), **raw["reference"]}
     opts = validate_options(ctx, Options, raw)
     for kind in [*opts.adapters, opts.sweep_adapter]:
         parse_kind(kind)
@@ -238,24 +249,45 @@ def _slug(kind: str) -> str:
 
 def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                   seed: int) -> list[dict[str, Any]]:
-    """The reference: each held-out unit's MLP on its full calibration minus its test patches."""
+    """The reference: each held-out unit's MLP on its full calibration minus its test patches,
+    fitted with each of `reference_lrs` (or the recipe's lr); each unit keeps the fit with the
+    lowest loss on its own validation rows (random rows or whole patches: `reference_val`)."""
     units, members = list(sd.split.test), []
     main = main_rows(arrays, opts.calibration_protocol)
+    recipe = opts.reference or ctx.spec.training
     for u, unit in enumerate(units):
         mine = unit_main_rows(arrays, unit, main)
         train_rows = np.setdiff1d(mine, sd.evals[unit].test_rows)
+        if opts.reference_val == "patches":
+            val = held_out_patches(arrays.patch[train_rows], ctx.spec.splits.val_fraction,
+                                   seed * 100_003 + 7919 + u)
+            members.append(unit_tensors(arrays, train_rows[~val], train_rows[val], unit))
+            continue
         rng = np.random.default_rng(seed * 7919 + 1000 + u)
         members.append(unit_tensors(arrays, *split_validation(train_rows, ctx.spec.splits.val_fraction, rng),
                                     unit))
     data = FleetBatchData.from_units(members, ctx.device)
-    fit = train_fleet(data, ctx.spec.model, ctx.spec.training, seed=seed, device=ctx.device,
-                      progress=ctx.progress)
-    fit.save(ctx.run_dir / "models" / f"per_unit_seed{seed}")
-    preds = predict_rows(fit.model, fit.in_scaler, fit.out_scaler, arrays,
-                         [sd.evals[u].test_rows for u in units])
-    return [{"method": "per_unit", "unit": u, "calib_samples": int(data.n_train[k] + data.n_val[k]),
-             "calib_seconds": None, **scores(preds[k], arrays.targets[sd.evals[u].test_rows])}
-            for k, u in enumerate(units)]
+    recipes = [recipe.model_copy(update={"lr": lr}) for lr in opts.reference_lrs] or [recipe]
+    fits = [train_fleet(data, ctx.spec.model, r, seed=seed, device=ctx.device, progress=ctx.progress)
+            for r in recipes]
+    best = np.argmin(np.stack([best_val_loss(f) for f in fits]), axis=0)  # (units,) the fit each keeps
+    for k, fit in enumerate(fits):
+        fit.save(ctx.run_dir / "models" / (f"per_unit_seed{seed}" + ("" if len(fits) == 1 else f"_lr{k}")))
+    preds = [predict_rows(f.model, f.in_scaler, f.out_scaler, arrays, [sd.evals[u].test_rows for u in units])
+             for f in fits]
+    rows = []
+    for k, u in enumerate(units):
+        row = {"method": "per_unit", "unit": u, "calib_samples": int(data.n_train[k] + data.n_val[k]),
+               "calib_seconds": None, **scores(preds[best[k]][k], arrays.targets[sd.evals[u].test_rows])}
+        if opts.reference_lrs:
+            row["reference_lr"] = opts.reference_lrs[best[k]]
+        rows.append(row)
+    return rows
+
+
+def best_val_loss(fit: Any) -> np.ndarray:
+    """(units,) each unit's lowest validation loss over a fleet fit's history."""
+    return np.min(np.array([h["val_loss"] for h in fit.history], float), axis=0)
 
 
 def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int) -> Plan:
