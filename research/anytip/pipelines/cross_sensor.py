@@ -112,6 +112,8 @@ class Options(BaseModel):
     # pulls training units' adapters to identity
     adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0, le=1e9)
     scratch: TrainRecipe = SCRATCH
+    scratch_budgets: list[Annotated[float, Field(ge=0, le=10_000_000)]] | None = Field(
+        default=None, description="the budgets the budget-only MLP is trained at (default: all)")
     train_unit_counts: list[Annotated[int, Field(ge=1, le=100_000)]] = [4, 8, 16]
     sweep_adapter: str = "input_affine+film"
     sweep_budget: float = Field(default=1000, ge=0, le=10_000_000)
@@ -313,7 +315,8 @@ def _suffix(budget: Budget) -> str:
 def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                  seed: int) -> list[dict[str, Any]]:
     """The paper's MLP trained on the budget alone (no held-out rows; no model selection)."""
-    jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in sd.split.test for b in budget_list(opts)
+    amounts = opts.budgets if opts.scratch_budgets is None else opts.scratch_budgets
+    jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in sd.split.test for b in budget_list(opts, amounts)
             if b.amount > 0]
     jobs = [j for j in jobs if len(j[2].rows)]
     if not jobs:
@@ -361,6 +364,8 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     jobs = [(u, b, p) for u in targets for b in budgets
             for p in (priors_of.get(b, [0.0]) if b.amount > 0 else [0.0]) if fits or b.amount == 0]
     plans = {(u, b): plan_of(sd, u, b, opts, seed) for u, b, _ in jobs}
+    # a budget that buys no press (too short, or no designed run of the unit) has no row
+    jobs = [(u, b, p) for u, b, p in jobs if b.amount == 0 or len(plans[(u, b)].rows)]
     recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
     prior = make_prior(family, shared.model, opts.prior_rank) if fits and kind == shared.model.kind else None
     folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.rows for u, _, _ in jobs],
