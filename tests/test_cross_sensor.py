@@ -228,7 +228,7 @@ SECONDS = [*TINY[:3], "options.budget_unit=seconds", "options.budgets=[0,8,40]",
            "options.plan_strategies=[first,spread]", "options.adapters=[input_affine+film]",
            "options.priors=[1,100]", "options.calibration_protocol=null", "options.adapter_steps=60",
            "options.adapter_priors=[identity,empirical]", "options.reference_lrs=[0.003,0.01]",
-           "options.reference_val=patches",
+           "options.reference_val=patches", "options.unlabeled_s=20",
            "options.scratch.epochs=5", "options.sweep_seeds=0", "splits.n_val_units=1",
            "splits.n_test_units=2"]
 
@@ -249,6 +249,8 @@ def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run)
     for r in timed:
         assert 0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1
         assert r["n_effective"] <= r["calib_samples"]
+        if not r["method"].startswith("scratch"):
+            assert 0 < r["unlabeled_seconds"] <= 20
     big = [r for r in timed if r["budget_s"] == 40]
     assert all(r["presses"] > 1 for r in big)
     report = (seconds_run / "report.md").read_text()

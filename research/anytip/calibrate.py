@@ -230,7 +230,8 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
                      "calibration check is not an unseen-unit result")
     prior = prior_for(meta, budget)
-    unlabeled = [torch.from_numpy(arrays.pressure[stream.rows])]
+    unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
+    unlabeled = [torch.from_numpy(arrays.pressure[unlabeled_rows])]
     X, Y = [torch.from_numpy(arrays.pressure[plan.rows])], [torch.from_numpy(arrays.targets[plan.rows])]
     recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
     family = None
@@ -246,7 +247,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
         check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other])}
-    result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(stream.rows), prior, check, notes)
+    result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
         "adapter": shared.model.kind, "calib_samples": n, "calib_seconds": result.calib_seconds,

@@ -33,6 +33,11 @@ class CalibrationStream:
         """Row indices of a budget of n labeled samples (all rows when n exceeds the stream)."""
         return self.rows[:n]
 
+    def unlabeled(self, seconds: float | None) -> np.ndarray:
+        """Row indices of the stream's first `seconds` of robot time (all rows for None): the
+        pressures a unit records in ordinary use after mounting, read without labels."""
+        return self.rows if seconds is None else self.rows[self.seconds <= seconds]
+
     def seconds_for(self, n: int) -> float:
         """Robot-seconds a budget of n samples costs (0 for n == 0)."""
         if n <= 0 or len(self.rows) == 0:

@@ -24,6 +24,7 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
+from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Budget, BudgetUnit, Plan, RigTiming, Strategy, plan_for
 from anytip.data.splits import held_out_patches
 from anytip.errors import AnytipError
@@ -112,6 +113,9 @@ class Options(BaseModel):
     # pulls training units' adapters to identity
     adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0, le=1e9)
     scratch: TrainRecipe = SCRATCH
+    unlabeled_s: float | None = Field(
+        default=None, ge=0, le=1e7, description="seconds of a new unit's stream whose pressures (no "
+        "labels) set its input statistics: ordinary use after mounting, free of rig time (default all)")
     scratch_budgets: list[Annotated[float, Field(ge=0, le=10_000_000)]] | None = Field(
         default=None, description="the budgets the budget-only MLP is trained at (default: all)")
     train_unit_counts: list[Annotated[int, Field(ge=1, le=100_000)]] = [4, 8, 16]
@@ -308,6 +312,15 @@ def budget_fields(budget: Budget, plan: Plan) -> dict[str, Any]:
     return out
 
 
+def unlabeled_fields(stream: CalibrationStream, seconds: float | None) -> dict[str, Any]:
+    """How much unlabeled data a row's input statistics read: rows, and seconds where capped."""
+    rows = stream.unlabeled(seconds)
+    out: dict[str, Any] = {"unlabeled_samples": len(rows)}
+    if seconds is not None:
+        out["unlabeled_seconds"] = float(stream.seconds[len(rows) - 1]) if len(rows) else 0.0
+    return out
+
+
 def _suffix(budget: Budget) -> str:
     return f"@{budget.strategy}" if budget.unit == "seconds" and budget.amount > 0 else ""
 
@@ -368,7 +381,8 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     jobs = [(u, b, p) for u, b, p in jobs if b.amount == 0 or len(plans[(u, b)].rows)]
     recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
     prior = make_prior(family, shared.model, opts.prior_rank) if fits and kind == shared.model.kind else None
-    folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.rows for u, _, _ in jobs],
+    folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.unlabeled(opts.unlabeled_s)
+                                                    for u, _, _ in jobs],
                                    [plans[(u, b)] for u, b, _ in jobs], [p for _, _, p in jobs], recipe,
                                    seed, fit_kind, prior)
     preds = predict_rows(folded, stats, shared.out_scaler, arrays,
@@ -383,7 +397,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         if u not in sd.split.test or (b.amount > 0 and p != chosen.get(b, p)):
             continue
         rows.append({"method": method + _suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
-                     "unlabeled_samples": len(sd.evals[u].stream.rows),
+                     **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
                      **scores(pred, arrays.targets[sd.evals[u].test_rows])})
     return rows, chosen, val_loss
@@ -460,6 +474,7 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], s
             "priors_by_budget": by_budget(chosen, opts), "budget_unit": opts.budget_unit,
             "plan_strategy": calibrate_strategy(opts), "rig": opts.rig.model_dump(),
             "adapter_prior": opts.adapter_priors[0], "prior_rank": opts.prior_rank,
+            "unlabeled_s": opts.unlabeled_s,
             "default_prior": default_prior(opts),
             "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
             "calibration_protocol": opts.calibration_protocol,
