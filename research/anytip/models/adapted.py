@@ -102,8 +102,17 @@ class AdaptedMLP(nn.Module):
         """Numbers one unit's adapter holds."""
         return sum(p[0].numel() for p in self.adapter.values())
 
-    def _input(self, x: Tensor) -> Tensor:
-        a = self.adapter
+    def _active(self, keep: Tensor | None) -> dict[str, Tensor]:
+        """The adapter tensors in use: all of them, or with keep (U,) bool each unit whose keep
+        is False at the identity (adapter dropout while training the shared weights)."""
+        if keep is None:
+            return dict(self.adapter)
+        identity = self._identity_on(self.weights[0].device)
+        k = keep.to(self.weights[0].dtype)
+        return {n: identity[n] + k.view(-1, *([1] * (p.dim() - 1))) * (p - identity[n])
+                for n, p in self.adapter.items()}
+
+    def _input(self, x: Tensor, a: dict[str, Tensor]) -> Tensor:
         if "in_A" in a:
             x = torch.bmm(x, a["in_A"])
         if "in_a" in a:
@@ -112,20 +121,23 @@ class AdaptedMLP(nn.Module):
             x = x + a["in_c"]
         return x
 
-    def forward(self, x: Tensor) -> Tensor:
+    def forward(self, x: Tensor, keep: Tensor | None = None) -> Tensor:
+        """x (U, B, d_in) -> (U, B, d_out); `keep` (U,) bool drops the adapters of the units
+        where it is False for this pass (see `_active`)."""
         act = ACTIVATIONS[self.config.activation]
-        x = self._input(x)
+        a = self._active(keep)
+        x = self._input(x, a)
         last = len(self.weights) - 1
         for k, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
-            if f"dW{k}" in self.adapter:
-                x = torch.baddbmm(b + self.adapter[f"db{k}"], x, W + self.adapter[f"dW{k}"])
+            if f"dW{k}" in a:
+                x = torch.baddbmm(b + a[f"db{k}"], x, W + a[f"dW{k}"])
             else:
                 x = x @ W + b
-            if k == 0 and "embed" in self.adapter:
-                x = x + self.adapter["embed"]
+            if k == 0 and "embed" in a:
+                x = x + a["embed"]
             if k < last:
-                if f"gamma{k}" in self.adapter:
-                    x = x * self.adapter[f"gamma{k}"] + self.adapter[f"beta{k}"]
+                if f"gamma{k}" in a:
+                    x = x * a[f"gamma{k}"] + a[f"beta{k}"]
                 x = act(x)
         if self.config.output_activation is not None:
             x = ACTIVATIONS[self.config.output_activation](x)

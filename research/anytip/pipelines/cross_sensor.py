@@ -112,6 +112,8 @@ class Options(BaseModel):
     adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0, le=10)
     # pulls training units' adapters to identity
     adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0, le=1e9)
+    # the chance a training unit's adapter is left out of a step of shared training
+    adapter_dropout: float = Field(default=0.0, ge=0, lt=1)
     scratch: TrainRecipe = SCRATCH
     unlabeled_s: float | None = Field(
         default=None, ge=0, le=1e7, description="seconds of a new unit's stream whose pressures (no "
@@ -196,7 +198,8 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     val_by_method: dict[str, dict[str, float]] = {}
     for kind in ["none", *opts.adapters]:
         shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
-                              ctx.device, ctx.progress, opts.adapter_decay)
+                              ctx.device, ctx.progress, opts.adapter_decay,
+                              adapter_dropout=opts.adapter_dropout)
         first: tuple[dict[Budget, float], dict[Budget, float]] | None = None
         for family in (opts.adapter_priors if kind != "none" else ["identity"]):
             kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts),

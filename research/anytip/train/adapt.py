@@ -25,7 +25,7 @@ from anytip.errors import AnytipError
 from anytip.models.adapted import AdaptedMLP
 from anytip.models.heteroscedastic import hetero_config, unit_loss
 from anytip.models.io import LoadedShared
-from anytip.models.mlp import BatchedMLP, MLPConfig
+from anytip.models.mlp import BatchedMLP, MLPConfig, unit_seed
 from anytip.models.scaler import Scaler
 from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, UnitSampler, pad_rows
@@ -78,7 +78,8 @@ def _std_floor(p: Tensor) -> Tensor:
 def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | None = None,
                  kind: str = "none", recipe: TrainRecipe = FAST, seed: int = 0,
                  device: torch.device | str | None = None, progress: bool = False,
-                 adapter_decay: float = 0.0, hetero_beta: float | None = None) -> SharedFit:
+                 adapter_decay: float = 0.0, hetero_beta: float | None = None,
+                 adapter_dropout: float = 0.0) -> SharedFit:
     """Fit the shared weights and each training unit's adapter together.
 
     data: the training units' rows (physical units); in_scaler: their input statistics,
@@ -87,7 +88,9 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     adapter stays a typical unit (the zero-shot starting point of a new unit). Model
     selection (recipe.keep_best) uses the mean validation loss over units (MSE of the
     means, also for heteroscedastic heads). `hetero_beta` trains heteroscedastic heads
-    with that beta-NLL (module docstring).
+    with that beta-NLL (module docstring). `adapter_dropout` is the chance that a unit's
+    adapter is left out (the identity used) in a step, so the shared weights also serve a
+    unit whose adapter is not known yet (zero-shot) or poorly fitted.
     """
     start = time.perf_counter()
     device = torch.device(device) if device is not None else data.device
@@ -103,12 +106,16 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     sampler = UnitSampler(data.n_train, recipe.batch_size, seed, device)
     total = recipe.epochs * sampler.steps_per_epoch
     eval_at = eval_points(sampler.steps_per_epoch, recipe.evals_per_epoch)
+    drop = None
+    if adapter_dropout > 0:
+        drop = torch.Generator(device).manual_seed(unit_seed(seed, 0, "adapter dropout"))
     best, best_loss, history, train_s = None, float("inf"), [], 0.0
     bar = ProgressBar(progress, total, f"shared over {U} units ({kind})")
     tick = time.perf_counter()
     for step, idx in sampler.steps(total):
         set_lr(opt, lr_at(step, total, recipe))
-        loss = unit_loss(model(X[rows_of, idx]), Y[rows_of, idx], hetero_beta).mean()
+        keep = None if drop is None else torch.rand(U, generator=drop, device=device) >= adapter_dropout
+        loss = unit_loss(model(X[rows_of, idx], keep), Y[rows_of, idx], hetero_beta).mean()
         if adapter_decay > 0:
             loss = loss + adapter_decay * model.deviation().mean()
         opt.zero_grad(set_to_none=True)
