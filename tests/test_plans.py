@@ -146,3 +146,24 @@ def test_designed_plans_take_the_presses_of_the_units_designed_runs(tmp_path):
     assert {arrays.runs[k].protocol for k in np.unique(arrays.run[plan.rows])} == {"plan30"}
     assert 0.85 * 30 < plan.calib_seconds <= 30.0  # the plan uses its budget, moves included
     assert plan_for(Budget(60.0, "seconds", "designed"), stream, presses).presses == 0  # no plan60 runs
+
+
+def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_path):
+    """Runs made from the format spec alone, without in_contact or temperature: contact then comes
+    from |F| >= 0.5 N, and presses from the rows it marks."""
+    from run_factory import make_run
+
+    registry = Registry(tmp_path / "r")
+    runs = [make_run("LAB-1", o, f"2024-05-0{k + 1}T12:00:00Z", n=600, seed=k, optional=False)
+            for k, o in enumerate((0.0, -90.0))]
+    for run in runs:
+        g = np.random.default_rng(0)
+        run.force[:] = 0.0
+        for start in range(50, 600, 100):  # six presses of 30 rows per run, rest between them
+            run.force[start:start + 30, 2] = -g.uniform(2, 20)
+    registry.add_runs(runs)
+    arrays = load_arrays(registry, registry.list_runs())
+    presses = find_presses(arrays, "LAB-1")
+    assert len(presses) == 12 and all(len(presses.rows_of(k)) == 30 for k in range(12))
+    plan = select_presses(presses, 20.0, RigTiming(move_s=2.0, remount_s=30.0))
+    assert plan.calib_seconds <= 20.0 and plan.presses >= 2 and len(plan.orientations) == 1
