@@ -286,11 +286,18 @@ def test_calibrate_by_seconds_selects_presses_like_the_benchmark(seconds_run, tw
     unit = prov["cross_sensor"]["seed0"]["units"]["test"][0]
     result = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "s", budget_seconds=40.0)
     assert 0 < result.calib_seconds <= 40.0
+    own = result.own_check
+    assert own["held_out_presses"] >= 1 and own["standardised_mse"] > 0
+    assert own["over_fleet"] == pytest.approx(own["standardised_mse"] / own["fleet_validation_mse"])
     loaded = load_models(tmp_path / "s")
     assert loaded.meta["calib_presses"] > 1 and loaded.meta["n_effective"] <= loaded.meta["calib_samples"]
     assert result.prior == loaded.meta["prior"]
     with pytest.raises(AnytipError, match="give --budget-seconds"):
         calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "x", budget_samples=100)
+    assert main(["calibrate", "--model", str(seconds_run), "--unit", unit, "--budget-seconds", "40",
+                 "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cli")]) == 0
+    out = capsys.readouterr().out
+    assert "own check" in out and "the fleet's validation units" in out and "fitted and folded in" in out
 
 
 def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):

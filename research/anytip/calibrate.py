@@ -13,6 +13,8 @@ touched, score the result when there are any.
 from __future__ import annotations
 
 import math
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,7 +27,8 @@ from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan, RigTiming, find_presses, select_presses, stream_plan
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
-from anytip.models.io import SHARED_FORMAT, load_shared, model_paths, read_header, save_models
+from anytip.models.io import SHARED_FORMAT, LoadedShared, load_shared, model_paths, read_header, save_models
+from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
@@ -46,6 +49,8 @@ class Calibrated:
     prior: float
     check: dict[str, float] | None  # RMSE on the unit's other runs, when it has any
     notes: list[str]  # which shared model and why, clipped budgets, warnings
+    own_check: dict[str, float] | None = None  # the plan's held-out presses against the fleet's
+    wall_s: float = 0.0  # fitting and folding, both fits included
 
 
 def find_shared(model: str | Path, adapter: str | None = None, seed: int | None = None,
@@ -107,11 +112,16 @@ def _run_config(run_dir: Path) -> dict[str, Any]:
     return config
 
 
-def _val_loss(path: Path, budget: int | None) -> float | None:
-    """A shared model's recorded validation-unit loss (`val_loss_by_budget` in its metadata) at
-    the largest budget <= `budget`, or its mean over budgets for None; None if it has none."""
+def _val_loss(path: Path, budget: float | None) -> float | None:
+    """A shared model file's recorded validation-unit loss (`_val_loss_table`)."""
     meta = read_header(model_paths(path)[1], SHARED_FORMAT).get("meta", {})
-    losses = meta.get("val_loss_by_budget") if isinstance(meta, dict) else None
+    return _val_loss_table(meta if isinstance(meta, dict) else {}, budget)
+
+
+def _val_loss_table(meta: dict[str, Any], budget: float | None) -> float | None:
+    """The validation-unit loss a shared model's metadata records (`val_loss_by_budget`) at the
+    largest budget <= `budget`, or its mean over budgets for None; None if it has none."""
+    losses = meta.get("val_loss_by_budget")
     if not isinstance(losses, dict):
         return None
     table = {float(b): float(v) for b, v in losses.items()
@@ -199,6 +209,47 @@ def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationSt
     return stream_plan(stream, n), float(n), note
 
 
+Fit = Callable[[np.ndarray, float], tuple[BatchedMLP, Scaler]]
+
+
+def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unlabeled: list[torch.Tensor],
+            prior: float) -> Fit:
+    """fit(rows, n_effective) -> (folded MLP, input scaler): the unit's adapter fitted on `rows`
+    as the shared model's benchmark fitted adapters (recipe, prior family and strength)."""
+    recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
+    family = None
+    if shared.model.adapter_parameters():
+        family = make_prior(meta.get("adapter_prior", "identity"), shared.model,
+                            int(meta.get("prior_rank", 4)))
+
+    def fit(rows: np.ndarray, n_effective: float) -> tuple[BatchedMLP, Scaler]:
+        X, Y = [torch.from_numpy(arrays.pressure[rows])], [torch.from_numpy(arrays.targets[rows])]
+        return calibrate_and_fold(shared, unlabeled, X, Y, [len(rows)], [prior], recipe,
+                                  seed=int(meta.get("seed", 0)), n_effective=[n_effective],
+                                  adapter_prior=family)
+    return fit
+
+
+def own_check(fit: Fit, shared: LoadedShared, arrays: FleetArrays, plan: Plan, fleet_loss: float | None,
+              every: int = 5) -> dict[str, float] | None:
+    """The calibration's own validation: refit without every `every`-th press of the plan and
+    score those presses (standardised MSE, as the benchmark's validation units are scored),
+    beside the fleet's validation-unit loss at this budget (`over_fleet`: their ratio). None
+    for a plan of fewer than 2 presses."""
+    fit_rows, check_rows = plan.split_presses(every)
+    if not len(check_rows):
+        return None
+    folded, stats = fit(fit_rows, plan.n_effective * len(fit_rows) / len(plan.rows))
+    pred = predict(folded, stats, shared.out_scaler, torch.from_numpy(arrays.pressure[check_rows])[None])[0]
+    std = shared.out_scaler.std.reshape(-1)
+    loss = float((((pred - torch.from_numpy(arrays.targets[check_rows])) / std) ** 2).mean())
+    out = {"held_out_presses": int(np.ceil(plan.presses / every)), "rows": int(len(check_rows)),
+           "standardised_mse": loss}
+    if fleet_loss is not None:
+        out |= {"fleet_validation_mse": fleet_loss, "over_fleet": loss / fleet_loss}
+    return out
+
+
 def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | Path,
                    budget_samples: int | None = None, budget_seconds: float | None = None,
                    adapter: str | None = None, seed: int | None = None) -> Calibrated:
@@ -232,28 +283,28 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
     unlabeled = [torch.from_numpy(arrays.pressure[unlabeled_rows])]
-    X, Y = [torch.from_numpy(arrays.pressure[plan.rows])], [torch.from_numpy(arrays.targets[plan.rows])]
-    recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
-    family = None
-    if shared.model.adapter_parameters():
-        family = make_prior(meta.get("adapter_prior", "identity"), shared.model,
-                            int(meta.get("prior_rank", 4)))
-    folded, stats = calibrate_and_fold(shared, unlabeled, X, Y, [n], [prior], recipe,
-                                       seed=int(meta.get("seed", 0)), n_effective=[plan.n_effective],
-                                       adapter_prior=family)
+    tick = time.perf_counter()
+    fit = _fitter(shared, meta, arrays, unlabeled, prior)
+    folded, stats = fit(plan.rows, plan.n_effective)
+    own = own_check(fit, shared, arrays, plan, _val_loss_table(meta, budget))
+    wall_s = time.perf_counter() - tick
+    if own is not None and own.get("over_fleet", 0.0) > 2.0:
+        notes.append(f"warning: unit {unit} fits its own held-out presses {own['over_fleet']:.1f}x worse "
+                     "than the fleet's validation units at this budget; check its mounting and data")
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
     check = None
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
         check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other])}
-    result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes)
+    result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes,
+                        own, wall_s)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
         "adapter": shared.model.kind, "calib_samples": n, "calib_seconds": result.calib_seconds,
         "calib_presses": plan.presses, "n_effective": plan.n_effective,
         "unlabeled_samples": result.unlabeled_samples, "prior": prior,
-        "calibration_runs": list(stream.runs), "check_on_other_runs": check,
+        "calibration_runs": list(stream.runs), "check_on_other_runs": check, "own_check": own,
     })
     write_json(Path(out) / "calibration.json",
                {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()})

@@ -145,6 +145,13 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     if r.check is not None:
         print(f"on the unit's other runs ({r.check['rows']} rows, not used to calibrate): force RMSE "
               f"{r.check['force_rmse_n']:.3f} N, angle RMSE {r.check['angle_rmse_rad']:.4f} rad")
+    if r.own_check is not None:
+        own = r.own_check
+        fleet = (f"; the fleet's validation units: {own['fleet_validation_mse']:.3g} "
+                 f"({own['over_fleet']:.2f}x)" if "over_fleet" in own else "")
+        print(f"own check ({own['held_out_presses']} presses of the plan held out and refitted without): "
+              f"standardised MSE {own['standardised_mse']:.3g}{fleet}")
+    print(f"fitted and folded in {r.wall_s:.1f} s")
     return 0
 
 

@@ -95,7 +95,8 @@ class Presses:
 class Plan:
     """A calibration: labeled rows (indices into the FleetArrays, press by press, in the order
     the plan runs them) and what it costs. calib_seconds: robot time, all of it;
-    contact_seconds: time in contact; n_effective: the effective labeled sample count."""
+    contact_seconds: time in contact; n_effective: the effective labeled sample count;
+    bounds (presses + 1,) offsets of each press in `rows` (one block for a stream prefix)."""
 
     rows: np.ndarray
     presses: int
@@ -103,10 +104,21 @@ class Plan:
     contact_seconds: float
     orientations: tuple[float, ...]
     n_effective: float
+    bounds: np.ndarray
 
     @classmethod
     def empty(cls) -> Plan:
-        return cls(np.zeros(0, np.int64), 0, 0.0, 0.0, (), 0.0)
+        return cls(np.zeros(0, np.int64), 0, 0.0, 0.0, (), 0.0, np.zeros(1, np.int64))
+
+    def split_presses(self, every: int) -> tuple[np.ndarray, np.ndarray]:
+        """(fitting rows, check rows): every `every`-th press (the 1st, (every+1)-th, ...) held
+        out whole, for a calibration's own validation; no check rows for fewer than 2 presses."""
+        pieces = [self.rows[a:b] for a, b in zip(self.bounds[:-1], self.bounds[1:], strict=True)]
+        if len(pieces) < 2:
+            return self.rows, self.rows[:0]
+        check = [k for k in range(len(pieces)) if k % every == 0]
+        fit = [p for k, p in enumerate(pieces) if k not in check]
+        return np.concatenate(fit), np.concatenate([pieces[k] for k in check])
 
 
 def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = None) -> Presses:
@@ -230,8 +242,9 @@ def _plan(presses: Presses, chosen: list[int], rig: RigTiming) -> Plan:
     rows = np.concatenate([presses.rows_of(k) for k in ordered])
     contact = float(presses.duration_s[ordered].sum())
     seconds = contact + rig.move_s * len(ordered) + rig.remount_s * (len(orientations) - 1)
+    bounds = np.concatenate([[0], np.cumsum([len(presses.rows_of(k)) for k in ordered])]).astype(np.int64)
     return Plan(rows, len(ordered), seconds, contact, orientations,
-                min(float(len(rows)), contact * rig.effective_hz))
+                min(float(len(rows)), contact * rig.effective_hz), bounds)
 
 
 @dataclass(frozen=True)
@@ -255,7 +268,8 @@ def stream_plan(stream: CalibrationStream, n: int) -> Plan:
     """The first n rows of a calibration stream as a plan (its robot time is the stream's
     clock at the n-th row; every row counts as an effective sample)."""
     rows = stream.first(n)
-    return Plan(rows, 0, stream.seconds_for(n), stream.seconds_for(n), (), float(len(rows)))
+    return Plan(rows, 0, stream.seconds_for(n), stream.seconds_for(n), (), float(len(rows)),
+                np.array([0, len(rows)], np.int64))
 
 
 def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: RigTiming = RigTiming(),
