@@ -84,9 +84,7 @@ class Presses:
     def subset(self, keep: np.ndarray) -> Presses:
         """The presses where `keep` (P,) bool holds, in the same order."""
         idx = np.flatnonzero(keep)
-        pieces = [self.rows_of(k) for k in idx]
-        rows = np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
-        start = np.concatenate([[0], np.cumsum([len(q) for q in pieces])]).astype(np.int64)
+        rows, start = _stack([self.rows_of(k) for k in idx])
         return Presses(rows, start, self.run[idx], self.orientation_deg[idx], self.duration_s[idx],
                        self.summary[idx], self.protocol[idx])
 
@@ -139,19 +137,21 @@ def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = No
     bounds = np.concatenate([[0], cut, [len(mine)]]).astype(np.int64)
     keep = [k for k in range(len(bounds) - 1)
             if exclude is None or not exclude[mine[bounds[k]:bounds[k + 1]]].any()]
-    if not keep:
-        return Presses(np.zeros(0, np.int64), np.zeros(1, np.int64), np.zeros(0, np.int64), np.zeros(0),
-                       np.zeros(0), np.zeros((0, arrays.targets.shape[1])), np.zeros(0, object))
     pieces = [mine[bounds[k]:bounds[k + 1]] for k in keep]
-    rows = np.concatenate(pieces)
-    start = np.concatenate([[0], np.cumsum([len(p) for p in pieces])]).astype(np.int64)
-    first = np.array([p[0] for p in pieces])
-    last = np.array([p[-1] for p in pieces])
+    rows, start = _stack(pieces)
+    first = np.array([p[0] for p in pieces], np.int64)
+    last = np.array([p[-1] for p in pieces], np.int64)
     runs = arrays.run[first].astype(np.int64)
     duration = arrays.time[last] - arrays.time[first] + period_of[runs]
     orientation = np.array([arrays.runs[r].orientation_deg for r in runs], float)
     protocol = np.array([arrays.runs[r].protocol for r in runs], object)
     return Presses(rows, start, runs, orientation, duration, _summaries(arrays, rows, start), protocol)
+
+
+def _stack(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Row pieces laid end to end: (rows (R,), offsets of each piece (len(pieces) + 1,))."""
+    rows = np.concatenate(pieces) if pieces else np.zeros(0, np.int64)
+    return rows, np.concatenate([[0], np.cumsum([len(q) for q in pieces], dtype=np.int64)]).astype(np.int64)
 
 
 def _recorded_rank(arrays: FleetArrays) -> np.ndarray:
@@ -165,6 +165,8 @@ def _recorded_rank(arrays: FleetArrays) -> np.ndarray:
 def _summaries(arrays: FleetArrays, rows: np.ndarray, start: np.ndarray) -> np.ndarray:
     """(P, d) each press's mean targets, each target divided by its RMS spread over `rows`."""
     y = arrays.targets[rows].astype(np.float64)
+    if len(y) == 0:
+        return np.zeros((0, y.shape[1]))
     for cols in TARGET_SLICES.values():
         spread = np.sqrt(((y[:, cols] - y[:, cols].mean(0)) ** 2).sum(1).mean())
         y[:, cols] /= max(spread, 1e-12)
@@ -239,10 +241,9 @@ def _plan(presses: Presses, chosen: list[int], rig: RigTiming) -> Plan:
     orientations = tuple(dict.fromkeys(float(presses.orientation_deg[k]) for k in chosen))
     ordered = sorted(chosen, key=lambda k: (orientations.index(float(presses.orientation_deg[k])),
                                             chosen.index(k)))
-    rows = np.concatenate([presses.rows_of(k) for k in ordered])
+    rows, bounds = _stack([presses.rows_of(k) for k in ordered])
     contact = float(presses.duration_s[ordered].sum())
     seconds = contact + rig.move_s * len(ordered) + rig.remount_s * (len(orientations) - 1)
-    bounds = np.concatenate([[0], np.cumsum([len(presses.rows_of(k)) for k in ordered])]).astype(np.int64)
     return Plan(rows, len(ordered), seconds, contact, orientations,
                 min(float(len(rows)), contact * rig.effective_hz), bounds)
 
