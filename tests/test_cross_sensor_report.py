@@ -45,8 +45,22 @@ def test_targets_report_the_validation_choice_not_the_best_held_out_method():
     rows += [row("adapted:b", u, 0, 1.5, 0.15) for u in units]
     val = {"seed0": {"adapted:a": {"100": 0.9}, "adapted:b": {"100": 0.5}}}
     chosen = chosen_methods(val)
-    assert chosen == {100.0: "adapted:b"}
+    assert chosen == {(100.0, None): "adapted:b"}
     table = targets(summary(rows), chosen)
     few_shot = table[1]
     assert "adapted:b" in few_shot[2] and few_shot[3].startswith("1.50x") and few_shot[-1] == "**not met**"
     assert table[0][2].startswith("n/a")  # no zero-shot budget was validated
+
+
+def test_targets_are_judged_per_plan_strategy():
+    units = [f"U{k}" for k in range(4)]
+    rows = [row("per_unit", u, 0, 1.0) for u in units]
+    for method, f in (("adapted:a@spread", 1.2), ("adapted:a@designed", 1.05), ("adapted:input_stats", 2.5)):
+        rows += [dict(row(method, u, 0, f, 0.1 * f), budget_s=0 if "@" not in method else 120) for u in units]
+    val = {"seed0": {"adapted:a@spread": {"120": 0.3}, "adapted:a@designed": {"120": 0.2},
+                     "adapted:input_stats": {"0": 0.9}}}
+    table = targets(summary(rows), chosen_methods(val), seconds=True)
+    labels = [r[0] for r in table]
+    assert labels[:3] == ["zero-shot (no labels)", "<= 120 s of robot time, `designed`",
+                          "<= 120 s of robot time, `spread`"]
+    assert table[0][-1] == "**not met**" and table[1][-1] == "met" and table[2][-1] == "**not met**"

@@ -102,22 +102,31 @@ def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-def chosen_methods(val_loss: dict[str, dict[str, dict[str, float]]]) -> dict[float, str]:
-    """Per budget, the method with the lowest validation-unit loss averaged over seeds:
-    val_loss is {seed: {method: {budget: loss}}} as the pipeline records it. Held-out units
-    never take part in this choice."""
-    acc: dict[float, dict[str, list[float]]] = defaultdict(lambda: defaultdict(list))
+def plan_of_method(method: str) -> str | None:
+    """The plan strategy a method's rows used (`adapted:kind@spread` -> spread), or None."""
+    return method.split("@", 1)[1] if "@" in method else None
+
+
+def chosen_methods(val_loss: dict[str, dict[str, dict[str, float]]]) -> dict[tuple[float, str | None], str]:
+    """Per (budget, plan strategy), the method with the lowest validation-unit loss averaged
+    over seeds: val_loss is {seed: {method: {budget: loss}}} as the pipeline records it.
+    Label-free methods (budget 0) compete under strategy None. Held-out units never take part
+    in this choice."""
+    acc: dict[tuple[float, str | None], dict[str, list[float]]] = defaultdict(lambda: defaultdict(list))
     for per_method in val_loss.values():
         for method, per_budget in per_method.items():
             for budget, loss in per_budget.items():
-                acc[float(budget)][method].append(float(loss))
-    return {b: min(m, key=lambda k: np.mean(m[k])) for b, m in acc.items()}
+                key = (float(budget), None if float(budget) == 0 else plan_of_method(method))
+                acc[key][method].append(float(loss))
+    return {key: min(m, key=lambda k: np.mean(m[k])) for key, m in acc.items()}
 
 
-def targets(lines: list[dict[str, Any]], chosen: dict[float, str], seconds: bool = False) -> list[list[Any]]:
+def targets(lines: list[dict[str, Any]], chosen: dict[tuple[float, str | None], str],
+            seconds: bool = False) -> list[list[Any]]:
     """The benchmark's targets, each at the largest budget that meets its condition (the
-    smallest for `>=` conditions), with the method chosen there on validation units
-    (`chosen_methods`): its held-out ratio per unit, mean [95% interval over units]."""
+    smallest for `>=` conditions) and for each plan strategy, with the method chosen there on
+    validation units (`chosen_methods`): its held-out ratio per unit, mean [95% interval over
+    units]."""
     checks = [
         ("zero-shot (0 labeled samples)", "<= 2.0x", 2.0, None, lambda b: b == 0),
         ("<= 1000 labeled samples", "<= 1.10x, upper <= 1.25x", 1.10, 1.25, lambda b: 0 < b <= 1000),
@@ -130,20 +139,24 @@ def targets(lines: list[dict[str, Any]], chosen: dict[float, str], seconds: bool
             ("600 s of robot time", "< 1.0x", 1.0, None, lambda b: b >= 600),
         ]
     by_key = {(s["method"], s["budget"]): s for s in lines}
+    strategies = sorted({st for _, st in chosen if st is not None}) or [None]
     out = []
     for name, goal, limit, upper, cond in checks:
-        budgets = [b for b in chosen if cond(b) and (chosen[b], b) in by_key]
-        if not budgets:
-            out.append([name, goal, "n/a (no validation choice)", "", "", ""])
-            continue
-        b = min(budgets) if limit == 1.0 else max(budgets)
-        s = by_key[(chosen[b], b)]
-        worst = max(s["force_unit"][0], s["angle_unit"][0])
-        met = worst < 1.0 if limit == 1.0 else worst <= limit
-        if upper is not None:
-            met = met and max(s["force_unit"][2], s["angle_unit"][2]) <= upper
-        out.append([name, goal, f"`{s['method']}` @ {b:g}", ratio_text(s["force_unit"]),
-                    ratio_text(s["angle_unit"]), "met" if met else "**not met**"])
+        for strategy in ([None] if limit == 2.0 else strategies):
+            keys = [(b, st) for b, st in chosen
+                    if cond(b) and st == strategy and (chosen[(b, st)], b) in by_key]
+            label = name if strategy is None else f"{name}, `{strategy}`"
+            if not keys:
+                out.append([label, goal, "n/a (no validation choice)", "", "", ""])
+                continue
+            b = (min if limit == 1.0 else max)(k[0] for k in keys)
+            s = by_key[(chosen[(b, strategy)], b)]
+            worst = max(s["force_unit"][0], s["angle_unit"][0])
+            met = worst < 1.0 if limit == 1.0 else worst <= limit
+            if upper is not None:
+                met = met and max(s["force_unit"][2], s["angle_unit"][2]) <= upper
+            out.append([label, goal, f"`{s['method']}` @ {b:g}", ratio_text(s["force_unit"]),
+                        ratio_text(s["angle_unit"]), "met" if met else "**not met**"])
     return out
 
 
