@@ -316,3 +316,17 @@ def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):
     assert main(["calibrate", "--plan", "120", "--out", str(out)]) == 2  # exists, no --force
     assert main(["calibrate", "--plan", "1", "--out", str(tmp_path / "p1.csv")]) == 2
     assert "holds no press" in capsys.readouterr().err
+
+
+def test_a_finished_run_rewrites_its_report_from_its_records(seconds_run, tmp_path, capsys):
+    import shutil
+
+    copy = tmp_path / "copy"
+    shutil.copytree(seconds_run, copy)
+    before = (copy / "report.md").read_text()
+    (copy / "report.md").unlink()
+    assert main(["report", str(copy)]) == 0
+    assert (copy / "report.md").read_text() == before
+    (copy / "metrics.json").write_text("{not json")
+    assert main(["report", str(copy)]) == 2
+    assert "metrics.json: not a readable JSON file" in capsys.readouterr().err

@@ -124,6 +124,13 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_report(args: argparse.Namespace) -> int:
+    from anytip.runner import rewrite_report
+
+    print(f"wrote {rewrite_report(args.run_dir)}")
+    return 0
+
+
 def cmd_calibrate(args: argparse.Namespace) -> int:
     from anytip.calibrate import calibrate_unit
 
@@ -256,6 +263,9 @@ def build_parser() -> argparse.ArgumentParser:
                              "$ANYTIP_SEARCH_STORAGE, else sqlite in the run directory); give the "
                              "password through $ANYTIP_SEARCH_STORAGE or PGPASSWORD, not here")
     search.add_argument("--workers", type=int, default=None, help="processes sharing the study here")
+    rep = sub.add_parser("report", help="write a finished run's report again from its recorded results")
+    rep.add_argument("run_dir", help="a run directory (config.yaml, metrics.json, provenance.json)")
+    rep.set_defaults(func=cmd_report)
     cal = sub.add_parser("calibrate", help="fit a new unit's adapter and save its folded model")
     _add_registry_opt(cal)
     cal.add_argument("--model", help="a cross_sensor run directory, or a shared model .safetensors file")

@@ -104,6 +104,16 @@ def dumps_json(data: Any, indent: int | None = 2, sort_keys: bool = False) -> st
     return json.dumps(finite(data), indent=indent, sort_keys=sort_keys, allow_nan=False) + "\n"
 
 
+def read_json(path: Path) -> Any:
+    """A JSON file as written by `write_json`; unreadable or invalid JSON names the file."""
+    def refuse(token: str) -> Any:
+        raise ValueError(f"non-standard number {token}")
+    try:
+        return json.loads(Path(path).read_text(), parse_constant=refuse)
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise AnytipError(f"{path}: not a readable JSON file ({e})") from e
+
+
 def write_json(path: Path, data: Any, indent: int | None = 2) -> None:
     """Write `dumps_json(data)` atomically (see `write_text`)."""
     write_text(Path(path), dumps_json(data, indent))

@@ -16,6 +16,7 @@ import torch
 from anytip import rundir
 from anytip.config import ExperimentSpec, load_spec, public_config
 from anytip.data.registry import Registry
+from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, check_options, check_registry, resolve_device
 from anytip.validation import mask_secrets
 
@@ -85,3 +86,25 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
     print(getattr(module, "summarise", summarise)(rows))
     print(f"run directory: {run_dir}  (report: {run_dir / 'report.md'})")
     return run_dir
+
+
+def rewrite_report(run_dir: str | Path) -> Path:
+    """Write a finished run's report again from what the run recorded (its config.yaml,
+    metrics.json and provenance.json), with this version's report writer: no training, no
+    registry. For pipelines that provide `report(ctx, rows)`; others are refused by name."""
+    run_dir = Path(run_dir)
+    for name in ("config.yaml", "metrics.json", "provenance.json"):
+        if not (run_dir / name).is_file():
+            raise AnytipError(f"{run_dir}: not a finished run directory (no {name})")
+    spec = load_spec(run_dir / "config.yaml")
+    module = importlib.import_module(f"anytip.pipelines.{spec.pipeline}")
+    if not hasattr(module, "report"):
+        raise AnytipError(f"{run_dir}: pipeline {spec.pipeline!r} cannot rewrite its report from "
+                          "recorded results; run the spec again")
+    provenance = rundir.read_json(run_dir / "provenance.json")
+    ctx = Context(spec, None, run_dir, torch.device("cpu"), False, provenance)  # type: ignore[arg-type]
+    rows = rundir.read_json(run_dir / "metrics.json").get("results")
+    if not isinstance(rows, list):
+        raise AnytipError(f"{run_dir / 'metrics.json'}: no 'results' list")
+    module.report(ctx, rows)
+    return run_dir / "report.md"

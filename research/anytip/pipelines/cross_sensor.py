@@ -174,6 +174,11 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     return rows
 
 
+def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
+    """Write the report of a finished run from its recorded rows (`anytip report RUN_DIR`)."""
+    write_report(ctx, rows, parse_options(ctx))
+
+
 def summarise(rows: list[dict[str, Any]]) -> str:
     """One screen: mean RMSE and ratio to per_unit per (method, labeled samples)."""
     lines = [f"{'method':<46}{'budget':>8}{'force [N]':>11}{'ratio':>8}{'angle [rad]':>13}{'ratio':>8}"]
