@@ -34,3 +34,19 @@ def test_random_rows_fraction():
     mask = random_rows(1000, 0.1, seed=0)
     assert mask.sum() == 100
     np.testing.assert_array_equal(mask, random_rows(1000, 0.1, seed=0))
+
+
+def test_unit_folds_hold_out_every_unit_exactly_once():
+    units = [f"U{k:02d}" for k in range(16)]
+    held = []
+    for seed in range(4):
+        split = split_units(units, seed, n_val=2, n_test=99, folds=4)
+        assert len(split.test) == 4 and len(split.val) == 2 and len(split.train) == 10
+        assert not set(split.test) & set(split.val) and not set(split.test) & set(split.train)
+        held += split.test
+    assert sorted(held) == units
+    assert split_units(units, 5, 2, 0, folds=4) == split_units(units, 5, 2, 0, folds=4)
+    with pytest.raises(AnytipError, match="folds"):
+        split_units(units[:3], 0, 1, 1, folds=4)
+    with pytest.raises(AnytipError, match="leaving"):
+        split_units(units[:4], 0, 3, 1, folds=2)

@@ -64,6 +64,8 @@ class SplitConfig(Strict):
     n_val_units: int = Field(default=0, ge=0, le=100_000)
     n_test_units: int = Field(default=0, ge=0, le=100_000)
     n_train_units: int | None = Field(default=None, ge=1, le=100_000)
+    # held-out units as rotating folds: seed s holds out fold s % K (n_test_units then unused)
+    unit_folds: int | None = Field(default=None, ge=2, le=100_000)
     random_test_fraction: float = Field(default=0.1, gt=0, lt=1)  # the paper's 90/10 rows
     patch_test_fraction: float = Field(default=0.2, gt=0, lt=1)  # whole held-out patches
     val_fraction: float = Field(default=0.1, gt=0, lt=1)  # of training rows, for early stopping

@@ -25,12 +25,17 @@ class UnitSplit:
 
 
 def split_units(units: Sequence[str], seed: int, n_val: int, n_test: int,
-                n_train: int | None = None) -> UnitSplit:
+                n_train: int | None = None, folds: int | None = None) -> UnitSplit:
     """Shuffle `units` with `seed` and deal held-out, then validation, then training units.
 
-    `n_train` None takes every remaining unit. Raises if the registry holds too few.
+    `n_train` None takes every remaining unit. With `folds` K the held-out units are fold
+    seed % K of one fixed shuffle instead (every unit is held out once over seeds 0..K-1, and
+    `n_test` is ignored); validation and training units are dealt from the rest with `seed`.
+    Raises if the registry holds too few.
     """
     units = sorted(set(units))
+    if folds is not None:
+        return _fold_split(units, seed, n_val, n_train, folds)
     need = n_val + n_test + (n_train or 1)
     if len(units) < need:
         raise AnytipError(
@@ -41,6 +46,22 @@ def split_units(units: Sequence[str], seed: int, n_val: int, n_test: int,
     test, val = order[:n_test], order[n_test:n_test + n_val]
     rest = order[n_test + n_val:]
     train = rest if n_train is None else rest[:n_train]
+    return UnitSplit(tuple(sorted(train)), tuple(sorted(val)), tuple(sorted(test)))
+
+
+def _fold_split(units: list[str], seed: int, n_val: int, n_train: int | None, folds: int) -> UnitSplit:
+    if not 2 <= folds <= len(units):
+        raise AnytipError(f"unit folds: {folds} folds need 2 to {len(units)} units' worth; the registry "
+                          f"holds {len(units)} units")
+    order = [units[i] for i in np.random.default_rng(0).permutation(len(units))]
+    test = order[seed % folds::folds]
+    rest = [u for u in units if u not in test]
+    if len(rest) < n_val + (n_train or 1):
+        raise AnytipError(f"fold {seed % folds} holds out {len(test)} of {len(units)} units, leaving "
+                          f"{len(rest)}; the split needs {n_val} validation and {n_train or '>= 1'} training")
+    rest = [rest[i] for i in np.random.default_rng(seed).permutation(len(rest))]
+    val = rest[:n_val]
+    train = rest[n_val:] if n_train is None else rest[n_val:n_val + n_train]
     return UnitSplit(tuple(sorted(train)), tuple(sorted(val)), tuple(sorted(test)))
 
 

@@ -55,13 +55,14 @@ class Roles:
     n_train_units: int | None
     patch_test_fraction: float
     val_fraction: float
+    unit_folds: int | None = None  # held-out units as rotating folds (data.splits.split_units)
 
 
 def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
                  interleave: bool, seed: int, device: torch.device | str = "cpu") -> SeedData:
     """Unit roles, test patches of validation and held-out units, training tensors."""
     split = split_units(arrays.units, seed, max(roles.n_val_units, 1), max(roles.n_test_units, 1),
-                        roles.n_train_units)
+                        roles.n_train_units, roles.unit_folds)
     main = main_rows(arrays, calibration_protocol)
     evals = {}
     for k, unit in enumerate([*split.val, *split.test]):
