@@ -47,12 +47,16 @@ def cross_run(two_protocol_registry, tmp_path_factory) -> Path:
     return run_experiment(SPEC, two_protocol_registry, out=out, overrides=TINY, progress=False)
 
 
-def test_held_out_units_and_patches_never_reach_training(two_protocol_registry, tmp_path):
-    spec = load_spec(SPEC, TINY)
-    ctx = Context(spec, two_protocol_registry, tmp_path, torch.device("cpu"), False)
+def prepared(registry, tmp_path, overrides):
+    """(options, arrays, seed-0 roles and tensors) of the spec with `overrides` on `registry`."""
+    ctx = Context(load_spec(SPEC, overrides), registry, tmp_path, torch.device("cpu"), False)
     opts = parse_options(ctx)
-    arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs())
-    sd = prepare(ctx, arrays, opts, seed=0)
+    arrays = load_arrays(registry, registry.list_runs())
+    return opts, arrays, prepare(ctx, arrays, opts, seed=0)
+
+
+def test_held_out_units_and_patches_never_reach_training(two_protocol_registry, tmp_path):
+    opts, arrays, sd = prepared(two_protocol_registry, tmp_path, TINY)
     assert set(sd.split.train).isdisjoint([*sd.split.val, *sd.split.test])
     assert sd.train.unit_ids == list(sd.split.train)
     train_rows = {r.tobytes() for u in range(sd.train.n_units) for X in (sd.train.unit(u).X_train,
@@ -266,11 +270,7 @@ def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run)
 def test_plans_never_touch_test_patches(two_protocol_registry, tmp_path):
     from anytip.pipelines.cross_sensor import budget_list, plan_of
 
-    spec = load_spec(SPEC, SECONDS)
-    ctx = Context(spec, two_protocol_registry, tmp_path, torch.device("cpu"), False)
-    opts = parse_options(ctx)
-    arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs())
-    sd = prepare(ctx, arrays, opts, seed=0)
+    opts, arrays, sd = prepared(two_protocol_registry, tmp_path, SECONDS)
     for unit, ev in sd.evals.items():
         test_cells = set(arrays.patch[ev.test_rows])
         for b in budget_list(opts, [8.0, 40.0, 1e5]):
