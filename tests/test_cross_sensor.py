@@ -271,6 +271,12 @@ def test_plans_never_touch_test_patches(two_protocol_registry, tmp_path):
     from anytip.pipelines.cross_sensor import budget_list, plan_of
 
     opts, arrays, sd = prepared(two_protocol_registry, tmp_path, SECONDS)
+    from anytip.data.calibration import calibration_stream
+    from anytip.train.adapt import input_stats
+
+    first = calibration_stream(arrays, sd.split.train[0], None)  # training units read the same window
+    want = input_stats([torch.from_numpy(arrays.pressure[first.unlabeled(opts.unlabeled_s)])])
+    torch.testing.assert_close(sd.train_stats.mean[0], want.mean[0])
     for unit, ev in sd.evals.items():
         test_cells = set(arrays.patch[ev.test_rows])
         for b in budget_list(opts, [8.0, 40.0, 1e5]):

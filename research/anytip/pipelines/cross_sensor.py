@@ -155,7 +155,7 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> Seed
     """The seed's unit roles and tensors (`anytip.train.shared_split`) for this spec."""
     s = ctx.spec.splits
     roles = Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction, s.val_fraction,
-                  s.unit_folds)
+                  s.unit_folds, opts.unlabeled_s)
     return prepare_seed(arrays, roles, opts.calibration_protocol, opts.calibration_interleave, seed,
                         ctx.device)
 

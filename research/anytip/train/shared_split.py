@@ -5,7 +5,8 @@ Per seed, units are dealt into training, validation and held-out roles. Every va
 held-out unit loses whole patches of its main runs (runs other than the calibration protocol's)
 to testing; its calibration stream never contains a row of those patches. Training units
 contribute their main rows (a random `val_fraction` for model selection) and their calibration
-stream's pressures as label-free input statistics. Used by the cross_sensor pipeline, the shared
+stream's pressures (its first `unlabeled_s` seconds, as for a new unit) as label-free input
+statistics. Used by the cross_sensor pipeline, the shared
 architecture search and `anytip calibrate`'s benchmark twin alike.
 """
 
@@ -56,6 +57,7 @@ class Roles:
     patch_test_fraction: float
     val_fraction: float
     unit_folds: int | None = None  # held-out units as rotating folds (data.splits.split_units)
+    unlabeled_s: float | None = None  # seconds of each stream whose pressures set input statistics
 
 
 def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
@@ -81,7 +83,7 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         fit, val = split_validation(mine, roles.val_fraction, np.random.default_rng(seed * 7919 + u))
         members.append(unit_tensors(arrays, fit, val, unit))
         stream = calibration_stream(arrays, unit, calibration_protocol, interleave=interleave)
-        stats.append(torch.from_numpy(arrays.pressure[stream.rows]))
+        stats.append(torch.from_numpy(arrays.pressure[stream.unlabeled(roles.unlabeled_s)]))
     train = FleetBatchData.from_units(members, device)
     return SeedData(split, train, input_stats(stats, device), evals)
 
