@@ -333,6 +333,13 @@ def test_a_finished_run_rewrites_its_report_from_its_records(seconds_run, tmp_pa
     (copy / "report.md").unlink()
     assert main(["report", str(copy)]) == 0
     assert (copy / "report.md").read_text() == before
+    prov = json.loads((copy / "provenance.json").read_text())  # a run that recorded no validation losses
+    del prov["cross_sensor"]["seed0"]["val_loss"]
+    (copy / "provenance.json").write_text(json.dumps(prov))
+    assert main(["report", str(copy)]) == 0
+    after = [line for line in (copy / "report.md").read_text().splitlines()
+             if line.startswith("| <= 120 s of robot time, `spread`")]
+    assert after and "`adapted:input_affine+film@spread` @ 40" in after[0]  # the saved models' losses
     (copy / "metrics.json").write_text("{not json")
     assert main(["report", str(copy)]) == 2
     assert "metrics.json: not a readable JSON file" in capsys.readouterr().err

@@ -17,6 +17,7 @@ stream (data/calibration.py). Methods, all scored on the same held-out patches:
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -29,7 +30,7 @@ from anytip.data.plans import Budget, BudgetUnit, Plan, RigTiming, Strategy, pla
 from anytip.data.splits import held_out_patches
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
-from anytip.models.io import save_shared
+from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, validate_options
@@ -176,8 +177,29 @@ def run(ctx: Context) -> list[dict[str, Any]]:
 
 
 def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
-    """Write the report of a finished run from its recorded rows (`anytip report RUN_DIR`)."""
-    write_report(ctx, rows, parse_options(ctx))
+    """Write the report of a finished run from its recorded rows (`anytip report RUN_DIR`). A run
+    recorded before validation losses went into its provenance has them in its shared models'
+    metadata (`val_loss_by_budget`), which is read instead."""
+    opts = parse_options(ctx)
+    for key, seed_prov in ctx.provenance.get("cross_sensor", {}).items():
+        if "val_loss" not in seed_prov:
+            seed_prov["val_loss"] = saved_val_losses(ctx.run_dir / "models", key, opts)
+    write_report(ctx, rows, opts)
+
+
+def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, dict[str, float]]:
+    """{method: {budget: loss}} from the metadata of a seed's saved shared models."""
+    out: dict[str, dict[str, float]] = {}
+    for kind in ["none", *opts.adapters]:
+        path = models / f"shared_{_slug(kind)}_{seed_key}.json"
+        if path.is_file():
+            meta = read_header(path, SHARED_FORMAT).get("meta", {})
+            meta = meta if isinstance(meta, dict) else {}
+            suffix = f"@{meta.get('plan_strategy')}" if meta.get("budget_unit") == "seconds" else ""
+            for b, v in meta.get("val_loss_by_budget", {}).items():
+                method = adapted_method(kind) + (suffix if float(b) > 0 else "")
+                out.setdefault(method, {})[str(b)] = float(v)
+    return out
 
 
 def summarise(rows: list[dict[str, Any]]) -> str:
