@@ -19,6 +19,7 @@ import numpy as np
 from scipy.stats import norm
 
 from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
+from anytip.data.plans import stream_plan
 from anytip.errors import AnytipError
 from anytip.models.heteroscedastic import output_scaler_2d
 from anytip.models.io import save_models
@@ -417,8 +418,8 @@ def adapted_member(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a: A
     recipe = ctx.spec.training.model_copy(update={"epochs": a.epochs})
     shared = train_shared(sd.train, sd.train_stats, ctx.spec.model, a.kind, recipe, seed, ctx.device,
                           adapter_decay=co.adapter_decay, hetero_beta=hetero_beta)
-    n = len(streams)
-    folded, stats = calibrate_many(shared, arrays, streams, [a.budget] * n, [a.prior] * n,
+    plans = [stream_plan(s, a.budget) for s in streams]
+    folded, stats = calibrate_many(shared, arrays, [s.rows for s in streams], plans, [a.prior] * len(plans),
                                    AdapterRecipe(co.adapter_steps, co.adapter_lr), seed)
     out = shared.out_scaler if hetero_beta is None else output_scaler_2d(shared.out_scaler)
     return AdaptedMember(shared, stats, predict_rows(folded, stats, out, arrays, test),
