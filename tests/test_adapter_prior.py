@@ -65,7 +65,7 @@ def test_the_empirical_prior_pulls_along_the_directions_the_fleet_varies_in():
         wide.adapter[keys[-1]].add_(0.05)
         narrow.adapter[keys[0]].add_(0.05 * (model.adapter[keys[-1]][0].numel()
                                             / model.adapter[keys[0]][0].numel()) ** 0.5)
-    assert float(prior.penalty(wide)) < float(prior.penalty(narrow)) / 10
+    assert float(prior.penalty(wide).detach()) < float(prior.penalty(narrow).detach()) / 10
 
 
 def test_fitting_with_the_empirical_prior_beats_the_mean_adapter_on_a_unit_from_the_prior():
