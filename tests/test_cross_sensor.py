@@ -303,7 +303,7 @@ def test_calibrate_by_seconds_selects_presses_like_the_benchmark(seconds_run, tw
     assert main(["calibrate", "--model", str(seconds_run), "--unit", unit, "--budget-seconds", "40",
                  "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cli")]) == 0
     out = capsys.readouterr().out
-    assert "own check" in out and "the fleet's validation units" in out and "fitted and folded in" in out
+    assert "own check" in out and "not the same rows" in out and "fitted and folded in" in out
 
 
 def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):

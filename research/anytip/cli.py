@@ -154,10 +154,12 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
               f"{r.check['force_rmse_n']:.3f} N, angle RMSE {r.check['angle_rmse_rad']:.4f} rad")
     if r.own_check is not None:
         own = r.own_check
-        fleet = (f"; the fleet's validation units: {own['fleet_validation_mse']:.3g} "
-                 f"({own['over_fleet']:.2f}x)" if "over_fleet" in own else "")
-        print(f"own check ({own['held_out_presses']} presses of the plan held out and refitted without): "
-              f"standardised MSE {own['standardised_mse']:.3g}{fleet}")
+        fleet = ""
+        if "over_fleet" in own:
+            fleet = (f" (the fleet's validation units: {own['fleet_validation_mse']:.3g} on their test "
+                     f"patches at this budget, {own['over_fleet']:.2f}x; not the same rows)")
+        print(f"own check: standardised MSE {own['standardised_mse']:.3g} on {own['held_out_presses']} "
+              f"presses of the plan, held out and refitted without{fleet}")
     print(f"fitted and folded in {r.wall_s:.1f} s")
     return 0
 
