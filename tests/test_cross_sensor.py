@@ -17,7 +17,8 @@ from anytip.data.simulated import simulate_into
 from anytip.errors import AnytipError
 from anytip.models.io import load_models, load_shared
 from anytip.pipelines.common import Context
-from anytip.pipelines.cross_sensor import main_rows, parse_options, prepare
+from anytip.pipelines.cross_sensor import main_rows, prepare
+from anytip.pipelines.cross_sensor_options import parse_options
 from anytip.runner import run_experiment
 from anytip.sensor.fleet import FleetConfig
 from anytip.sensor.protocols import Protocol
@@ -268,7 +269,8 @@ def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run)
 
 
 def test_plans_never_touch_test_patches(two_protocol_registry, tmp_path):
-    from anytip.pipelines.cross_sensor import budget_list, plan_of
+    from anytip.pipelines.cross_sensor import plan_of
+    from anytip.pipelines.cross_sensor_options import budget_list
 
     opts, arrays, sd = prepared(two_protocol_registry, tmp_path, SECONDS)
     from anytip.data.calibration import calibration_stream

@@ -26,9 +26,9 @@ from anytip.models.io import save_models
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, validate_options
-from anytip.pipelines.cross_sensor import Options as CrossOptions
 from anytip.pipelines.cross_sensor import calibrate_many, predict_rows
 from anytip.pipelines.cross_sensor import prepare as cross_prepare
+from anytip.pipelines.cross_sensor_options import Options as CrossOptions
 from anytip.pipelines.uncertainty_faults import fault_rows
 from anytip.pipelines.uncertainty_options import AdaptedOptions, Options
 from anytip.report.uncertainty import BAND, write_report

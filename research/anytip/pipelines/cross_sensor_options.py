@@ -1,0 +1,110 @@
+"""`options:` of a cross_sensor spec: budgets (samples or robot seconds) and plans, adapters and
+their priors, the per-unit reference, and how they are checked before any work."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from anytip.data.plans import Budget, BudgetUnit, RigTiming, Strategy
+from anytip.errors import AnytipError
+from anytip.models.adapted import parse_kind
+from anytip.pipelines.common import Context, validate_options
+from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
+from anytip.train.adapter_prior import PriorFamily
+from anytip.train.recipe import TrainRecipe
+
+SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1e-4, batch_size=256,
+                      epochs=100, schedule="cosine", final_lr_frac=0.01, keep_best=False)
+
+
+class RigOptions(BaseModel):
+    """`options.rig`: rig time besides contact, and the labels' decorrelation rate."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    move_s: float = Field(default=RigTiming.move_s, ge=0, le=3600)
+    remount_s: float = Field(default=RigTiming.remount_s, ge=0, le=36_000)
+    effective_hz: float = Field(default=RigTiming.effective_hz, gt=0, le=100_000)
+
+    def timing(self) -> RigTiming:
+        return RigTiming(self.move_s, self.remount_s, self.effective_hz)
+
+
+class Options(BaseModel):
+    """`options:` of a cross_sensor spec."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    budgets: list[Annotated[float, Field(ge=0, le=10_000_000)]] = Field(
+        default=[0, 50, 200, 1000, 5000], min_length=1,
+        description="labeled samples (budget_unit samples) or robot seconds (budget_unit seconds)")
+    budget_unit: BudgetUnit = Field(
+        default="samples", description="samples: the first rows of the calibration stream; seconds: "
+                                       "whole presses up to that robot time (data/plans.py)")
+    plan_strategies: list[Strategy] = Field(
+        default=["spread"], min_length=1, description="press selections compared (budget_unit seconds)")
+    rig: RigOptions = RigOptions()
+    adapter_priors: list[PriorFamily] = Field(
+        default=["identity"], min_length=1,
+        description="identity: new adapters start at and are pulled to the identity; empirical: to a "
+        "Gaussian learnt from the training units' adapters (train/adapter_prior.py). Each is a method "
+        "(suffix /empirical); the first is what anytip calibrate uses")
+    prior_rank: int = Field(default=4, ge=0, le=1000)
+    reference: TrainRecipe | None = Field(
+        default=None, description="the per-unit reference's recipe (default: the spec's training)")
+    reference_lrs: list[Annotated[float, Field(gt=0, le=10)]] = Field(
+        default=[], description="learning rates tried for the reference, each unit keeping the one with "
+        "the lowest loss on its own validation rows (empty: the recipe's own)")
+    reference_val: Literal["rows", "patches"] = Field(
+        default="rows", description="the reference's validation: random rows, or whole patches of its "
+        "calibration (early stopping and the learning-rate choice then judge unseen patches)")
+    adapters: list[str] = ["input_diag", "input_affine+film", "input_affine+embedding+film"]
+    priors: list[Annotated[float, Field(ge=0, le=1e9)]] = Field(
+        default=[1.0, 10.0, 100.0, 1000.0], min_length=1)
+    calibration_protocol: str | None = "short"
+    calibration_interleave: bool = Field(
+        default=False, description="the calibration protocol's runs (orientations) take turns, "
+                                   "patch visit by patch visit, instead of following each other")
+    adapter_steps: int = Field(default=AdapterRecipe.steps, ge=1, le=1_000_000)
+    adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0, le=10)
+    # pulls training units' adapters to identity
+    adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0, le=1e9)
+    # the chance a training unit's adapter is left out of a step of shared training
+    adapter_dropout: float = Field(default=0.0, ge=0, lt=1)
+    scratch: TrainRecipe = SCRATCH
+    unlabeled_s: float | None = Field(
+        default=None, ge=0, le=1e7, description="seconds of a new unit's stream whose pressures (no "
+        "labels) set its input statistics: ordinary use after mounting, free of rig time (default all)")
+    scratch_budgets: list[Annotated[float, Field(ge=0, le=10_000_000)]] | None = Field(
+        default=None, description="the budgets the budget-only MLP is trained at (default: all)")
+    train_unit_counts: list[Annotated[int, Field(ge=1, le=100_000)]] = [4, 8, 16]
+    sweep_adapter: str = "input_affine+film"
+    sweep_budget: float = Field(default=1000, ge=0, le=10_000_000)
+    sweep_seeds: int = Field(default=1, ge=0, le=1000)  # the first k seeds also run the unit-count sweep
+
+
+def parse_options(ctx: Context) -> Options:
+    raw = dict(ctx.spec.options)
+    if isinstance(raw.get("scratch"), dict):  # a partial recipe overrides the default's keys
+        raw["scratch"] = {**SCRATCH.model_dump(), **raw["scratch"]}
+    if isinstance(raw.get("reference"), dict):  # likewise over the spec's training recipe
+        raw["reference"] = {**ctx.spec.training.model_dump(), **raw["reference"]}
+    opts = validate_options(ctx, Options, raw)
+    for kind in [*opts.adapters, opts.sweep_adapter]:
+        parse_kind(kind)
+    if opts.budget_unit == "samples" and any(b != int(b) for b in opts.budgets):
+        raise AnytipError(f"options.budgets: with budget_unit samples, budgets are whole sample counts, "
+                          f"got {opts.budgets}")
+    return opts
+
+
+def budget_list(opts: Options, amounts: list[float] | None = None) -> list[Budget]:
+    """The spec's budgets (or `amounts`): one per amount, or in seconds one per amount and press
+    selection strategy (the label-free budget 0 once)."""
+    amounts = opts.budgets if amounts is None else amounts
+    if opts.budget_unit == "samples":
+        return [Budget(int(b)) for b in amounts]
+    return [Budget(float(b), "seconds", s) for b in amounts
+            for s in (opts.plan_strategies if b > 0 else opts.plan_strategies[:1])]
