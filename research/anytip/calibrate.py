@@ -197,8 +197,7 @@ def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationSt
         seconds = DEFAULT_SECONDS if budget_seconds is None else budget_seconds
         if not math.isfinite(seconds) or seconds < 0:
             raise AnytipError(f"--budget-seconds must be a finite number >= 0, got {seconds}")
-        outside = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
-        presses = find_presses(arrays, stream.unit, outside)
+        presses = find_presses(arrays, stream.unit, stream.outside(arrays))
         rig = RigTiming(**{k: float(v) for k, v in meta.get("rig", {}).items()})
         plan = select_presses(presses, seconds, rig, meta.get("plan_strategy", "spread"),
                               int(meta.get("seed", 0)))
@@ -293,7 +292,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     own = own_check(fit, shared, arrays, plan, _val_loss_table(meta, budget))
     wall_s = time.perf_counter() - tick
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
-    other = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
+    other = stream.outside(arrays)
     check = None
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]

@@ -33,6 +33,10 @@ class CalibrationStream:
         """Row indices of a budget of n labeled samples (all rows when n exceeds the stream)."""
         return self.rows[:n]
 
+    def outside(self, arrays: FleetArrays) -> np.ndarray:
+        """(N,) bool: rows of runs the stream does not read (the unit's other runs, other units)."""
+        return ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in self.runs])
+
     def unlabeled(self, seconds: float | None) -> np.ndarray:
         """Row indices of the stream's first `seconds` of robot time (all rows for None): the
         pressures a unit records in ordinary use after mounting, read without labels."""

@@ -75,8 +75,8 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
-        outside = ~np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if r.run_id in stream.runs])
-        evals[unit] = EvalUnit(unit, own[exclude[own]], stream, find_presses(arrays, unit, exclude | outside))
+        evals[unit] = EvalUnit(unit, own[exclude[own]], stream,
+                               find_presses(arrays, unit, exclude | stream.outside(arrays)))
     members, stats = [], []
     for u, unit in enumerate(split.train):
         mine = unit_main_rows(arrays, unit, main)
