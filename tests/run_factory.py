@@ -27,7 +27,7 @@ def make_run(
     extra = {"operator": "test"}
     if protocol is not None:
         extra["simulator"] = json.dumps({"seed": seed, "protocol": {"name": protocol}})
-    return CalibrationRun(
+    return CalibrationRun.fingertip(
         sensor_id=sensor_id, sensor_model=sensor_model, orientation_deg=orientation_deg,
         sample_rate_hz=200.0, source=source, created=created,
         time=np.arange(n) / 200.0,

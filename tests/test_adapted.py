@@ -1,8 +1,10 @@
 """Shared network with per-unit adapters: identity start, exact folding, few-shot fitting."""
 
+import numpy as np
 import pytest
 import torch
 
+from anytip.deploy.rounding import check, export_tolerance
 from anytip.errors import AnytipError
 from anytip.models.adapted import PARTS, AdaptedMLP, parse_kind
 from anytip.models.mlp import MLPConfig
@@ -12,7 +14,7 @@ from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.recipe import TrainRecipe
 
 KINDS = ["none", "input_affine", "input_diag", "embedding", "film", "input_affine+embedding+film",
-         "input_diag+film", "delta", "input_affine+film+delta"]
+         "input_diag+film", "delta", "input_affine+film+delta", "lowrank1", "input_affine+film+lowrank3"]
 
 
 def randomise(model: AdaptedMLP, seed: int = 0) -> AdaptedMLP:
@@ -24,14 +26,23 @@ def randomise(model: AdaptedMLP, seed: int = 0) -> AdaptedMLP:
 
 
 @pytest.mark.parametrize("kind", KINDS)
-@pytest.mark.parametrize("activation", ["relu", "tanh"])
+@pytest.mark.parametrize("activation", ["relu", "hardswish"])
 def test_fold_equals_adapted_model(kind, activation):
+    """The folded network in float32 lies within its float32 rounding bound (as exports are
+    verified, deploy/rounding.py) of the adapted model evaluated in float64."""
     config = MLPConfig(activation=activation)
-    model = randomise(AdaptedMLP(4, config, kind, seed=3))
-    x = torch.randn(4, 200, 8) * 2
+    model = randomise(AdaptedMLP(4, config, kind, seed=3)).double()
+    x = torch.randn(4, 200, 8, dtype=torch.float64) * 2
+    exact = model(x).detach().numpy()
     folded = model.fold()
     assert folded.config == config and folded.n_models == 4
-    torch.testing.assert_close(folded(x), model(x), atol=1e-5, rtol=1e-5)
+    last = len(folded.weights) - 1
+    params = [(W.detach().numpy().copy(), b.detach().numpy()[:, 0].copy())
+              for W, b in zip(folded.weights, folded.biases, strict=True)]
+    y32 = folded.float()(x.float()).detach().numpy()
+    for m in range(4):
+        layers = [(W[m], b[m], activation if k < last else None) for k, (W, b) in enumerate(params)]
+        assert check(y32[m], exact[m], export_tolerance(layers, x[m].numpy()), np.ones(5))["passed"]
 
 
 def test_fold_of_chosen_units():
@@ -50,12 +61,24 @@ def test_identity_adapter_changes_nothing():
 
 
 def test_adapter_sizes():
-    sizes = {k: AdaptedMLP(1, MLPConfig(), k).n_adapter_params() for k in PARTS}
+    sizes = {k: AdaptedMLP(1, MLPConfig(), k.replace("<r>", "2")).n_adapter_params() for k in PARTS}
+    widths = MLPConfig().sizes
+    lowrank2 = sum(2 * (i + o) + o for i, o in zip(widths[:-1], widths[1:], strict=True))
     assert sizes == {"input_affine": 72, "input_diag": 16, "embedding": 12,
-                     "film": 2 * (12 + 64 + 64), "delta": MLPConfig().n_params}
+                     "film": 2 * (12 + 64 + 64), "delta": MLPConfig().n_params, "lowrank<r>": lowrank2}
 
 
-@pytest.mark.parametrize("kind", ["film+nope", "input_affine+input_diag"])
+def test_lowrank_change_has_its_rank():
+    model = randomise(AdaptedMLP(2, MLPConfig(), "lowrank2"))
+    bare = model.fold()
+    shared = [w.detach() for w in model.weights]
+    for k, W in enumerate(shared):
+        change = bare.weights[k][1] - W  # unit 1's change of layer k, (in, out)
+        assert int(torch.linalg.matrix_rank(change, atol=1e-5)) == 2
+
+
+@pytest.mark.parametrize("kind", ["film+nope", "input_affine+input_diag", "lowrank0", "delta+lowrank2",
+                                  "lowrank1+lowrank2"])
 def test_bad_kind_is_refused(kind):
     with pytest.raises(AnytipError, match="adapter kind"):
         parse_kind(kind)

@@ -235,7 +235,7 @@ SECONDS = [*TINY[:3], "options.budget_unit=seconds", "options.budgets=[0,8,40]",
            "options.adapter_priors=[identity,empirical]", "options.reference_lrs=[0.003,0.01]",
            "options.reference_val=patches", "options.unlabeled_s=20",
            "options.scratch.epochs=5", "options.sweep_seeds=0", "splits.n_val_units=1",
-           "splits.n_test_units=2"]
+           "splits.n_test_units=2", "options.fits=[{}, {add: lowrank2, steps: 30}]"]
 
 
 @pytest.fixture(scope="module")
@@ -247,7 +247,8 @@ def seconds_run(two_protocol_registry, tmp_path_factory) -> Path:
 def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run):
     rows = json.loads((seconds_run / "metrics.json").read_text())["results"]
     timed = [r for r in rows if "budget_s" in r and r["budget_s"] > 0]
-    methods = ("scratch", "adapted:input_affine+film", "adapted:input_affine+film/empirical")
+    methods = ("scratch", "adapted:input_affine+film", "adapted:input_affine+film/empirical",
+               "adapted:input_affine+film+lowrank2[30 steps]")  # no empirical prior for an added part
     assert {r["method"] for r in timed} == {f"{m}@{s}" for m in methods for s in ("first", "spread")}
     refs = [r for r in rows if r["method"] == "per_unit"]
     assert refs and all(r["reference_lr"] in (0.003, 0.01) for r in refs)

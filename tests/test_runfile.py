@@ -16,8 +16,10 @@ from hypothesis.extra import numpy as hnp
 from anytip.data.runfile import (
     REQUIRED_ATTRS,
     REQUIRED_DATASETS,
+    V1_TARGET_DATASETS,
     CalibrationRun,
     RunFormatError,
+    Target,
     check_sensor_id,
     read_run,
     write_run,
@@ -89,7 +91,7 @@ def test_missing_attribute(tmp_path, attr):
     refused(spoiled(tmp_path, drop=(attr,)), "missing root attribute", attr)
 
 
-@pytest.mark.parametrize("name", REQUIRED_DATASETS)
+@pytest.mark.parametrize("name", REQUIRED_DATASETS + V1_TARGET_DATASETS)
 def test_missing_dataset(tmp_path, name):
     refused(spoiled(tmp_path, drop=(name,)), "missing dataset", name)
 
@@ -98,7 +100,7 @@ def test_wrong_format(tmp_path):
     refused(spoiled(tmp_path, {"format": "something_else"}), "format", "something_else")
 
 
-@pytest.mark.parametrize("version", [0, 2, 99])
+@pytest.mark.parametrize("version", [0, 3, 99])
 def test_unknown_format_version(tmp_path, version):
     refused(spoiled(tmp_path, {"format_version": version}), "format_version", str(version))
 
@@ -242,6 +244,7 @@ def test_written_file_is_chunked_compressed_checksummed(tmp_path):
 
 def assert_same_run(a: CalibrationRun, b: CalibrationRun) -> None:
     assert a.attrs() == b.attrs()
+    assert a.target_layout == b.target_layout
     assert a.datasets().keys() == b.datasets().keys()
     for name, arr in a.datasets().items():
         other = b.datasets()[name]
@@ -261,25 +264,41 @@ hdf5_text = st.text(st.characters(exclude_categories=("Cs",), exclude_characters
 
 @st.composite
 def small_runs(draw) -> CalibrationRun:
+    """Valid runs of either version: v1 with the fingertip's targets, v2 with 1-3 named targets."""
     n = draw(st.integers(1, 12))
     c = draw(st.integers(1, 9))
     steps = draw(hnp.arrays(np.float64, n, elements=st.floats(0, 10)))
     optional = draw(st.booleans())
-    return CalibrationRun(
+    version = draw(st.sampled_from([1, 2]))
+    if version == 1:
+        targets = {"force": draw(hnp.arrays(np.float32, (n, 3), elements=finite32)),
+                   "angles": draw(hnp.arrays(np.float32, (n, 2), elements=finite32))}
+        fields = {"force": targets["force"], "angles": targets["angles"]}
+    else:
+        names = draw(st.lists(st.from_regex(r"[A-Za-z][A-Za-z0-9_]{0,10}", fullmatch=True), min_size=1,
+                              max_size=3, unique=True))
+        fields = {"targets": {}}
+        for name in names:
+            k = draw(st.integers(1, 4))
+            comps = draw(st.lists(hdf5_text.filter(str.strip), min_size=k, max_size=k, unique=True))
+            fields["targets"][name] = Target(draw(hnp.arrays(np.float32, (n, k), elements=finite32)),
+                                             draw(hdf5_text.filter(str.strip)), tuple(comps))
+    common = dict(
         sensor_id=draw(st.from_regex(r"[A-Za-z0-9_-][A-Za-z0-9._-]{0,20}", fullmatch=True)),
-        sensor_model=draw(hdf5_text.filter(bool)),
+        sensor_model=draw(st.from_regex(r"[A-Za-z0-9_-][A-Za-z0-9._-]{0,20}", fullmatch=True)),
         orientation_deg=draw(st.floats(-180, 180)),
         sample_rate_hz=draw(st.floats(1, 1e4)),
         source=draw(st.sampled_from(["rig", "simulated", "import"])),
         created="2024-05-01T12:00:00Z",
         time=np.cumsum(steps),
         pressure=draw(hnp.arrays(np.float32, (n, c), elements=finite32)),
-        force=draw(hnp.arrays(np.float32, (n, 3), elements=finite32)),
-        angles=draw(hnp.arrays(np.float32, (n, 2), elements=finite32)),
         temperature=draw(hnp.arrays(np.float32, (n, c), elements=finite32)) if optional else None,
         in_contact=draw(hnp.arrays(np.bool_, n)) if optional else None,
         extra={"notes": draw(hdf5_text)} if optional else {},
     )
+    if version == 1:
+        return CalibrationRun.fingertip(**common, **fields)
+    return CalibrationRun(**common, **fields, format_version=2)
 
 
 @settings(max_examples=40, deadline=None)

@@ -283,7 +283,7 @@ class _Table:
                 problem = f"in_contact must be 0 or 1, got {flag[bad[0]]}"
                 raise self.fail("in_contact", int(bad[0]), 0, problem)
             in_contact = flag == 1
-        return CalibrationRun(
+        return CalibrationRun.fingertip(
             time=time,
             force=(self.column("force") * (u.force_scale * np.asarray(u.force_sign))).astype(np.float32),
             pressure=(self.column("pressure") * u.pressure_scale).astype(np.float32),

@@ -1,13 +1,17 @@
-"""Calibration run files: the interchange format, version 1 (docs/calibration_format.md).
+"""Calibration run files: the interchange format, versions 1 and 2 (docs/calibration_format.md).
 
-One calibration run of one sensor unit is one HDF5 file. `read_run` accepts exactly
-the format and refuses everything CALIBRATION_FORMAT.md lists with a `RunFormatError`
-that names the file; `write_run` writes it (chunked, compressed, fletcher32), and a
-read/write round trip changes no value.
+One calibration run of one sensor unit is one HDF5 file. Version 1 is the fingertip's
+(targets `force` and `angles` at the root); version 2 holds any named targets in a group
+`targets`, each with its `unit` and `components`. A run keeps the version it was read or
+made with, so a v1 run's content hash never changes; `as_version` converts. `read_run`
+accepts exactly the format and refuses everything CALIBRATION_FORMAT.md lists with a
+`RunFormatError` that names the file; `write_run` writes it (chunked, compressed,
+fletcher32), and a read/write round trip changes no value.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -24,20 +28,64 @@ import numpy as np
 from anytip.errors import AnytipError
 
 FORMAT = "calibration_run"
-FORMAT_VERSION = 1
+FORMAT_VERSIONS = (1, 2)
+FORMAT_VERSION = 2  # what new runs are written as unless made as v1
 SOURCES = ("rig", "simulated", "import")
 SENSOR_ID_RE = re.compile(r"[A-Za-z0-9._-]{1,64}")
+TARGET_NAME_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,63}")
 REQUIRED_ATTRS = (
-    "format", "format_version", "sensor_id", "sensor_model", "orientation_deg",
-    "sample_rate_hz", "source", "created",
+    "format", "format_version", "sensor_id", "sensor_model", "sample_rate_hz", "source", "created",
 )
 OPTIONAL_ATTRS = ("operator", "rig", "firmware", "notes", "simulator")
-REQUIRED_DATASETS = ("time", "pressure", "force", "angles")
+REQUIRED_DATASETS = ("time", "pressure")
+V1_TARGET_DATASETS = ("force", "angles")
 OPTIONAL_DATASETS = ("temperature", "in_contact")
+TARGETS_GROUP = "targets"
 DTYPES = {
     "time": np.float64, "pressure": np.float32, "force": np.float32, "angles": np.float32,
     "temperature": np.float32, "in_contact": np.bool_,
 }
+TARGET_DTYPE = np.float32
+
+
+@dataclass(frozen=True)
+class TargetLayout:
+    """What one target holds: its SI unit and the names of its k components."""
+
+    unit: str
+    components: tuple[str, ...]
+
+    def to_json(self) -> dict[str, Any]:
+        return {"unit": self.unit, "components": list(self.components)}
+
+
+# The fingertip's targets, which version 1 implies.
+V1_LAYOUT = {"force": TargetLayout("N", ("fx", "fy", "fz")), "angles": TargetLayout("rad", ("theta", "phi"))}
+
+
+@dataclass
+class Target:
+    """One labelled quantity of a run: values (N, k) float32 in `unit`, columns `components`."""
+
+    values: np.ndarray
+    unit: str
+    components: tuple[str, ...]
+
+    @property
+    def layout(self) -> TargetLayout:
+        return TargetLayout(self.unit, tuple(self.components))
+
+
+def fingertip_targets(force: np.ndarray, angles: np.ndarray) -> dict[str, Target]:
+    """The targets of a fingertip run: force (N, 3) in N and angles (N, 2) in rad."""
+    return {name: Target(values, V1_LAYOUT[name].unit, V1_LAYOUT[name].components)
+            for name, values in (("force", force), ("angles", angles))}
+
+
+def layout_json(channels: int, targets: dict[str, TargetLayout]) -> str:
+    """A sensor model's layout as canonical JSON: channel count and targets (the registry's record)."""
+    return json.dumps({"channels": int(channels), "targets": {k: v.to_json() for k, v in targets.items()}},
+                      sort_keys=True)
 
 
 def parse_created(created: object) -> datetime:
@@ -78,10 +126,11 @@ class CalibrationRun:
     """One calibration run of one unit, in memory.
 
     Arrays have N rows: `time` (N,) float64 s; `pressure` (N, C) float32 Pa absolute;
-    `force` (N, 3) float32 N in the contact frame (Fz < 0 when pressing); `angles` (N, 2)
-    float32 rad (theta, phi); optional `temperature` (N, C) float32 degC and
-    `in_contact` (N,) bool. `extra` holds the optional attributes (operator, rig,
-    firmware, notes, simulator), all strings.
+    `targets` {name: Target (N, k) float32}, for the fingertip `force` (N, 3) N in the contact
+    frame (Fz < 0 when pressing) and `angles` (N, 2) rad (theta, phi); optional `temperature`
+    (N, C) float32 degC and `in_contact` (N,) bool. `extra` holds the optional attributes
+    (operator, rig, firmware, notes, simulator), all strings. `format_version` is the
+    version the run is written and hashed as (1 only for the fingertip's targets).
     """
 
     sensor_id: str
@@ -92,11 +141,17 @@ class CalibrationRun:
     created: str
     time: np.ndarray
     pressure: np.ndarray
-    force: np.ndarray
-    angles: np.ndarray
+    targets: dict[str, Target]
     temperature: np.ndarray | None = None
     in_contact: np.ndarray | None = None
     extra: dict[str, str] = field(default_factory=dict)
+    format_version: int = FORMAT_VERSION
+
+    @classmethod
+    def fingertip(cls, *, force: np.ndarray, angles: np.ndarray, format_version: int = 1,
+                  **fields: Any) -> CalibrationRun:
+        """A run with the fingertip's targets (written as version 1 unless asked otherwise)."""
+        return cls(targets=fingertip_targets(force, angles), format_version=format_version, **fields)
 
     @property
     def n_rows(self) -> int:
@@ -112,6 +167,31 @@ class CalibrationRun:
         return self.n_rows / float(self.sample_rate_hz)
 
     @property
+    def target_layout(self) -> dict[str, TargetLayout]:
+        return {name: t.layout for name, t in self.targets.items()}
+
+    def layout(self) -> str:
+        """The run's channel count and targets as canonical JSON (`layout_json`)."""
+        return layout_json(self.n_channels, self.target_layout)
+
+    def target(self, name: str) -> np.ndarray:
+        """The values (N, k) of target `name`; an error names the run's targets if it has none."""
+        if name not in self.targets:
+            raise AnytipError(f"run of unit {self.sensor_id!r} (sensor model {self.sensor_model!r}) has no "
+                              f"target {name!r}; its targets: {sorted(self.targets)}")
+        return self.targets[name].values
+
+    @property
+    def force(self) -> np.ndarray:
+        """The fingertip's contact force (N, 3) in N."""
+        return self.target("force")
+
+    @property
+    def angles(self) -> np.ndarray:
+        """The fingertip's contact angles (N, 2) in rad."""
+        return self.target("angles")
+
+    @property
     def simulator(self) -> dict[str, Any] | None:
         """The parsed `simulator` attribute, or None for measured runs."""
         text = self.extra.get("simulator")
@@ -120,7 +200,7 @@ class CalibrationRun:
     def attrs(self) -> dict[str, Any]:
         """Root attributes as written to the file."""
         out: dict[str, Any] = {
-            "format": FORMAT, "format_version": FORMAT_VERSION, "sensor_id": self.sensor_id,
+            "format": FORMAT, "format_version": int(self.format_version), "sensor_id": self.sensor_id,
             "sensor_model": self.sensor_model, "orientation_deg": float(self.orientation_deg),
             "sample_rate_hz": float(self.sample_rate_hz), "source": self.source,
             "created": self.created,
@@ -129,20 +209,39 @@ class CalibrationRun:
         return out
 
     def datasets(self) -> dict[str, np.ndarray]:
-        """The datasets present, in format order."""
-        names = REQUIRED_DATASETS + OPTIONAL_DATASETS
-        return {n: getattr(self, n) for n in names if getattr(self, n) is not None}
+        """The datasets present, in format order, named by their path in the file (v2 targets
+        as `targets/<name>`, sorted by name)."""
+        out = {"time": self.time, "pressure": self.pressure}
+        if self.format_version == 1:
+            out |= {name: self.targets[name].values for name in V1_TARGET_DATASETS}
+        else:  # by name, as HDF5 lists a group (the hash must not depend on the order given)
+            out |= {f"{TARGETS_GROUP}/{name}": self.targets[name].values for name in sorted(self.targets)}
+        return out | {n: getattr(self, n) for n in OPTIONAL_DATASETS if getattr(self, n) is not None}
+
+    def as_version(self, version: int) -> CalibrationRun:
+        """The same run written as `version`; version 1 holds only the fingertip's targets."""
+        if version not in FORMAT_VERSIONS:
+            raise AnytipError(f"format_version {version}: this code writes {list(FORMAT_VERSIONS)}")
+        if version == 1 and self.target_layout != V1_LAYOUT:
+            raise AnytipError(f"run of unit {self.sensor_id!r} cannot be written as format version 1: "
+                              f"version 1 holds only {_describe(V1_LAYOUT)}; this run has "
+                              f"{_describe(self.target_layout)}")
+        return dataclasses.replace(self, format_version=version)
 
     def content_hash(self) -> str:
         """sha256 of the run's content: attributes and dataset values, not file bytes.
 
         Two files holding the same values hash the same whatever their chunking or
-        compression, so re-importing a run is recognised as such.
+        compression, so re-importing a run is recognised as such. A v2 run's hash also covers
+        its targets' units and components (a v1 run's are implied by the version).
         """
         h = hashlib.sha256()
         h.update(json.dumps(self.attrs(), sort_keys=True).encode())
+        if self.format_version != 1:
+            h.update(self.layout().encode())
         for name, arr in self.datasets().items():
-            arr = np.ascontiguousarray(arr, dtype=np.dtype(DTYPES[name]).newbyteorder("<"))
+            dtype = DTYPES.get(name, TARGET_DTYPE)
+            arr = np.ascontiguousarray(arr, dtype=np.dtype(dtype).newbyteorder("<"))
             h.update(f"{name}:{arr.dtype.str}:{arr.shape}".encode())
             h.update(arr.tobytes())
         return h.hexdigest()
@@ -153,17 +252,27 @@ class CalibrationRun:
         return self
 
 
+def _describe(layout: dict[str, TargetLayout]) -> str:
+    """'force [N] (fx, fy, fz), angles [rad] (theta, phi)'."""
+    return ", ".join(f"{n} [{t.unit}] ({', '.join(t.components)})" for n, t in layout.items()) or "no targets"
+
+
 def _problem(path: str | Path, msg: str) -> RunFormatError:
     return RunFormatError(path, msg)
 
 
 def _validate(run: CalibrationRun, path: str | Path) -> None:
+    if run.format_version not in FORMAT_VERSIONS or isinstance(run.format_version, bool):
+        raise _problem(path, f"unknown format_version {run.format_version!r}; this reader knows "
+                             f"{list(FORMAT_VERSIONS)}")
     try:
         check_sensor_id(run.sensor_id)
     except ValueError as e:
         raise _problem(path, str(e)) from None
-    if not isinstance(run.sensor_model, str) or not run.sensor_model:
-        raise _problem(path, "attribute 'sensor_model' must be a non-empty string")
+    try:
+        check_sensor_id(run.sensor_model, "sensor_model")
+    except ValueError as e:
+        raise _problem(path, str(e)) from None
     if run.source not in SOURCES:
         raise _problem(path, f"attribute 'source' is {run.source!r}; allowed: {', '.join(SOURCES)}")
     for name in ("orientation_deg", "sample_rate_hz"):
@@ -190,7 +299,34 @@ def _validate(run: CalibrationRun, path: str | Path) -> None:
             json.loads(run.extra["simulator"])
         except json.JSONDecodeError as e:
             raise _problem(path, f"attribute 'simulator' is not valid JSON ({e})") from None
+    _validate_targets(run, path)
     _validate_arrays(run, path)
+
+
+def _validate_targets(run: CalibrationRun, path: str | Path) -> None:
+    """Names, units and components of the targets; version 1 holds exactly the fingertip's."""
+    if run.format_version == 1:
+        if run.target_layout != V1_LAYOUT:
+            raise _problem(path, f"format version 1 holds the targets {_describe(V1_LAYOUT)}, got "
+                                 f"{_describe(run.target_layout)}")
+        return
+    if not run.targets:
+        raise _problem(path, f"group {TARGETS_GROUP!r} must hold at least one target dataset")
+    for name, t in run.targets.items():
+        where = f"target {TARGETS_GROUP}/{name}"
+        if not isinstance(name, str) or not TARGET_NAME_RE.fullmatch(name):
+            raise _problem(path, f"{where}: a target name must match [A-Za-z][A-Za-z0-9_]{{0,63}}")
+        if not isinstance(t.unit, str) or not t.unit.strip():
+            raise _problem(path, f"{where}: attribute 'unit' must be a non-empty string, got {t.unit!r}")
+        _check_text(path, f"{where} unit", t.unit)
+        comps = t.components
+        if not comps or not all(isinstance(c, str) and c.strip() for c in comps):
+            raise _problem(path, f"{where}: attribute 'components' must be a list of non-empty strings, "
+                                 f"got {list(comps) if isinstance(comps, tuple) else comps!r}")
+        if len(set(comps)) != len(comps):
+            raise _problem(path, f"{where}: attribute 'components' names a column twice: {list(comps)}")
+        for c in comps:
+            _check_text(path, f"{where} components", c)
 
 
 def _check_text(path: str | Path, key: str, value: str) -> None:
@@ -210,13 +346,15 @@ def _validate_arrays(run: CalibrationRun, path: str | Path) -> None:
     if run.pressure.ndim != 2 or run.pressure.shape[1] < 1:
         raise _problem(path, f"dataset 'pressure' must have shape (N, C), got {run.pressure.shape}")
     c = run.pressure.shape[1]
-    expected = {
-        "pressure": (n, c), "force": (n, 3), "angles": (n, 2), "temperature": (n, c), "in_contact": (n,),
-    }
+    expected = {"pressure": (n, c), "temperature": (n, c), "in_contact": (n,)}
+    prefix = "" if run.format_version == 1 else f"{TARGETS_GROUP}/"
+    expected |= {prefix + name: (n, len(t.components)) for name, t in run.targets.items()}
     for name, arr in run.datasets().items():
         if name == "time":
             continue
         want = expected[name]
+        if not isinstance(arr, np.ndarray):
+            raise _problem(path, f"dataset {name!r} must be an array, got {type(arr).__name__}")
         if arr.ndim != len(want):
             raise _problem(
                 path, f"dataset {name!r} must have {len(want)} dimension(s), got shape {arr.shape}"
@@ -224,11 +362,13 @@ def _validate_arrays(run: CalibrationRun, path: str | Path) -> None:
         if arr.shape[0] != n:
             raise _problem(path, f"dataset {name!r} has {arr.shape[0]} rows but 'time' has {n}")
         if arr.shape != want:
-            raise _problem(path, f"dataset {name!r} must have {want[1]} columns, got {arr.shape[1]}")
+            why = " (as its 'components' attribute names)" if prefix and name.startswith(prefix) else ""
+            raise _problem(path, f"dataset {name!r} must have {want[1]} columns{why}, got {arr.shape[1]}")
     if n == 0:
         raise _problem(path, "the run has no rows")
-    for name in ("pressure", "force", "angles"):
-        bad = ~np.isfinite(getattr(run, name))
+    checked = {"pressure": run.pressure} | {prefix + k: t.values for k, t in run.targets.items()}
+    for name, values in checked.items():
+        bad = ~np.isfinite(values)
         if bad.any():
             row = int(np.argwhere(bad)[0][0])
             raise _problem(path, f"dataset {name!r} holds NaN or infinite values (first at row {row})")
@@ -310,14 +450,22 @@ def _check_size(f: h5py.File, path: Path) -> None:
     """Refuse datasets that would not fit in memory before reading any (a crafted file can
     declare 10^11 rows in a few bytes)."""
     total = 0
-    for name in REQUIRED_DATASETS + OPTIONAL_DATASETS:
-        node = f.get(name)
-        if isinstance(node, h5py.Dataset):
-            total += int(node.size) * np.dtype(DTYPES[name]).itemsize
+    for name, node in _data_nodes(f).items():
+        total += int(node.size) * np.dtype(DTYPES.get(name, TARGET_DTYPE)).itemsize
     free = _free_memory_bytes()
     if total > free:
         raise _problem(path, f"datasets declare {total / 1e9:.3g} GB, more than the "
                              f"{free / 1e9:.3g} GB of memory available")
+
+
+def _data_nodes(f: h5py.File) -> dict[str, h5py.Dataset]:
+    """The datasets a reader takes, by path: the root's known names and the v2 targets."""
+    names = [*REQUIRED_DATASETS, *V1_TARGET_DATASETS, *OPTIONAL_DATASETS]
+    nodes = {n: f[n] for n in names if isinstance(f.get(n), h5py.Dataset)}
+    group = f.get(TARGETS_GROUP)
+    if isinstance(group, h5py.Group):
+        nodes |= {f"{TARGETS_GROUP}/{k}": v for k, v in group.items() if isinstance(v, h5py.Dataset)}
+    return nodes
 
 
 def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
@@ -327,45 +475,87 @@ def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
             raise _problem(path, f"missing root attribute {key!r}")
     if attrs["format"] != FORMAT:
         raise _problem(path, f"attribute 'format' is {attrs['format']!r}, expected {FORMAT!r}")
-    if not isinstance(attrs["format_version"], int) or isinstance(attrs["format_version"], bool):
-        raise _problem(
-            path, f"attribute 'format_version' must be an integer, got {attrs['format_version']!r}"
-        )
-    if attrs["format_version"] != FORMAT_VERSION:
-        raise _problem(
-            path, f"unknown format_version {attrs['format_version']}; this reader knows {FORMAT_VERSION}"
-        )
+    version = attrs["format_version"]
+    if not isinstance(version, int) or isinstance(version, bool):
+        raise _problem(path, f"attribute 'format_version' must be an integer, got {version!r}")
+    if version not in FORMAT_VERSIONS:
+        raise _problem(path, f"unknown format_version {version}; this reader knows {list(FORMAT_VERSIONS)}")
+    if version == 1 and "orientation_deg" not in attrs:
+        raise _problem(path, "missing root attribute 'orientation_deg' (required in format version 1)")
     for key in ("sensor_id", "sensor_model", "source", "created"):
         if not isinstance(attrs[key], str):
             raise _problem(path, f"attribute {key!r} must be a string, got {attrs[key]!r}")
     _check_size(f, path)
-    arrays: dict[str, np.ndarray | None] = {}
-    for name in REQUIRED_DATASETS + OPTIONAL_DATASETS:
-        if name not in f:
-            if name in REQUIRED_DATASETS:
-                raise _problem(path, f"missing dataset {name!r}")
-            arrays[name] = None
-            continue
-        node = f[name]
-        if not isinstance(node, h5py.Dataset):
-            raise _problem(path, f"{name!r} is not a dataset")
-        arrays[name] = _read_dataset(node, name, path)
+    arrays = {name: _read_dataset(f, name, path, required=name in REQUIRED_DATASETS)
+              for name in REQUIRED_DATASETS + OPTIONAL_DATASETS}
+    targets = _read_v1_targets(f, path) if version == 1 else _read_v2_targets(f, path)
     extra = {k: attrs[k] for k in OPTIONAL_ATTRS if k in attrs}
     for key, value in extra.items():
         if not isinstance(value, str):
             raise _problem(path, f"optional attribute {key!r} must be a string, got {value!r}")
     run = CalibrationRun(
         sensor_id=attrs["sensor_id"], sensor_model=attrs["sensor_model"],
-        orientation_deg=attrs["orientation_deg"], sample_rate_hz=attrs["sample_rate_hz"],
-        source=attrs["source"], created=attrs["created"], extra=extra, **arrays,
+        orientation_deg=attrs.get("orientation_deg", 0.0), sample_rate_hz=attrs["sample_rate_hz"],
+        source=attrs["source"], created=attrs["created"], extra=extra, targets=targets,
+        format_version=version, **arrays,
     )
     run.validate(path)
     run.orientation_deg, run.sample_rate_hz = float(run.orientation_deg), float(run.sample_rate_hz)
     return run
 
 
-def _read_dataset(node: h5py.Dataset, name: str, path: Path) -> np.ndarray:
-    want = np.dtype(DTYPES[name])
+def _read_v1_targets(f: h5py.File, path: Path) -> dict[str, Target]:
+    """`force` and `angles` at the root, with the fingertip's units and components."""
+    values = {name: _read_dataset(f, name, path, required=True) for name in V1_TARGET_DATASETS}
+    return fingertip_targets(values["force"], values["angles"])
+
+
+def _read_v2_targets(f: h5py.File, path: Path) -> dict[str, Target]:
+    """The datasets of the `targets` group with their `unit` and `components` attributes."""
+    for name in V1_TARGET_DATASETS:
+        if name in f:
+            raise _problem(path, f"format version 2 keeps targets in the group {TARGETS_GROUP!r}; "
+                                 f"found {name!r} at the root")
+    group = f.get(TARGETS_GROUP)
+    if not isinstance(group, h5py.Group):
+        raise _problem(path, f"missing group {TARGETS_GROUP!r} (format version 2)")
+    targets = {}
+    for name in group:
+        where = f"{TARGETS_GROUP}/{name}"
+        node = group[name]
+        if not isinstance(node, h5py.Dataset):
+            raise _problem(path, f"{where!r} is not a dataset")
+        for key in ("unit", "components"):
+            if key not in node.attrs:
+                raise _problem(path, f"target {where}: missing attribute {key!r}")
+        unit = _attr_value(node.attrs["unit"])
+        targets[name] = Target(_read_dataset(f, where, path, required=True), unit,
+                               _components(node.attrs["components"], where, path))
+    return targets
+
+
+def _components(value: Any, where: str, path: Path) -> tuple[str, ...]:
+    """A `components` attribute as a tuple of strings (h5py gives str, bytes or an array)."""
+    value = _attr_value(value)
+    items = [value] if isinstance(value, str) else value
+    if not isinstance(items, (np.ndarray, list, tuple)) or np.ndim(items) != 1:
+        raise _problem(path, f"target {where}: attribute 'components' must be a list of strings, "
+                             f"got {value!r}")
+    out = [_attr_value(c) for c in items]
+    if not all(isinstance(c, str) for c in out):
+        raise _problem(path, f"target {where}: attribute 'components' must be a list of strings, got {out!r}")
+    return tuple(out)
+
+
+def _read_dataset(f: h5py.File, name: str, path: Path, required: bool) -> np.ndarray | None:
+    if name not in f:
+        if required:
+            raise _problem(path, f"missing dataset {name!r}")
+        return None
+    node = f[name]
+    if not isinstance(node, h5py.Dataset):
+        raise _problem(path, f"{name!r} is not a dataset")
+    want = np.dtype(DTYPES.get(name, TARGET_DTYPE))
     kind = node.dtype.kind
     if name == "in_contact":
         if kind not in "bui":
@@ -396,7 +586,13 @@ def write_run(run: CalibrationRun, path: str | Path, *, compression: str | None 
             for key, value in run.attrs().items():
                 f.attrs[key] = value
             for name, arr in run.datasets().items():
-                _write_dataset(f, name, np.ascontiguousarray(arr, dtype=DTYPES[name]), compression)
+                dtype = DTYPES.get(name, TARGET_DTYPE)
+                _write_dataset(f, name, np.ascontiguousarray(arr, dtype=dtype), compression)
+            if run.format_version != 1:
+                for name, t in run.targets.items():
+                    node = f[f"{TARGETS_GROUP}/{name}"]
+                    node.attrs["unit"] = t.unit
+                    node.attrs["components"] = list(t.components)
     except BaseException:
         path.unlink(missing_ok=True)  # never leave half a file behind
         raise

@@ -20,7 +20,7 @@ from anytip.sensor.protocols import Protocol
 
 def as_run(run: sim.SimulatedRun) -> CalibrationRun:
     """The run file of a simulated run (validated), with its `simulator` JSON attribute."""
-    return CalibrationRun(
+    return CalibrationRun.fingertip(
         sensor_id=run.sensor_id, sensor_model=run.sensor_model, orientation_deg=run.orientation_deg,
         sample_rate_hz=run.sample_rate_hz, source="simulated", created=run.created, time=run.time,
         pressure=run.pressure, force=run.force, angles=run.angles, temperature=run.temperature,

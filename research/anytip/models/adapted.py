@@ -8,7 +8,10 @@ only its adapter. An adapter kind is a '+'-joined set of parts:
 - `embedding`:    a per-unit first-layer bias e_m (a learned unit code of width h_1);
 - `film`:         every hidden layer's pre-activation z -> z * gamma_m + beta_m (LHUC);
 - `delta`:        a per-unit change of every weight and bias (fine-tuning, held as an
-                  offset from the shared weights so a prior can pull it to zero).
+                  offset from the shared weights so a prior can pull it to zero);
+- `lowrank<r>`:   a per-unit change of every weight of rank r, dW_l = U_l V_l with U_l
+                  (in, r) starting at zero and V_l (r, out) at a fixed random draw shared by
+                  every unit, plus a per-unit change of every bias (`lowrank2`: r = 2).
 
 `none` is the bare shared network. Every part acts before a nonlinearity, so the adapted
 network of unit m is exactly a plain MLP of the same shape: `fold` computes it.
@@ -19,6 +22,7 @@ scalers are adapters too, set from unlabeled pressures.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 
 import torch
@@ -27,19 +31,27 @@ from torch import Tensor, nn
 from anytip.errors import AnytipError
 from anytip.models.mlp import ACTIVATIONS, BatchedMLP, MLPConfig, unit_seed
 
-PARTS = ("input_affine", "input_diag", "embedding", "film", "delta")
+PARTS = ("input_affine", "input_diag", "embedding", "film", "delta", "lowrank<r>")
+_LOWRANK = re.compile(r"lowrank([1-9][0-9]{0,2})")
 
 
 def parse_kind(kind: str) -> frozenset[str]:
     """'input_affine+film' -> {'input_affine', 'film'}; 'none' -> {}; unknown parts raise."""
     parts = frozenset() if kind == "none" else frozenset(p.strip() for p in kind.split("+"))
-    unknown = sorted(parts - set(PARTS))
+    unknown = sorted(p for p in parts - set(PARTS) if not _LOWRANK.fullmatch(p))
     if unknown:
         raise AnytipError(f"adapter kind {kind!r}: unknown part(s) {unknown}; "
-                          f"allowed: 'none' or a '+'-joined set of {list(PARTS)}")
+                          f"allowed: 'none' or a '+'-joined set of {list(PARTS)} (r from 1 to 999)")
     if {"input_affine", "input_diag"} <= parts:
         raise AnytipError(f"adapter kind {kind!r}: choose input_affine or input_diag, not both")
+    if len([p for p in parts if p == "delta" or _LOWRANK.fullmatch(p)]) > 1:
+        raise AnytipError(f"adapter kind {kind!r}: choose one of delta and lowrank<r>")
     return parts
+
+
+def lowrank_rank(parts: frozenset[str]) -> int:
+    """r of a kind's `lowrank<r>` part, 0 where it has none."""
+    return next((int(m.group(1)) for p in parts if (m := _LOWRANK.fullmatch(p))), 0)
 
 
 class AdaptedMLP(nn.Module):
@@ -84,8 +96,22 @@ class AdaptedMLP(nn.Module):
             for k, (i, o) in enumerate(zip(sizes[:-1], sizes[1:], strict=True)):
                 t[f"dW{k}"] = torch.zeros(n_units, i, o)
                 t[f"db{k}"] = torch.zeros(n_units, 1, o)
+        if rank := lowrank_rank(self.parts):
+            t |= self._lowrank_identity(n_units, rank)
         device = self.weights[0].device if len(self.weights) else None
         return {k: nn.Parameter(v.to(device)) for k, v in t.items()}
+
+    def _lowrank_identity(self, n_units: int, rank: int) -> dict[str, Tensor]:
+        """U_l zero and V_l one fixed draw (scaled 1/sqrt(r), so dW = U V starts with the
+        gradient scale of a plain weight), the same for every unit and every model of this
+        shape; bias changes zero."""
+        g = torch.Generator().manual_seed(unit_seed(0, rank, "lowrank"))
+        sizes, t = self.config.sizes, {}
+        for k, (i, o) in enumerate(zip(sizes[:-1], sizes[1:], strict=True)):
+            t[f"lU{k}"] = torch.zeros(n_units, i, rank)
+            t[f"lV{k}"] = (torch.randn(rank, o, generator=g) / math.sqrt(rank)).repeat(n_units, 1, 1)
+            t[f"db{k}"] = torch.zeros(n_units, 1, o)
+        return t
 
     def reset_adapter(self, n_units: int) -> None:
         """Replace the adapters with `n_units` fresh identity adapters (for new units)."""
@@ -131,6 +157,8 @@ class AdaptedMLP(nn.Module):
         for k, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
             if f"dW{k}" in a:
                 x = torch.baddbmm(b + a[f"db{k}"], x, W + a[f"dW{k}"])
+            elif f"lU{k}" in a:
+                x = torch.baddbmm(x @ W + b + a[f"db{k}"], torch.bmm(x, a[f"lU{k}"]), a[f"lV{k}"])
             else:
                 x = x @ W + b
             if k == 0 and "embed" in a:
@@ -182,6 +210,8 @@ class AdaptedMLP(nn.Module):
             W, b = W.detach().clone(), b.detach().clone()
             if f"dW{k}" in a:
                 W, b = W + a[f"dW{k}"][m], b + a[f"db{k}"][m, 0]
+            elif f"lU{k}" in a:
+                W, b = W + a[f"lU{k}"][m] @ a[f"lV{k}"][m], b + a[f"db{k}"][m, 0]
             if k == 0:
                 W, b = A @ W, c @ W + b
                 if "embed" in a:

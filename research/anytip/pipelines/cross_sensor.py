@@ -21,32 +21,30 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import torch
 
 from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Budget, Plan, Strategy, plan_for
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
-from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load
-from anytip.pipelines.cross_sensor_options import Options, budget_list, parse_options
+from anytip.pipelines.cross_sensor_options import FitVariant, Options, budget_list, parse_options
 from anytip.report.cross_sensor import full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
     SharedFit,
-    calibrate_and_fold,
     pooled_scaler,
     train_shared,
 )
-from anytip.train.adapter_prior import AdapterPrior, PriorFamily, make_prior
+from anytip.train.adapter_prior import PriorFamily, make_prior
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import scores
 from anytip.train.shared_split import (
     Roles,
     SeedData,
+    calibrate_many,
     main_rows,
     predict_rows,
     prepare_seed,
@@ -131,12 +129,14 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
                               ctx.device, ctx.progress, opts.adapter_decay,
                               adapter_dropout=opts.adapter_dropout)
         first: tuple[dict[Budget, float], dict[Budget, float]] | None = None
-        for family in (opts.adapter_priors if kind != "none" else ["identity"]):
+        for family, fit in fit_methods(kind, opts):
+            fit_kind = fit.kind(kind)
             kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts),
-                                                       family=family)
+                                                       fit_kind=fit_kind, family=family, steps=fit.steps)
             rows += [dict(base, **r) for r in kind_rows]
-            priors_chosen[kind if family == "identity" else f"{kind}/{family}"] = chosen
-            val_by_method.update(validation_by_method(adapted_method(kind, family), val_loss))
+            method = adapted_method(fit_kind, family) + fit.suffix()
+            priors_chosen[method.removeprefix("adapted:")] = chosen
+            val_by_method.update(validation_by_method(method, val_loss))
             first = first or (chosen, val_loss)
         chosen, val_loss = first
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"))
@@ -152,6 +152,16 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     if sweep:
         rows += unit_count_rows(ctx, arrays, sd, opts, seed, priors_chosen.get(opts.sweep_adapter, {}))
     return rows
+
+
+def fit_methods(kind: str, opts: Options) -> list[tuple[PriorFamily, FitVariant]]:
+    """The (prior family, fit) pairs a shared model of `kind` is calibrated with: every family
+    with every fit, the empirical prior only where the fitted kind is the shared one; the bare
+    shared model (`none`) only as it is (input statistics, nothing fitted)."""
+    if kind == "none":
+        return [("identity", FitVariant())]
+    return [(family, fit) for family in opts.adapter_priors for fit in opts.fits
+            if family == "identity" or not fit.add]
 
 
 def adapted_method(kind: str, family: PriorFamily = "identity") -> str:
@@ -278,29 +288,17 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
             for k, (u, b, plan) in enumerate(jobs)]
 
 
-def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
-                   plans: list[Plan], priors: list[float], recipe: AdapterRecipe,
-                   seed: int, fit_kind: str | None = None,
-                   adapter_prior: AdapterPrior | None = None) -> tuple[BatchedMLP, Scaler]:
-    """Fit and fold one adapter per (unit, plan, prior) job: its input statistics from the
-    unit's unlabeled rows (its whole stream's pressures), its adapter from the plan's rows, the
-    prior scaled by the plan's effective sample count."""
-    unlabeled = [torch.from_numpy(arrays.pressure[r]) for r in unlabeled_rows]
-    X = [torch.from_numpy(arrays.pressure[p.rows]) for p in plans]
-    Y = [torch.from_numpy(arrays.targets[p.rows]) for p in plans]
-    return calibrate_and_fold(shared, unlabeled, X, Y, [len(p.rows) for p in plans], priors, recipe, seed,
-                              fit_kind, [p.n_effective for p in plans], adapter_prior)
-
-
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
                  seed: int, budgets: list[Budget], fixed_priors: dict[Budget, float] | None = None,
-                 fit_kind: str | None = None, family: PriorFamily = "identity"
+                 fit_kind: str | None = None, family: PriorFamily = "identity", steps: int | None = None
                  ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
     """Rows of one shared model on the held-out units at every budget, the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead), and
-    the validation units' mean standardised MSE per budget at that prior (empty when fixed)."""
+    the validation units' mean standardised MSE per budget at that prior (empty when fixed).
+    Adapters of `fit_kind` (default the shared model's) are fitted in `steps` Adam steps
+    (default `adapter_steps`)."""
     kind = fit_kind or shared.model.kind
-    method = adapted_method(kind, family)
+    method = adapted_method(kind, family) + FitVariant(steps=steps).suffix()
     fits = kind != "none"
     if fixed_priors is not None:
         priors_of = {b: [fixed_priors[b]] for b in budgets if b.amount > 0}
@@ -312,7 +310,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     plans = {(u, b): plan_of(sd, u, b, opts, seed) for u, b, _ in jobs}
     # a budget that buys no press (too short, or no designed run of the unit) has no row
     jobs = [(u, b, p) for u, b, p in jobs if b.amount == 0 or len(plans[(u, b)].rows)]
-    recipe = AdapterRecipe(opts.adapter_steps, opts.adapter_lr)
+    recipe = AdapterRecipe(steps or opts.adapter_steps, opts.adapter_lr)
     prior = make_prior(family, shared.model, opts.prior_rank) if fits and kind == shared.model.kind else None
     folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.unlabeled(opts.unlabeled_s)
                                                     for u, _, _ in jobs],

@@ -32,6 +32,27 @@ class RigOptions(BaseModel):
         return RigTiming(self.move_s, self.remount_s, self.effective_hz)
 
 
+class FitVariant(BaseModel):
+    """One way of fitting a new unit's adapter on a shared model: `add` parts to the shared
+    model's adapter kind at calibration (e.g. `lowrank4`: a foldable low-rank change of every
+    layer, fitted on the unit alone), with `steps` Adam steps (default `adapter_steps`)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    add: str = ""
+    steps: int | None = Field(default=None, ge=1, le=1_000_000)
+
+    def kind(self, shared_kind: str) -> str:
+        """The adapter kind fitted on a shared model of `shared_kind`."""
+        if not self.add:
+            return shared_kind
+        return self.add if shared_kind == "none" else f"{shared_kind}+{self.add}"
+
+    def suffix(self) -> str:
+        """What a method name says of the fit besides its kind: its steps where set."""
+        return "" if self.steps is None else f"[{self.steps} steps]"
+
+
 class Options(BaseModel):
     """`options:` of a cross_sensor spec."""
 
@@ -67,6 +88,10 @@ class Options(BaseModel):
     calibration_interleave: bool = Field(
         default=False, description="the calibration protocol's runs (orientations) take turns, "
                                    "patch visit by patch visit, instead of following each other")
+    fits: list[FitVariant] = Field(
+        default=[FitVariant()], min_length=1,
+        description="ways a new unit's adapter is fitted on each shared model, each a method; the "
+        "first is what anytip calibrate uses. The empirical prior applies to fits without `add` only")
     adapter_steps: int = Field(default=AdapterRecipe.steps, ge=1, le=1_000_000)
     adapter_lr: float = Field(default=AdapterRecipe.lr, gt=0, le=10)
     # pulls training units' adapters to identity
@@ -93,7 +118,8 @@ def parse_options(ctx: Context) -> Options:
         raw["reference"] = {**ctx.spec.training.model_dump(), **raw["reference"]}
     opts = validate_options(ctx, Options, raw)
     for kind in [*opts.adapters, opts.sweep_adapter]:
-        parse_kind(kind)
+        for fit in opts.fits:
+            parse_kind(fit.kind(kind))
     if opts.budget_unit == "samples" and any(b != int(b) for b in opts.budgets):
         raise AnytipError(f"options.budgets: with budget_unit samples, budgets are whole sample counts, "
                           f"got {opts.budgets}")

@@ -26,7 +26,6 @@ from anytip.models.io import save_models
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, validate_options
-from anytip.pipelines.cross_sensor import calibrate_many, predict_rows
 from anytip.pipelines.cross_sensor import prepare as cross_prepare
 from anytip.pipelines.cross_sensor_options import Options as CrossOptions
 from anytip.pipelines.uncertainty_faults import fault_rows
@@ -35,6 +34,7 @@ from anytip.report.uncertainty import BAND, write_report
 from anytip.train.adapt import AdapterRecipe, SharedFit, train_shared
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.metrics import scores
+from anytip.train.shared_split import calibrate_many, predict_rows
 from anytip.uncertainty import conformal as cp
 from anytip.uncertainty import coverage_bootstrap as boot
 from anytip.uncertainty.costs import embedded_costs

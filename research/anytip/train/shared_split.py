@@ -19,11 +19,12 @@ import torch
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Presses, find_presses
+from anytip.data.plans import Plan, Presses, find_presses
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
-from anytip.train.adapt import input_stats
+from anytip.train.adapt import AdapterRecipe, SharedFit, calibrate_and_fold, input_stats
+from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, pad_rows, split_validation, unit_tensors
 from anytip.train.metrics import predict
 
@@ -110,3 +111,17 @@ def predict_rows(model: BatchedMLP, in_scaler: Scaler, out_scaler: Scaler, array
     X, n = pad_rows([arrays.pressure[r] for r in rows], device)
     pred = predict(model.to(device), in_scaler, out_scaler.to(device), X).cpu().numpy()
     return [pred[m, : int(n[m])] for m in range(len(rows))]
+
+
+def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
+                   plans: list[Plan], priors: list[float], recipe: AdapterRecipe,
+                   seed: int, fit_kind: str | None = None,
+                   adapter_prior: AdapterPrior | None = None) -> tuple[BatchedMLP, Scaler]:
+    """Fit and fold one adapter per (unit, plan, prior) job: its input statistics from the
+    unit's unlabeled rows (its whole stream's pressures), its adapter from the plan's rows, the
+    prior scaled by the plan's effective sample count."""
+    unlabeled = [torch.from_numpy(arrays.pressure[r]) for r in unlabeled_rows]
+    X = [torch.from_numpy(arrays.pressure[p.rows]) for p in plans]
+    Y = [torch.from_numpy(arrays.targets[p.rows]) for p in plans]
+    return calibrate_and_fold(shared, unlabeled, X, Y, [len(p.rows) for p in plans], priors, recipe, seed,
+                              fit_kind, [p.n_effective for p in plans], adapter_prior)
