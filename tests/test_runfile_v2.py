@@ -186,3 +186,23 @@ def test_only_the_fingertip_layout_converts_to_v1(tmp_path):
     run = read_run(edge_file(tmp_path / "edge.h5"))
     with pytest.raises(AnytipError, match="version 1 holds only force"):
         run.as_version(1)
+
+
+def test_a_registry_takes_v2_runs_and_exports_either_version(tmp_path):
+    from anytip.data.registry import Registry
+
+    reg = Registry(tmp_path / "reg")
+    v1 = make_run("FT-9", n=200)
+    reg.add_runs([v1])
+    reg.import_paths([edge_file(tmp_path / "edge.h5")])
+    (as_v2,) = reg.export("FT-9", tmp_path / "v2", format_version=2)
+    again = read_run(as_v2)
+    assert again.format_version == 2 and again.target_layout == V1_LAYOUT
+    np.testing.assert_array_equal(again.force, v1.force)
+    (as_is,) = reg.export("FT-9", tmp_path / "same")
+    assert read_run(as_is).content_hash() == v1.content_hash()
+    (edge,) = reg.export("EDGE-01", tmp_path / "edge")
+    assert read_run(edge).format_version == 2
+    with pytest.raises(AnytipError, match="cannot be written as format version 1"):
+        reg.export("EDGE-01", tmp_path / "edge_v1", format_version=1)
+    assert not (tmp_path / "edge_v1").exists()

@@ -74,7 +74,7 @@ def cmd_export(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise AnytipError(f"--out {out}: exists and is not a directory")
-    paths = _registry(args).export(args.target, out, overwrite=args.force)
+    paths = _registry(args).export(args.target, out, overwrite=args.force, format_version=args.format_version)
     for p in paths:
         print(p)
     return 0
@@ -334,6 +334,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("target", metavar="UNIT_OR_RUN", help="a unit serial or a run id")
     p.add_argument("--out", required=True, help="directory for the <run_id>.h5 files")
     p.add_argument("--force", action="store_true", help="overwrite files already in --out")
+    p.add_argument("--format-version", type=int, choices=[1, 2], default=None,
+                   help="write the files as this interchange format version (default: each run's own, "
+                        "so re-importing an export is recognised as the same run); 1 only for the "
+                        "fingertip's targets")
     p = verb("list", cmd_list, "list runs (exit status 1 when none match)")
     p.add_argument("--json", action="store_true", help="one JSON object per run")
     p.add_argument("--unit", default=None, help="only the runs of this unit serial")

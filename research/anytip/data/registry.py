@@ -226,14 +226,20 @@ class Registry:
             raise AnytipError(f"{path}: payload of run {run_id!r} changed since import (hash differs)")
         return run
 
-    def export(self, unit_or_run_id: str, out_dir: str | Path, overwrite: bool = False) -> list[Path]:
+    def export(self, unit_or_run_id: str, out_dir: str | Path, overwrite: bool = False,
+               format_version: int | None = None) -> list[Path]:
         """Write interchange files `<out_dir>/<run_id>.h5` for a run or a whole unit.
 
-        Each file holds the same values as the import (same `content_hash()`). Files already
-        there are refused unless `overwrite`, before anything is written.
+        Each file holds the same values as the import (same `content_hash()`), in the run's
+        own format version unless `format_version` converts it (1 only for the fingertip's
+        targets). Files already there, and runs that cannot be converted, are refused before
+        anything is written.
         """
         with closing(self._connect()) as conn:
             records = self._resolve(conn, unit_or_run_id)
+        runs = [self.open_run(r.run_id) for r in records]  # checks the row's ids are safe file names
+        if format_version is not None:
+            runs = [run.as_version(format_version) for run in runs]
         out_dir = Path(out_dir)
         if out_dir.exists() and not out_dir.is_dir():
             raise AnytipError(f"{out_dir}: exists and is not a directory")
@@ -243,8 +249,7 @@ class Registry:
                               "pass --force to overwrite")
         out_dir.mkdir(parents=True, exist_ok=True)
         written = []
-        for rec in records:
-            run = self.open_run(rec.run_id)  # checks the row's ids are safe file names
+        for rec, run in zip(records, runs, strict=True):
             dest = out_dir / f"{rec.run_id}.h5"
             temp = out_dir / f".{rec.run_id}.{os.getpid()}.tmp"
             try:
