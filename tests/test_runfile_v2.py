@@ -206,3 +206,21 @@ def test_a_registry_takes_v2_runs_and_exports_either_version(tmp_path):
     with pytest.raises(AnytipError, match="cannot be written as format version 1"):
         reg.export("EDGE-01", tmp_path / "edge_v1", format_version=1)
     assert not (tmp_path / "edge_v1").exists()
+
+
+def test_a_registry_refuses_a_run_whose_targets_disagree_with_its_sensor_model(tmp_path):
+    from anytip.data.registry import Registry
+
+    reg = Registry(tmp_path / "reg")
+    reg.import_paths([edge_file(tmp_path / "edge.h5")])
+    other = {"position": (np.zeros((N, 1), np.float32), {"unit": "mm", "components": ["x"]}),
+             "depth": (np.zeros((N, 1), np.float32), {"unit": "m", "components": ["z"]})}
+    path = edge_file(tmp_path / "mm.h5", attrs={"sensor_id": "EDGE-02"}, targets=other)
+    with pytest.raises(AnytipError, match=r"mm\.h5.*'edge-4baro' has the targets .*position \[m\].*"
+                                          r"this run has .*position \[mm\]"):
+        reg.import_paths([path])
+    assert reg.units() == ["EDGE-01"]
+    fingertip_as_v2 = make_run("FT-1").as_version(2)
+    reg.add_runs([make_run("FT-2")])
+    reg.add_runs([fingertip_as_v2])  # the same layout in either version
+    assert sorted(reg.units()) == ["EDGE-01", "FT-1", "FT-2"]

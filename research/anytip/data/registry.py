@@ -17,7 +17,7 @@ from __future__ import annotations
 import logging
 import os
 import sqlite3
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import closing, contextmanager
 from dataclasses import dataclass, field, replace
 from datetime import UTC, datetime
@@ -25,7 +25,14 @@ from pathlib import Path
 
 from anytip.data import catalog, csv_import
 from anytip.data.catalog import RunRecord
-from anytip.data.runfile import CalibrationRun, RunFormatError, read_run, write_run
+from anytip.data.runfile import (
+    CalibrationRun,
+    RunFormatError,
+    TargetLayout,
+    describe_targets,
+    read_run,
+    write_run,
+)
 from anytip.data.staging import Staging, clean_stale
 from anytip.errors import AnytipError
 
@@ -90,6 +97,7 @@ class _Staged:
     record: RunRecord  # imported_at is filled in at commit
     temp: Path
     source: str
+    targets: dict[str, TargetLayout]
 
 
 class Registry:
@@ -320,7 +328,7 @@ class Registry:
         with self._write(placed) as conn:
             self._sweep_orphans(conn)
             existing, new = self._split_existing(conn, staged)
-            _check_layouts(conn, new, self.db_path)
+            _check_layouts(conn, new, self.db_path, self.open_run)
             for s in new:
                 dest = self.root / s.record.path
                 dest.parent.mkdir(parents=True, exist_ok=True)
@@ -456,20 +464,27 @@ class Registry:
             report.corrupt.append((rec.run_id, problem))
 
 
-def _check_layouts(conn: sqlite3.Connection, staged: Sequence[_Staged], db_path: Path) -> None:
-    """Refuse runs whose channel count disagrees with the runs of their sensor model already
-    in the catalog, or with the other runs of the same import."""
-    layout: dict[str, tuple[int, str]] = {}
+def _check_layouts(conn: sqlite3.Connection, staged: Sequence[_Staged], db_path: Path,
+                   open_run: Callable[[str], CalibrationRun]) -> None:
+    """Refuse runs whose channel count or targets (names, units, components) disagree with the
+    runs of their sensor model already in the catalog, or with the other runs of the same
+    import. A model's targets are read from one of its runs (the catalog holds channels only)."""
+    layout: dict[str, tuple[int, dict[str, TargetLayout] | None, str]] = {}
     for model, channels, run_id in conn.execute(
             "SELECT sensor_model, channels, MIN(run_id) FROM runs GROUP BY sensor_model, channels"):
-        layout.setdefault(model, (channels, f"run {run_id} in {db_path}"))
+        if model not in layout and model in {s.record.sensor_model for s in staged}:
+            layout[model] = (channels, open_run(run_id).target_layout, f"run {run_id} in {db_path}")
     problems = []
     for s in staged:
         rec = s.record
-        channels, where = layout.setdefault(rec.sensor_model, (rec.channels, s.source))
+        channels, targets, where = layout.setdefault(rec.sensor_model, (rec.channels, s.targets, s.source))
         if channels != rec.channels:
             problems.append(f"{s.source}: sensor model {rec.sensor_model!r} has {channels} "
                             f"pressure channels ({where}), this run has {rec.channels}")
+        elif targets != s.targets:
+            problems.append(f"{s.source}: sensor model {rec.sensor_model!r} has the targets "
+                            f"{describe_targets(targets)} ({where}), this run has "
+                            f"{describe_targets(s.targets)}")
     if problems:
         raise AnytipError(f"nothing imported into {db_path.parent}: " + "; ".join(problems))
 
@@ -488,7 +503,7 @@ def _stage(run: CalibrationRun, temp: Path, source: str) -> _Staged:
         os.fsync(fd)
     finally:
         os.close(fd)
-    return _Staged(record=record, temp=temp, source=source)
+    return _Staged(record=record, temp=temp, source=source, targets=run.target_layout)
 
 
 def _collect_inputs(paths: Iterable[str | Path]) -> tuple[list[Path], list[str]]:

@@ -224,8 +224,8 @@ class CalibrationRun:
             raise AnytipError(f"format_version {version}: this code writes {list(FORMAT_VERSIONS)}")
         if version == 1 and self.target_layout != V1_LAYOUT:
             raise AnytipError(f"run of unit {self.sensor_id!r} cannot be written as format version 1: "
-                              f"version 1 holds only {_describe(V1_LAYOUT)}; this run has "
-                              f"{_describe(self.target_layout)}")
+                              f"version 1 holds only {describe_targets(V1_LAYOUT)}; this run has "
+                              f"{describe_targets(self.target_layout)}")
         return dataclasses.replace(self, format_version=version)
 
     def content_hash(self) -> str:
@@ -252,7 +252,7 @@ class CalibrationRun:
         return self
 
 
-def _describe(layout: dict[str, TargetLayout]) -> str:
+def describe_targets(layout: dict[str, TargetLayout]) -> str:
     """'force [N] (fx, fy, fz), angles [rad] (theta, phi)'."""
     return ", ".join(f"{n} [{t.unit}] ({', '.join(t.components)})" for n, t in layout.items()) or "no targets"
 
@@ -307,8 +307,8 @@ def _validate_targets(run: CalibrationRun, path: str | Path) -> None:
     """Names, units and components of the targets; version 1 holds exactly the fingertip's."""
     if run.format_version == 1:
         if run.target_layout != V1_LAYOUT:
-            raise _problem(path, f"format version 1 holds the targets {_describe(V1_LAYOUT)}, got "
-                                 f"{_describe(run.target_layout)}")
+            raise _problem(path, f"format version 1 holds the targets {describe_targets(V1_LAYOUT)}, got "
+                                 f"{describe_targets(run.target_layout)}")
         return
     if not run.targets:
         raise _problem(path, f"group {TARGETS_GROUP!r} must hold at least one target dataset")
