@@ -27,6 +27,9 @@ def test_data_verbs_round_trip(tmp_path, capsys):
     code, text, _ = run_cli(capsys, "data", "list", "--json", "--registry", reg)
     rows = [json.loads(line) for line in text.splitlines()]
     assert len(rows) == 6 and {r["unit"] for r in rows} == {"SIM4-000", "SIM4-001"}
+    code, text, _ = run_cli(capsys, "data", "list", "--registry", reg)
+    assert ("sensor model fingertip-8baro-r10: 8 pressure channels and the targets "
+            "angles [rad] (theta, phi), force [N] (fx, fy, fz) (2 units)") in text
     assert run_cli(capsys, "data", "export", "SIM4-001", "--out", str(out), "--registry", reg)[0] == 0
     assert len(list(out.glob("*.h5"))) == 3
     code, text, _ = run_cli(capsys, "data", "import", str(out), "--registry", other)

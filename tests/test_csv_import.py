@@ -19,6 +19,7 @@ from anytip.data.csv_import import (
 from anytip.data.registry import Registry
 from anytip.data.runfile import read_run
 from anytip.errors import AnytipError
+from anytip.rundir import builtin
 
 HEADER = (["time", "Fx", "Fy", "Fz", "Mx", "My", "Mz"] + [f"s{i}" for i in range(1, 9)]
           + [f"t{i}" for i in range(1, 9)] + ["theta", "phi", "in_contact"]
@@ -329,3 +330,57 @@ def test_registry_lists_every_bad_csv(tmp_path):
     msg = str(info.value)
     assert f"{bad_cell}, line 4, column 2 (Fy)" in msg and str(no_sidecar) in msg
     assert "good.csv" not in msg and reg.list_runs() == []
+
+
+EDGE_MAP = builtin("configs") / "csv" / "edge4_example.yaml"
+
+
+def edge_log(path: Path, n: int = 50, x_col: str = "x") -> Path:
+    """A 4-barometer edge sensor's log as the example map describes: hPa, mm, ms."""
+    g = np.random.default_rng(3)
+    rows = ["Sensor_0,Sensor_1,Sensor_2,Sensor_3," + x_col + ",z,time"]
+    for i in range(n):
+        p = 1000 + g.standard_normal(4)
+        rows.append(",".join(f"{v:.4f}" for v in [*p, 40 * i / n, 2.5 * (i % 5) / 5, 10.0 * i]))
+    path.write_text("\n".join(rows) + "\n")
+    sidecar = {"sensor_id": "EDGE-7", "created": "2025-02-01T10:00:00Z"}
+    path.with_suffix(".json").write_text(json.dumps(sidecar))
+    return path
+
+
+def test_named_targets_make_a_v2_run(tmp_path):
+    path = edge_log(tmp_path / "edge.csv")
+    run = read_csv_run(path, EDGE_MAP)
+    assert run.format_version == 2 and run.n_channels == 4 and run.sensor_model == "edge-4baro"
+    assert {n: (t.unit, t.components) for n, t in run.targets.items()} == {
+        "position": ("m", ("x",)), "depth": ("m", ("z",))}
+    np.testing.assert_allclose(run.target("position")[:, 0], 0.04 * np.arange(50) / 50, rtol=1e-6)
+    np.testing.assert_allclose(run.time, 0.01 * np.arange(50))
+    assert 0.9e5 < run.pressure.mean() < 1.1e5
+    reg = Registry(tmp_path / "reg")
+    reg.import_paths([path], column_map=EDGE_MAP)
+    (out,) = reg.export("EDGE-7", tmp_path / "out")
+    assert read_run(out).content_hash() == run.content_hash()
+
+
+def test_a_named_target_column_that_is_missing_is_named(tmp_path):
+    path = edge_log(tmp_path / "edge.csv", x_col="pos")
+    with pytest.raises(CsvFormatError, match=r"edge\.csv.*targets\.position.*'x'"):
+        read_csv_run(path, EDGE_MAP)
+
+
+@pytest.mark.parametrize(("columns", "words"), [
+    ({"force": [1, 2, 3]}, ["force and angles", "or targets"]),
+    ({"targets": {}}, ["targets"]),
+    ({"targets": {"d": {"columns": [4], "unit": "m", "components": ["a", "b"]}}}, ["components names 2"]),
+    ({"targets": {"d": {"columns": [4], "unit": "m", "scale": 0}}}, ["scale"]),
+    ({"targets": {"d": {"columns": [4], "unit": "m"}}, "force": [1, 2, 3], "angles": [5, 6]}, ["not both"]),
+])
+def test_bad_label_columns_are_refused(tmp_path, columns, words):
+    spec = {"name": "x", "header": False, "columns": {"time": 0, "pressure": [1, 2], **columns}}
+    path = tmp_path / "map.yaml"
+    path.write_text(yaml.safe_dump(spec))
+    with pytest.raises(AnytipError) as info:
+        load_column_map(path)
+    for word in words:
+        assert word in str(info.value), str(info.value)

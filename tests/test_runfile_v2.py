@@ -216,11 +216,43 @@ def test_a_registry_refuses_a_run_whose_targets_disagree_with_its_sensor_model(t
     other = {"position": (np.zeros((N, 1), np.float32), {"unit": "mm", "components": ["x"]}),
              "depth": (np.zeros((N, 1), np.float32), {"unit": "m", "components": ["z"]})}
     path = edge_file(tmp_path / "mm.h5", attrs={"sensor_id": "EDGE-02"}, targets=other)
-    with pytest.raises(AnytipError, match=r"mm\.h5.*'edge-4baro' has the targets .*position \[m\].*"
-                                          r"this run has .*position \[mm\]"):
+    with pytest.raises(AnytipError, match=r"mm\.h5.*'edge-4baro' has 4 pressure channels and the targets "
+                                          r".*position \[m\].*this run has .*position \[mm\]"):
         reg.import_paths([path])
     assert reg.units() == ["EDGE-01"]
     fingertip_as_v2 = make_run("FT-1").as_version(2)
     reg.add_runs([make_run("FT-2")])
     reg.add_runs([fingertip_as_v2])  # the same layout in either version
     assert sorted(reg.units()) == ["EDGE-01", "FT-1", "FT-2"]
+
+
+def test_a_sensor_model_with_no_runs_left_may_take_a_new_layout(tmp_path):
+    from anytip.data.registry import Registry
+
+    reg = Registry(tmp_path / "reg")
+    reg.import_paths([edge_file(tmp_path / "edge.h5")])
+    reg.remove("EDGE-01")
+    other = {"position": (np.zeros((N, 1), np.float32), {"unit": "mm", "components": ["x"]})}
+    reg.import_paths([edge_file(tmp_path / "mm.h5", attrs={"sensor_id": "EDGE-02"}, targets=other)])
+    assert reg.units() == ["EDGE-02"]
+
+
+def test_a_catalog_of_schema_version_1_learns_its_layouts_from_its_runs(tmp_path):
+    import sqlite3
+
+    from anytip.data import catalog
+    from anytip.data.registry import Registry
+
+    reg = Registry(tmp_path / "reg")
+    reg.add_runs([make_run("FT-1")])
+    with sqlite3.connect(reg.db_path) as conn:  # as a catalog written before layouts were recorded
+        conn.execute("DROP TABLE sensor_models")
+        conn.execute("PRAGMA user_version = 1")
+    reg = Registry(tmp_path / "reg")
+    with pytest.raises(AnytipError, match=r"'fingertip-8baro-r10' has 8 pressure channels .*\(run FT-1"):
+        reg.add_runs([make_run("FT-2", channels=7)])
+    reg.add_runs([make_run("FT-3")])
+    with sqlite3.connect(reg.db_path) as conn:
+        assert conn.execute("PRAGMA user_version").fetchone()[0] == catalog.SCHEMA_VERSION
+        models = [m for (m,) in conn.execute("SELECT sensor_model FROM sensor_models")]
+    assert models == ["fingertip-8baro-r10"]

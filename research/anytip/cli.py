@@ -46,6 +46,15 @@ def _print_runs(records, as_json: bool) -> None:
     Console(width=max(140, Console().width)).print(table)
 
 
+def _print_models(layouts: dict[str, str], records) -> None:
+    """One line per sensor model among `records`: its channel count and targets."""
+    from anytip.data.runfile import describe_layout
+
+    for model in sorted({r.sensor_model for r in records}):
+        units = {r.unit for r in records if r.sensor_model == model}
+        print(f"sensor model {model}: {describe_layout(layouts[model])} ({len(units)} units)")
+
+
 def cmd_simulate(args: argparse.Namespace) -> int:
     from anytip.data.simulated import simulate_into
     from anytip.sensor.fleet import FleetConfig, load_fleet_config
@@ -88,6 +97,8 @@ def cmd_list(args: argparse.Namespace) -> int:
         print(f"no runs{' of ' + wanted if wanted else ''} in {_registry_path(args)}", file=sys.stderr)
         return 1
     _print_runs(records, args.json)
+    if not args.json:
+        _print_models(_registry(args).sensor_models(), records)
     return 0
 
 

@@ -19,9 +19,17 @@ from typing import Any
 from anytip.data.runfile import CalibrationRun, check_sensor_id, parse_created
 from anytip.errors import AnytipError
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 BUSY_TIMEOUT_S = 120.0
 RUN_ID_RE = re.compile(r"[A-Za-z0-9._-]{1,160}")
+
+# One row per sensor model: its channel count and targets (runfile.layout_json), which
+# every run of the model must share.
+SENSOR_MODELS_TABLE = """
+CREATE TABLE IF NOT EXISTS sensor_models (
+    sensor_model    TEXT PRIMARY KEY,
+    layout          TEXT NOT NULL
+)"""
 
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS runs (
@@ -41,7 +49,10 @@ CREATE TABLE IF NOT EXISTS runs (
 );
 CREATE INDEX IF NOT EXISTS runs_unit ON runs (unit);
 CREATE INDEX IF NOT EXISTS runs_sensor_model ON runs (sensor_model);
-"""
+""" + SENSOR_MODELS_TABLE
+
+# What a catalog of each older schema version lacks, applied in order when it is opened.
+MIGRATIONS = {1: SENSOR_MODELS_TABLE}
 
 
 @dataclass(frozen=True)
@@ -187,11 +198,47 @@ def _prepare(conn: sqlite3.Connection, db_path: Path) -> None:
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
             version = SCHEMA_VERSION
         conn.execute("COMMIT")
+    elif version in MIGRATIONS:
+        _migrate(conn, db_path)
     elif version != SCHEMA_VERSION:
         raise AnytipError(f"{db_path}: catalog schema version {version}; this code knows {SCHEMA_VERSION}")
     columns = [row[1] for row in conn.execute("PRAGMA table_info(runs)")]
     if columns != list(COLUMNS):
         raise AnytipError(f"{db_path}: table 'runs' has columns {columns}, expected {list(COLUMNS)}")
+
+
+def _migrate(conn: sqlite3.Connection, db_path: Path) -> None:
+    """Bring an older catalog to SCHEMA_VERSION in one transaction (another process may do it first).
+
+    A migrated catalog has no sensor_models rows yet; the registry fills them from the
+    runs on the next import of each model.
+    """
+    conn.execute("BEGIN IMMEDIATE")
+    version = conn.execute("PRAGMA user_version").fetchone()[0]
+    while version in MIGRATIONS:
+        conn.execute(MIGRATIONS[version])
+        version += 1
+    conn.execute(f"PRAGMA user_version = {version}")
+    conn.execute("COMMIT")
+    if version != SCHEMA_VERSION:
+        raise AnytipError(f"{db_path}: catalog schema version {version}; this code knows {SCHEMA_VERSION}")
+
+
+def model_layouts(conn: sqlite3.Connection) -> dict[str, str]:
+    """Each recorded sensor model's layout (`runfile.layout_json`: channel count and targets)."""
+    return dict(conn.execute("SELECT sensor_model, layout FROM sensor_models"))
+
+
+def record_model(conn: sqlite3.Connection, sensor_model: str, layout: str) -> None:
+    """Record `sensor_model`'s layout unless one is recorded (the registry checked they agree)."""
+    conn.execute("INSERT OR IGNORE INTO sensor_models (sensor_model, layout) VALUES (?, ?)",
+                 (sensor_model, layout))
+
+
+def forget_unused_models(conn: sqlite3.Connection) -> None:
+    """Drop the layout of every sensor model with no runs left (a later import may set a new one)."""
+    conn.execute("DELETE FROM sensor_models WHERE sensor_model NOT IN "
+                 "(SELECT DISTINCT sensor_model FROM runs)")
 
 
 def _record(row: tuple) -> RunRecord:

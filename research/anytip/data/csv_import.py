@@ -1,8 +1,9 @@
 """Rig CSV logs -> CalibrationRun, through a column map (configs/csv/*.yaml) and a sidecar.
 
-The column map says which CSV columns hold time, force (3), pressure (C), angles (2)
-and optionally temperature (C) and in_contact, how to convert them to the format's
-units, and metadata defaults. Columns it does not name are ignored. Per-log metadata
+The column map says which CSV columns hold time, pressure (C), the labels (the fingertip's
+force (3) and angles (2), or any named targets with their units and components: a
+format-version-2 run) and optionally temperature (C) and in_contact, how to convert them
+to the format's units, and metadata defaults. Columns it does not name are ignored. Per-log metadata
 (sensor_id, created, and overrides of the defaults) comes from a sidecar next to the
 log: `<log>.json`, `<log>.yaml` or `<log>.yml` (also `<log>.csv.json` etc.).
 
@@ -22,7 +23,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from anytip.data.runfile import CalibrationRun, parse_created
+from anytip.data.runfile import CalibrationRun, Target, parse_created
 from anytip.errors import AnytipError
 from anytip.rundir import builtin
 from anytip.validation import describe_error, format_validation_error, load_yaml
@@ -46,13 +47,37 @@ class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
+class NamedTarget(_Strict):
+    """A labelled quantity of a format-version-2 run: its columns, SI unit, component names
+    (default: the column references) and the factor from logged values to that unit."""
+
+    columns: list[ColumnRef] = Field(min_length=1)
+    unit: str = Field(min_length=1)
+    components: list[str] | None = None
+    scale: float = Field(1.0, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _one_name_per_column(self) -> NamedTarget:
+        if self.components is not None and len(self.components) != len(self.columns):
+            raise ValueError(f"components names {len(self.components)} columns, "
+                             f"columns has {len(self.columns)}")
+        if self.scale == 0:
+            raise ValueError("scale must not be 0")
+        return self
+
+    def component_names(self) -> tuple[str, ...]:
+        return tuple(self.components or [str(c) for c in self.columns])
+
+
 class Columns(_Strict):
-    """Where each quantity lives in the log: column indices (from 0) or header names."""
+    """Where each quantity lives in the log: column indices (from 0) or header names. Labels
+    are the fingertip's `force` and `angles` (a version-1 run) or named `targets` (version 2)."""
 
     time: ColumnRef
-    force: tuple[ColumnRef, ColumnRef, ColumnRef]
+    force: tuple[ColumnRef, ColumnRef, ColumnRef] | None = None
     pressure: list[ColumnRef] = Field(min_length=1)
-    angles: tuple[ColumnRef, ColumnRef]
+    angles: tuple[ColumnRef, ColumnRef] | None = None
+    targets: dict[str, NamedTarget] | None = Field(default=None, min_length=1)
     temperature: list[ColumnRef] | None = None
     in_contact: ColumnRef | None = None
 
@@ -60,12 +85,21 @@ class Columns(_Strict):
     def _temperature_per_barometer(self) -> Columns:
         if self.temperature is not None and len(self.temperature) != len(self.pressure):
             raise ValueError("temperature must name one column per pressure column")
+        fingertip = (self.force is not None, self.angles is not None)
+        if self.targets is None and fingertip != (True, True):
+            raise ValueError("name the labels: force and angles (the fingertip), or targets")
+        if self.targets is not None and any(fingertip):
+            raise ValueError("name either force and angles or targets, not both")
         return self
 
     def refs(self) -> dict[str, list[ColumnRef]]:
-        """Quantity -> its column references, for the quantities present."""
-        out = {"time": [self.time], "force": list(self.force), "pressure": list(self.pressure),
-               "angles": list(self.angles)}
+        """Quantity -> its column references, for the quantities present (targets as
+        `targets.<name>`)."""
+        out = {"time": [self.time], "pressure": list(self.pressure)}
+        if self.force is not None and self.angles is not None:
+            out |= {"force": list(self.force), "angles": list(self.angles)}
+        for name, t in (self.targets or {}).items():
+            out[f"targets.{name}"] = list(t.columns)
         if self.temperature is not None:
             out["temperature"] = list(self.temperature)
         if self.in_contact is not None:
@@ -199,7 +233,7 @@ def _run_metadata(path: Path, cmap: ColumnMap, meta: Sidecar) -> dict[str, Any]:
     out = {
         "sensor_id": meta.sensor_id, "created": meta.created,
         "sensor_model": meta.sensor_model or defaults.sensor_model,
-        "orientation_deg": defaults.orientation_deg if meta.orientation_deg is None else meta.orientation_deg,
+        "orientation_deg": _orientation(cmap, meta),
         "sample_rate_hz": meta.sample_rate_hz or defaults.sample_rate_hz,
         "source": meta.source or defaults.source,
     }
@@ -208,6 +242,15 @@ def _run_metadata(path: Path, cmap: ColumnMap, meta: Sidecar) -> dict[str, Any]:
         raise CsvFormatError(path, f"no {', '.join(missing)} in the sidecar or the column map's defaults")
     extra = {k: getattr(meta, k) for k in ("operator", "rig", "firmware", "notes") if getattr(meta, k)}
     return out | {"extra": extra}
+
+
+def _orientation(cmap: ColumnMap, meta: Sidecar) -> float | None:
+    """The sidecar's orientation, else the map's; a v2 run (named targets) defaults to 0."""
+    if meta.orientation_deg is not None:
+        return meta.orientation_deg
+    if cmap.defaults.orientation_deg is None and cmap.columns.targets is not None:
+        return 0.0
+    return cmap.defaults.orientation_deg
 
 
 class _Table:
@@ -266,7 +309,7 @@ class _Table:
 
     def to_run(self, cmap: ColumnMap, meta: dict[str, Any]) -> CalibrationRun:
         u = cmap.units
-        for quantity in ("time", "force", "pressure", "angles"):
+        for quantity in [q for q in self.index if q not in ("temperature", "in_contact")]:
             bad = np.argwhere(~np.isfinite(self.column(quantity)))
             if len(bad):
                 raise self.fail(quantity, int(bad[0, 0]), int(bad[0, 1]), f"{quantity} is NaN or infinite")
@@ -274,7 +317,6 @@ class _Table:
         back = np.flatnonzero(np.diff(time) < 0)
         if len(back):
             raise self.fail("time", int(back[0]) + 1, 0, "time decreases")
-        angles = self.column("angles")
         in_contact = None
         if "in_contact" in self.index:
             flag = self.column("in_contact")[:, 0]
@@ -283,14 +325,21 @@ class _Table:
                 problem = f"in_contact must be 0 or 1, got {flag[bad[0]]}"
                 raise self.fail("in_contact", int(bad[0]), 0, problem)
             in_contact = flag == 1
-        return CalibrationRun.fingertip(
-            time=time,
-            force=(self.column("force") * (u.force_scale * np.asarray(u.force_sign))).astype(np.float32),
-            pressure=(self.column("pressure") * u.pressure_scale).astype(np.float32),
-            angles=(np.deg2rad(angles) if u.angles == "deg" else angles).astype(np.float32),
+        common = dict(
+            time=time, pressure=(self.column("pressure") * u.pressure_scale).astype(np.float32),
             temperature=(self.column("temperature").astype(np.float32)
                          if "temperature" in self.index else None),
             in_contact=in_contact, **meta,
+        )
+        if cmap.columns.targets is not None:
+            targets = {name: Target((self.column(f"targets.{name}") * t.scale).astype(np.float32), t.unit,
+                                    t.component_names())
+                       for name, t in cmap.columns.targets.items()}
+            return CalibrationRun(targets=targets, format_version=2, **common)
+        angles = self.column("angles")
+        return CalibrationRun.fingertip(
+            force=(self.column("force") * (u.force_scale * np.asarray(u.force_sign))).astype(np.float32),
+            angles=(np.deg2rad(angles) if u.angles == "deg" else angles).astype(np.float32), **common,
         )
 
 

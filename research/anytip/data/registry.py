@@ -29,7 +29,8 @@ from anytip.data.runfile import (
     CalibrationRun,
     RunFormatError,
     TargetLayout,
-    describe_targets,
+    describe_layout,
+    layout_json,
     read_run,
     write_run,
 )
@@ -192,6 +193,7 @@ class Registry:
         with self._write() as conn:
             records = self._resolve(conn, unit_or_run_id)
             catalog.delete(conn, [r.run_id for r in records])
+            catalog.forget_unused_models(conn)
         # The payloads are now orphans; delete them under a fresh write lock, so a
         # concurrent re-import of the same run id is never harmed.
         with self._write() as conn:
@@ -206,6 +208,20 @@ class Registry:
         """Catalog rows matching every filter given, ordered by unit then run id."""
         with closing(self._connect()) as conn:
             return catalog.query(conn, unit=unit, sensor_model=sensor_model, protocol=protocol)
+
+    def sensor_models(self) -> dict[str, str]:
+        """Each sensor model's layout (`runfile.layout_json`: channel count and targets), by name.
+
+        A catalog written before layouts were recorded learns a model's from its first readable run.
+        """
+        with closing(self._connect()) as conn:
+            layouts = catalog.model_layouts(conn)
+            for (model,) in conn.execute("SELECT DISTINCT sensor_model FROM runs"):
+                if model not in layouts:
+                    found = _layout_from_runs(conn, model, self.open_run)
+                    if found is not None:
+                        layouts[model] = found[0]
+        return dict(sorted(layouts.items()))
 
     def units(self, sensor_model: str | None = None) -> list[str]:
         """Sorted unit serials (sensor ids), optionally of one sensor model."""
@@ -467,26 +483,44 @@ class Registry:
 def _check_layouts(conn: sqlite3.Connection, staged: Sequence[_Staged], db_path: Path,
                    open_run: Callable[[str], CalibrationRun]) -> None:
     """Refuse runs whose channel count or targets (names, units, components) disagree with the
-    runs of their sensor model already in the catalog, or with the other runs of the same
-    import. A model's targets are read from one of its runs (the catalog holds channels only)."""
-    layout: dict[str, tuple[int, dict[str, TargetLayout] | None, str]] = {}
-    for model, channels, run_id in conn.execute(
-            "SELECT sensor_model, channels, MIN(run_id) FROM runs GROUP BY sensor_model, channels"):
-        if model not in layout and model in {s.record.sensor_model for s in staged}:
-            layout[model] = (channels, open_run(run_id).target_layout, f"run {run_id} in {db_path}")
+    layout the catalog records for their sensor model, or, for a model new to the catalog,
+    with the other runs of the same import; then record the layouts of new models."""
+    recorded = catalog.model_layouts(conn)
+    layout = {model: (text, f"recorded in {db_path}") for model, text in recorded.items()}
+    for model in {s.record.sensor_model for s in staged} - layout.keys():
+        found = _layout_from_runs(conn, model, open_run)
+        if found is not None:
+            layout[model] = found
     problems = []
     for s in staged:
-        rec = s.record
-        channels, targets, where = layout.setdefault(rec.sensor_model, (rec.channels, s.targets, s.source))
-        if channels != rec.channels:
-            problems.append(f"{s.source}: sensor model {rec.sensor_model!r} has {channels} "
-                            f"pressure channels ({where}), this run has {rec.channels}")
-        elif targets != s.targets:
-            problems.append(f"{s.source}: sensor model {rec.sensor_model!r} has the targets "
-                            f"{describe_targets(targets)} ({where}), this run has "
-                            f"{describe_targets(s.targets)}")
+        mine = layout_json(s.record.channels, s.targets)
+        theirs, where = layout.setdefault(s.record.sensor_model, (mine, s.source))
+        if theirs != mine:
+            problems.append(f"{s.source}: sensor model {s.record.sensor_model!r} has "
+                            f"{describe_layout(theirs)} ({where}), this run has {describe_layout(mine)}")
     if problems:
         raise AnytipError(f"nothing imported into {db_path.parent}: " + "; ".join(problems))
+    for model, (text, _) in layout.items():
+        if model not in recorded:
+            catalog.record_model(conn, model, text)
+
+
+def _layout_from_runs(conn: sqlite3.Connection, model: str,
+                      open_run: Callable[[str], CalibrationRun]) -> tuple[str, str] | None:
+    """The layout of `model` read from its first readable run, for a catalog written before
+    layouts were recorded; None when the catalog has no run of it."""
+    run_ids = [r for (r,) in conn.execute(
+        "SELECT run_id FROM runs WHERE sensor_model = ? ORDER BY run_id", (model,))]
+    problems = []
+    for run_id in run_ids:
+        try:
+            return open_run(run_id).layout(), f"run {run_id}"
+        except AnytipError as e:
+            problems.append(str(e))
+    if problems:
+        raise AnytipError(f"sensor model {model!r}: no run of it in the catalog can be read to learn its "
+                          f"layout (run `anytip data verify`): {problems[0]}")
+    return None
 
 
 def _stage(run: CalibrationRun, temp: Path, source: str) -> _Staged:

@@ -252,6 +252,13 @@ class CalibrationRun:
         return self
 
 
+def describe_layout(layout: str) -> str:
+    """'8 pressure channels and the targets force [N] (fx, fy, fz), ...' for a `layout_json` text."""
+    data = json.loads(layout)
+    targets = {name: TargetLayout(t["unit"], tuple(t["components"])) for name, t in data["targets"].items()}
+    return f"{data['channels']} pressure channels and the targets {describe_targets(targets)}"
+
+
 def describe_targets(layout: dict[str, TargetLayout]) -> str:
     """'force [N] (fx, fy, fz), angles [rad] (theta, phi)'."""
     return ", ".join(f"{n} [{t.unit}] ({', '.join(t.components)})" for n, t in layout.items()) or "no targets"
