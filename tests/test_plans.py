@@ -44,9 +44,10 @@ def fleet(orientations=(0.0, -90.0), seed=0) -> FleetArrays:
             where = np.radians([rng.uniform(-45, 45), o + rng.uniform(-45, 45)])
             parts["a"].append(np.tile(where, (PRESS_ROWS, 1)).astype(np.float32))
     n = sum(len(t) for t in parts["t"])
-    return FleetArrays(np.concatenate(parts["p"]), np.concatenate(parts["f"]), np.concatenate(parts["a"]),
-                       np.zeros(n, np.int32), np.concatenate(parts["r"]), np.zeros(n, np.int16),
-                       np.zeros((len(runs), 4)), ["U1"], runs, np.concatenate(parts["t"]))
+    labels = np.concatenate([np.concatenate(parts["f"]), np.concatenate(parts["a"])], axis=1)
+    return FleetArrays(np.concatenate(parts["p"]), labels, np.zeros(n, np.int32), np.concatenate(parts["r"]),
+                       np.zeros(n, np.int16), np.zeros((len(runs), 4)), ["U1"], runs,
+                       np.concatenate(parts["t"]))
 
 
 def test_presses_are_the_contiguous_contact_segments_of_each_run():

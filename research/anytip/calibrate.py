@@ -296,7 +296,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     check = None
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
-        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other])}
+        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout)}
     result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes,
                         own, wall_s)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {

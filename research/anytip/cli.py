@@ -56,17 +56,36 @@ def _print_models(layouts: dict[str, str], records) -> None:
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
-    from anytip.data.simulated import simulate_into
+    from anytip.data.simulated import simulate_flat_into, simulate_into
+    from anytip.sensor import flat
     from anytip.sensor.fleet import FleetConfig, load_fleet_config
+    from anytip.sensor.geometry import SENSOR_MODEL
 
-    config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
     if args.units < 1 or args.seed < 0:
         raise AnytipError(f"--units must be >= 1 and --seed >= 0, got {args.units} and {args.seed}")
-    registry = _registry(args, create=True)
+    model = args.sensor_model or SENSOR_MODEL
+    if model != SENSOR_MODEL and model not in flat.DESIGNS:
+        raise AnytipError(f"--sensor-model {model!r}: the simulator knows {SENSOR_MODEL!r} and "
+                          f"{', '.join(map(repr, flat.DESIGNS))}")
+    if model in flat.DESIGNS and args.fleet:
+        raise AnytipError(f"--fleet configures the fingertip's fleet; --sensor-model {model!r} takes none")
+    if model == SENSOR_MODEL and args.severity != 1.0:
+        raise AnytipError("--severity is for edge-4baro and pad-16baro; the fingertip's variation is "
+                          "set in its fleet config (--fleet, key 'severity')")
     protocols = [p for p in args.protocols.split(",") if p]
+    registry = _registry(args, create=True)
     start = time.perf_counter()
-    added, unchanged = simulate_into(registry, config, args.units, args.seed, protocols,
-                                     progress=sys.stderr.isatty())
+    if model in flat.DESIGNS:
+        bad = [p for p in protocols if p not in flat.PROTOCOLS]
+        if bad:
+            raise AnytipError(f"--protocols {args.protocols!r}: {model} runs the protocols "
+                              f"{sorted(flat.PROTOCOLS)}")
+        added, unchanged = simulate_flat_into(registry, model, args.units, args.seed, protocols,
+                                              args.severity)
+    else:
+        config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
+        added, unchanged = simulate_into(registry, config, args.units, args.seed, protocols,
+                                         progress=sys.stderr.isatty())
     print(f"simulated {args.units} units into {registry.root}: {added} runs added, "
           f"{unchanged} unchanged ({time.perf_counter() - start:.1f} s)")
     return 0
@@ -337,6 +356,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="fleet seed (>= 0, default 0): the same seed gives the same units and runs")
     p.add_argument("--protocols", default="full,short",
                    help="comma-separated calibration protocols to run on each unit (default full,short)")
+    p.add_argument("--sensor-model", default=None,
+                   help="simulate this sensor model (default: the fingertip, fingertip-8baro-r10; "
+                        "also edge-4baro, pad-16baro)")
+    p.add_argument("--severity", type=float, default=1.0,
+                   help="unit-to-unit variation of edge-4baro and pad-16baro, 1 = the default spread")
     p = verb("import", cmd_import, "import interchange HDF5 files or CSV rig logs")
     p.add_argument("paths", nargs="+", help="run files (.h5, .hdf5), CSV logs (.csv) or directories of them")
     p.add_argument("--csv-map", default=None,

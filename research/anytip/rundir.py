@@ -14,6 +14,7 @@ import os
 import platform
 import subprocess
 import tempfile
+from collections.abc import Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -23,7 +24,9 @@ import yaml
 import anytip
 from anytip.errors import AnytipError
 
-METRIC_KEYS = ("method", "unit", "calib_samples", "seed", "force_rmse_n", "angle_rmse_rad")
+ROW_KEYS = ("method", "unit", "calib_samples", "seed")
+FINGERTIP_KEYS = ("force_rmse_n", "angle_rmse_rad")  # each target's RMSE (`train.metrics.target_key`)
+METRIC_KEYS = (*ROW_KEYS, *FINGERTIP_KEYS)
 
 
 def builtin(folder: str) -> Path:
@@ -143,16 +146,19 @@ def write_config(run_dir: Path, spec_dict: dict[str, Any]) -> None:
     write_text(run_dir / "config.yaml", yaml.safe_dump(spec_dict, sort_keys=False))
 
 
-def check_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Refuse result rows that break the metrics contract (a programming error, not user input)."""
+def check_rows(rows: list[dict[str, Any]],
+               target_keys: Sequence[str] = FINGERTIP_KEYS) -> list[dict[str, Any]]:
+    """Refuse result rows that break the metrics contract (a programming error, not user input):
+    every row names its method, unit, calibration samples and seed, and each target's RMSE."""
     for row in rows:
-        missing = [k for k in METRIC_KEYS if k not in row]
+        missing = [k for k in (*ROW_KEYS, *target_keys) if k not in row]
         if missing:
             raise ValueError(f"result row {row} lacks {missing}")
     return rows
 
 
-def write_metrics(run_dir: Path, rows: list[dict[str, Any]], **extra: Any) -> Path:
+def write_metrics(run_dir: Path, rows: list[dict[str, Any]], target_keys: Sequence[str] = FINGERTIP_KEYS,
+                  **extra: Any) -> Path:
     path = run_dir / "metrics.json"
-    write_json(path, {"results": check_rows(rows), **extra})
+    write_json(path, {"results": check_rows(rows, target_keys), **extra})
     return path

@@ -5,8 +5,10 @@ write metrics and provenance, print a summary.
 from __future__ import annotations
 
 import importlib
+import inspect
 import time
 from collections import defaultdict
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -16,8 +18,10 @@ import torch
 from anytip import rundir
 from anytip.config import ExperimentSpec, load_spec, public_config
 from anytip.data.registry import Registry
+from anytip.data.runfile import V1_LAYOUT
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context, check_options, check_registry, resolve_device
+from anytip.train.metrics import target_key
 from anytip.validation import mask_secrets
 
 
@@ -33,16 +37,16 @@ def fill_if_empty(spec: ExperimentSpec, registry: Registry, progress: bool) -> b
     return True
 
 
-def summarise(rows: list[dict[str, Any]]) -> str:
-    """One screen: mean force and angle RMSE per (method, split, calib_samples) group."""
+def summarise(rows: list[dict[str, Any]], keys: Sequence[str] = ("force_rmse_n", "angle_rmse_rad")) -> str:
+    """One screen: the mean of each target's RMSE (`keys`) per (method, split) group."""
     groups: dict[tuple, list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         groups[(r["method"], r.get("split", "-"))].append(r)
-    lines = [f"{'method':<24}{'split':<10}{'rows':>6}{'force RMSE [N]':>16}{'angle RMSE [rad]':>18}"]
+    keys = [k for k in keys if any(k in r for r in rows)]
+    lines = [f"{'method':<24}{'split':<10}{'rows':>6}" + "".join(f"{k:>18}" for k in keys)]
     for (method, split), rs in sorted(groups.items()):
-        f = np.mean([r["force_rmse_n"] for r in rs])
-        a = np.mean([r["angle_rmse_rad"] for r in rs])
-        lines.append(f"{method:<24}{split:<10}{len(rs):>6}{f:>16.3f}{a:>18.4f}")
+        means = [np.mean([r[k] for r in rs if k in r]) for k in keys]
+        lines.append(f"{method:<24}{split:<10}{len(rs):>6}" + "".join(f"{m:>18.4g}" for m in means))
     return "\n".join(lines)
 
 
@@ -72,7 +76,7 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
     fill_if_empty(spec, registry, progress)
     if use == "required":
         need = module.min_units(ctx) if hasattr(module, "min_units") else 1
-        check_registry(spec, registry, need, str(spec_path))
+        spec = ctx.spec = check_registry(spec, registry, need, str(spec_path))
     run_dir = rundir.new_run_dir(spec.name, out, force=force)
     ctx.run_dir = run_dir
     rundir.write_config(run_dir, public_config(spec))
@@ -81,9 +85,14 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
     start = time.perf_counter()
     rows = module.run(ctx)
     ctx.provenance["wall_s"] = round(time.perf_counter() - start, 2)
-    rundir.write_metrics(run_dir, rows, spec=spec.name, pipeline=spec.pipeline)
+    keys = [target_key(name) for name in ctx.provenance.get("targets", V1_LAYOUT)]
+    rundir.write_metrics(run_dir, rows, keys, spec=spec.name, pipeline=spec.pipeline)
     rundir.write_json(run_dir / "provenance.json", ctx.provenance)
-    print(getattr(module, "summarise", summarise)(rows))
+    if hasattr(module, "summarise"):  # a pipeline's own screen, given the targets where it takes them
+        takes = "targets" in inspect.signature(module.summarise).parameters
+        print(module.summarise(rows, ctx.provenance.get("targets")) if takes else module.summarise(rows))
+    else:
+        print(summarise(rows, keys))
     print(f"run directory: {run_dir}  (report: {run_dir / 'report.md'})")
     return run_dir
 

@@ -1,47 +1,70 @@
 """Training arrays: a selection of registry runs as flat, tared, labelled rows.
 
-Tare follows the firmware: each run's rest reading (mean of its contact-free rows
-before the first contact, as the firmware's power-up mean) is subtracted, so inputs are
-pressure changes in Pa. Only contact rows carry labels; contact-free rows are dropped.
-Each row keeps the index of its unit, its run and its patch, so every split can be
-made by unit and by patch.
+Tare follows the firmware: each run's rest reading is subtracted, so inputs are pressure
+changes in Pa. The rest reading is the mean of the contact-free rows before the first
+contact (as the firmware's power-up mean); a run without `in_contact` tares from its
+first 0.5 s, which the format guarantees to be at rest. Only contact rows carry labels.
+Each row keeps the index of its unit, its run and its patch, so every split can be made
+by unit and by patch: the fingertip's patches are cells of its contact angles; a sensor
+model without that grid is cut into contiguous blocks of rows within each run.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from anytip.data.registry import Registry, RunRecord
-from anytip.data.runfile import CalibrationRun
+from anytip.data.runfile import V1_LAYOUT, CalibrationRun, TargetLayout
 from anytip.errors import AnytipError
 
 PATCH_DEG = 15.0
 THETA_MIN_DEG, PHI_MIN_DEG = -45.0, -135.0
 PATCH_GRID = (6, 12)  # theta cells x phi cells of the sensing region
-CONTACT_FORCE_N = 0.5  # |F| threshold that marks contact when a run has no in_contact
-# the targets' columns, in the order of FleetArrays.targets: force in N, then angles in rad
+CONTACT_FORCE_N = 0.5  # |F| threshold that marks contact when a run with `force` has no in_contact
+REST_S = 0.5  # a run starts with at least this long at rest (the format's promise)
+BLOCKS_PER_RUN = 16  # the blocked split's patches: contiguous blocks of each run's label rows
+# the fingertip's columns, in the order of FleetArrays.targets: force in N, then angles in rad
 OUTPUT_NAMES = ("fx", "fy", "fz", "theta", "phi")
-# each target's columns in FleetArrays.targets: force (N) and contact angles (rad)
 TARGET_SLICES = {"force": slice(0, 3), "angles": slice(3, 5)}
+
+
+def target_slices(layout: dict[str, TargetLayout]) -> dict[str, slice]:
+    """Each target's columns in the label matrix, targets in layout order."""
+    out, start = {}, 0
+    for name, t in layout.items():
+        out[name] = slice(start, start + len(t.components))
+        start += len(t.components)
+    return out
+
+
+def output_names(layout: dict[str, TargetLayout]) -> tuple[str, ...]:
+    """Every component name, targets in layout order (the fingertip's: fx, fy, fz, theta, phi)."""
+    return tuple(c for t in layout.values() for c in t.components)
+
+
+def has_patch_grid(layout: dict[str, TargetLayout]) -> bool:
+    """Whether rows fall into the fingertip's patch grid: the layout holds the fingertip's
+    targets (`force` in N, `angles` in rad), whatever else it holds."""
+    return all(layout.get(name) == t for name, t in V1_LAYOUT.items())
 
 
 @dataclass
 class FleetArrays:
-    """Rows of many runs, flattened. N rows, C channels.
+    """Rows of many runs, flattened. N rows, C channels, D label columns.
 
-    pressure (N, C) float32 tared Pa; force (N, 3) float32 N; angles (N, 2) float32 rad;
-    unit, run (N,) int32 indices into `units` and `runs`; patch (N,) int16 cell index
-    (see `patch_index`); tare (R, C) float64 Pa, the rest reading of each run; time (N,)
-    float64 s since the first sample of the row's run (robot-seconds into the protocol).
+    pressure (N, C) float32 tared Pa; labels (N, D) float32, the targets of `layout` side by
+    side in their units (the fingertip's: Fx, Fy, Fz in N, theta, phi in rad); unit, run (N,)
+    int32 indices into `units` and `runs`; patch (N,) int16 cell index (`patch_index`) or
+    block index (`block_index`); tare (R, C) float64 Pa, the rest reading of each run; time
+    (N,) float64 s since the first sample of the row's run (robot-seconds into the protocol).
     Rows of a run keep their recorded order.
     """
 
     pressure: np.ndarray
-    force: np.ndarray
-    angles: np.ndarray
+    labels: np.ndarray
     unit: np.ndarray
     run: np.ndarray
     patch: np.ndarray
@@ -49,6 +72,7 @@ class FleetArrays:
     units: list[str]
     runs: list[RunRecord]
     time: np.ndarray | None = None
+    layout: dict[str, TargetLayout] = field(default_factory=lambda: dict(V1_LAYOUT))
 
     @property
     def n_rows(self) -> int:
@@ -56,17 +80,38 @@ class FleetArrays:
 
     @property
     def targets(self) -> np.ndarray:
-        """(N, 5) float32: Fx, Fy, Fz in N, then theta, phi in rad."""
-        return np.concatenate([self.force, self.angles], axis=1)
+        """(N, D) float32 labels (the fingertip's: Fx, Fy, Fz in N, then theta, phi in rad)."""
+        return self.labels
+
+    @property
+    def slices(self) -> dict[str, slice]:
+        """Each target's columns of `targets`."""
+        return target_slices(self.layout)
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return output_names(self.layout)
+
+    def target(self, name: str) -> np.ndarray:
+        """(N, k) the columns of target `name`; an error names the targets there are."""
+        if name not in self.layout:
+            raise AnytipError(f"the rows have no target {name!r}; their targets: {list(self.layout)}")
+        return self.labels[:, self.slices[name]]
+
+    @property
+    def force(self) -> np.ndarray:
+        return self.target("force")
+
+    @property
+    def angles(self) -> np.ndarray:
+        return self.target("angles")
 
     def select(self, mask: np.ndarray) -> FleetArrays:
         """Rows where `mask` (N,) bool holds; unit, run and patch indices keep their meaning."""
         return FleetArrays(
-            self.pressure[mask], self.force[mask], self.angles[mask], self.unit[mask],
-            self.run[mask], self.patch[mask], self.tare, self.units, self.runs,
-            None if self.time is None else self.time[mask],
+            self.pressure[mask], self.labels[mask], self.unit[mask], self.run[mask], self.patch[mask],
+            self.tare, self.units, self.runs, None if self.time is None else self.time[mask], self.layout,
         )
-
 
 
 def patch_index(angles: np.ndarray) -> np.ndarray:
@@ -82,23 +127,39 @@ def patch_index(angles: np.ndarray) -> np.ndarray:
     return (i * PATCH_GRID[1] + j).astype(np.int16)
 
 
+def block_index(n: int) -> np.ndarray:
+    """(n,) int16: the contiguous block (0..BLOCKS_PER_RUN-1) each of a run's n label rows is in."""
+    return (np.arange(n) * BLOCKS_PER_RUN // max(n, 1)).astype(np.int16)
+
+
 def contact_mask(run: CalibrationRun) -> np.ndarray:
-    """(n,) bool: the run's recorded `in_contact` flag, else |F| >= CONTACT_FORCE_N."""
+    """(n,) bool label rows: the run's `in_contact` flag; without it, |F| >= CONTACT_FORCE_N
+    for a run with the fingertip's `force` target, else every row (as the format says)."""
     if run.in_contact is not None:
         return run.in_contact.astype(bool)
-    return np.linalg.norm(run.force, axis=1) >= CONTACT_FORCE_N
+    if "force" in run.targets and run.targets["force"].layout == V1_LAYOUT["force"]:
+        return np.linalg.norm(run.force, axis=1) >= CONTACT_FORCE_N
+    return np.ones(len(run.time), bool)
 
 
-def rest_reading(pressure: np.ndarray, contact: np.ndarray, path: str) -> np.ndarray:
-    """(C,) float64 Pa: mean of the contact-free rows before the first contact.
-
-    Falls back to every contact-free row when the run starts in contact.
-    """
+def rest_rows(contact: np.ndarray, time: np.ndarray | None = None) -> np.ndarray:
+    """(n,) bool rows to tare from, given the label rows contact (n,) bool: the contact-free
+    rows before the first contact (every contact-free row when the run starts in contact);
+    when every row is a label (no `in_contact`, no force), the first REST_S seconds of
+    `time` (n,) s, which the format guarantees to be at rest."""
+    if contact.all() and time is not None:
+        return time - time[0] < REST_S
     first = int(np.argmax(contact)) if contact.any() else len(contact)
-    rest = pressure[:first] if first > 0 else pressure[~contact]
-    if len(rest) == 0:
+    return np.arange(len(contact)) < first if first > 0 else ~contact
+
+
+def rest_reading(pressure: np.ndarray, contact: np.ndarray, path: str,
+                 time: np.ndarray | None = None) -> np.ndarray:
+    """(C,) float64 Pa: mean pressure (n, C) of the run's `rest_rows(contact, time)`."""
+    rest = rest_rows(contact, time)
+    if not rest.any():
         raise AnytipError(f"{path}: no contact-free rows to tare from")
-    return rest.astype(np.float64).mean(axis=0)
+    return pressure[rest].astype(np.float64).mean(axis=0)
 
 
 def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
@@ -113,25 +174,31 @@ def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
         raise AnytipError(f"{registry.root}: runs of sensor model {runs[0].sensor_model!r} have "
                           f"{sorted(channels)} pressure channels; a sensor model has one layout")
     units = sorted({r.unit for r in runs})
-    parts: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "f", "a", "u", "r", "t")}
-    tares = []
+    parts: dict[str, list[np.ndarray]] = {k: [] for k in ("p", "y", "u", "r", "t", "b")}
+    tares, layout = [], None
     for k, rec in enumerate(runs):
         run = registry.open_run(rec.run_id)  # validated, and hashed against the catalog
-        pressure, force, angles, contact = run.pressure, run.force, run.angles, contact_mask(run)
-        time = run.time - run.time[0]
-        tare = rest_reading(pressure, contact, f"run {rec.run_id}")
+        if layout is None:
+            layout = run.target_layout
+        elif run.target_layout != layout:
+            raise AnytipError(f"run {rec.run_id}: targets differ from the other runs of sensor model "
+                              f"{rec.sensor_model!r}; a sensor model has one layout")
+        contact = contact_mask(run)
+        tare = rest_reading(run.pressure, contact, f"run {rec.run_id}", run.time)
         tares.append(tare)
         n = int(contact.sum())
-        parts["p"].append((pressure[contact] - tare).astype(np.float32))
-        parts["f"].append(force[contact])
-        parts["a"].append(angles[contact])
+        parts["p"].append((run.pressure[contact] - tare).astype(np.float32))
+        parts["y"].append(np.concatenate([run.targets[name].values[contact] for name in layout], axis=1))
         parts["u"].append(np.full(n, units.index(rec.unit), np.int32))
         parts["r"].append(np.full(n, k, np.int32))
-        parts["t"].append(time[contact])
-    angles = np.concatenate(parts["a"])
+        parts["t"].append((run.time - run.time[0])[contact])
+        parts["b"].append(block_index(n))
+    assert layout is not None
+    labels = np.concatenate(parts["y"]).astype(np.float32)
+    sl = target_slices(layout)
+    patch = patch_index(labels[:, sl["angles"]]) if has_patch_grid(layout) else np.concatenate(parts["b"])
     return FleetArrays(
-        pressure=np.concatenate(parts["p"]), force=np.concatenate(parts["f"]), angles=angles,
-        unit=np.concatenate(parts["u"]), run=np.concatenate(parts["r"]),
-        patch=patch_index(angles), tare=np.stack(tares), units=units, runs=list(runs),
-        time=np.concatenate(parts["t"]),
+        pressure=np.concatenate(parts["p"]), labels=labels, unit=np.concatenate(parts["u"]),
+        run=np.concatenate(parts["r"]), patch=patch, tare=np.stack(tares), units=units,
+        runs=list(runs), time=np.concatenate(parts["t"]), layout=layout,
     )

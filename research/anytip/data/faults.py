@@ -79,7 +79,7 @@ def rest_rows(registry: Registry, runs: Sequence[RunRecord]) -> np.ndarray:
     for rec in runs:
         run = registry.open_run(rec.run_id)
         pressure, contact = run.pressure, contact_mask(run)
-        tare = rest_reading(pressure, contact, rec.run_id)
+        tare = rest_reading(pressure, contact, rec.run_id, run.time)
         after = np.arange(len(contact)) > np.argmax(contact)
         parts.append((pressure[after & ~contact] - tare).astype(np.float32))
     return np.concatenate(parts) if parts else np.zeros((0, runs[0].channels if runs else 0), np.float32)
@@ -129,5 +129,6 @@ def run_streams(registry: Registry, runs: Sequence[RunRecord], indices: Sequence
         if temp.shape[1] != pressure.shape[1]:  # one sensor for the board: every channel reads it
             temp = np.repeat(temp[:, :1], pressure.shape[1], 1)
         t0 = temp[:max(first, 1)].mean(0)
-        out.append(RunStream(pressure - rest_reading(pressure, contact, rec.run_id), temp - t0, contact, k))
+        tare = rest_reading(pressure, contact, rec.run_id, run.time)
+        out.append(RunStream(pressure - tare, temp - t0, contact, k))
     return out

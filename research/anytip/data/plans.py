@@ -29,7 +29,7 @@ from typing import Literal
 
 import numpy as np
 
-from anytip.data.arrays import TARGET_SLICES, FleetArrays
+from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream
 from anytip.errors import AnytipError
 from anytip.sensor.protocols import design_protocol, waypoints
@@ -167,7 +167,7 @@ def _summaries(arrays: FleetArrays, rows: np.ndarray, start: np.ndarray) -> np.n
     y = arrays.targets[rows].astype(np.float64)
     if len(y) == 0:
         return np.zeros((0, y.shape[1]))
-    for cols in TARGET_SLICES.values():
+    for cols in arrays.slices.values():
         spread = np.sqrt(((y[:, cols] - y[:, cols].mean(0)) ** 2).sum(1).mean())
         y[:, cols] /= max(spread, 1e-12)
     return np.add.reduceat(y, start[:-1], axis=0) / np.diff(start)[:, None]

@@ -252,11 +252,17 @@ class CalibrationRun:
         return self
 
 
+def parse_layout(layout: str) -> tuple[int, dict[str, TargetLayout]]:
+    """(channel count, targets) of a `layout_json` text."""
+    data = json.loads(layout)
+    return int(data["channels"]), {name: TargetLayout(t["unit"], tuple(t["components"]))
+                                   for name, t in data["targets"].items()}
+
+
 def describe_layout(layout: str) -> str:
     """'8 pressure channels and the targets force [N] (fx, fy, fz), ...' for a `layout_json` text."""
-    data = json.loads(layout)
-    targets = {name: TargetLayout(t["unit"], tuple(t["components"])) for name, t in data["targets"].items()}
-    return f"{data['channels']} pressure channels and the targets {describe_targets(targets)}"
+    channels, targets = parse_layout(layout)
+    return f"{channels} pressure channels and the targets {describe_targets(targets)}"
 
 
 def describe_targets(layout: dict[str, TargetLayout]) -> str:

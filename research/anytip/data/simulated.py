@@ -12,7 +12,8 @@ from typing import Any
 from rich.progress import track
 
 from anytip.data.registry import Registry
-from anytip.data.runfile import CalibrationRun
+from anytip.data.runfile import CalibrationRun, Target
+from anytip.sensor import flat
 from anytip.sensor import simulate as sim
 from anytip.sensor.fleet import FleetConfig
 from anytip.sensor.protocols import Protocol
@@ -40,9 +41,39 @@ def simulate_fleet(config: FleetConfig, n_units: int, seed: int,
     return (as_run(r) for r in sim.simulate_fleet(config, n_units, seed, protocols))
 
 
+def as_flat_run(run: flat.FlatRun) -> CalibrationRun:
+    """The run file (format version 2, validated) of a simulated flat-sensor run."""
+    targets = {name: Target(run.targets[name], unit, components)
+               for name, unit, components in run.design.targets}
+    notes = f"protocol {run.record['protocol']['name']}"
+    return CalibrationRun(
+        sensor_id=run.sensor_id, sensor_model=run.design.name, orientation_deg=0.0,
+        sample_rate_hz=flat.RATE_HZ, source="simulated", created=run.created, time=run.time,
+        pressure=run.pressure, targets=targets, in_contact=run.in_contact, format_version=2,
+        extra={"simulator": json.dumps(run.record, sort_keys=True), "notes": notes},
+    ).validate()
+
+
 def regenerate(simulator_json: dict[str, Any] | str) -> CalibrationRun:
     """Replay a simulated run from its `simulator` attribute; equal `content_hash()`."""
-    return as_run(sim.regenerate(simulator_json))
+    record = json.loads(simulator_json) if isinstance(simulator_json, str) else simulator_json
+    if record.get("simulator") == flat.SIMULATOR:
+        return as_flat_run(flat.regenerate(record))
+    return as_run(sim.regenerate(record))
+
+
+def simulate_flat_into(registry: Registry, sensor_model: str, n_units: int, seed: int,
+                       protocols: Sequence[str] = ("full",), severity: float = 1.0) -> tuple[int, int]:
+    """Simulate `n_units` units of a flat sensor model (`anytip.sensor.flat.DESIGNS`) and add
+    their runs, one unit per transaction; returns (runs added, runs already there)."""
+    before = {r.run_id for r in registry.list_runs()}
+    runs = flat.simulate_fleet(sensor_model, n_units, seed, tuple(protocols), severity)
+    added = unchanged = 0
+    for _, unit_runs in groupby(runs, key=lambda r: r.sensor_id):
+        records = registry.add_runs([as_flat_run(r) for r in unit_runs])
+        new = sum(r.run_id not in before for r in records)
+        added, unchanged = added + new, unchanged + len(records) - new
+    return added, unchanged
 
 
 def simulate_into(registry: Registry, config: FleetConfig, n_units: int, seed: int,

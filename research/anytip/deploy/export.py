@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from anytip.data.runfile import TargetLayout
 from anytip.deploy import embedded, firmware
 from anytip.deploy.c_export import buffer_width, c_parameters, c_table, write_c
 from anytip.deploy.c_int8 import write_c_int8
@@ -33,6 +34,7 @@ from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, save_models
 from anytip.rundir import write_json
 from anytip.train.metrics import scores as target_scores
+from anytip.train.metrics import target_keys
 
 FORMATS = ("onnx", "c", "c-int8", "firmware", "model")
 INT8_RMSE_TARGET = 0.02  # int8 RMSE increase over float, as a fraction of the float RMSE
@@ -84,19 +86,20 @@ def int8_tolerance(q: QuantNet, y: np.ndarray) -> np.ndarray:
     return step[None, :] + 4 * U_FLOAT32 * np.abs(y)
 
 
-def rmse(y: np.ndarray, t: np.ndarray) -> dict[str, float]:
-    """Force and angle RMSE of outputs y (n, d or 2d) against targets t (n, d). A
-    heteroscedastic model's d means come first (its scale outputs follow), so they are scored."""
-    s = target_scores(y[:, : t.shape[1]], t)
-    return {"force_rmse_n": s["force_rmse_n"], "angle_rmse_rad": s["angle_rmse_rad"]}
+def rmse(y: np.ndarray, t: np.ndarray, layout: dict[str, TargetLayout]) -> dict[str, float]:
+    """Each target's RMSE (`force_rmse_n`, `angle_rmse_rad`, `position_rmse`, ...) of outputs y
+    (n, d or 2d) against targets t (n, d) laid out as `layout`. A heteroscedastic model's d means
+    come first (its scale outputs follow), so they are scored."""
+    s = target_scores(y[:, : t.shape[1]], t, layout)
+    return {key: s[key] for key in target_keys(layout)}
 
 
 def int8_accuracy(y_q: np.ndarray, y_f: np.ndarray, ref: Reference, ev: np.ndarray) -> dict[str, Any]:
     """RMSE of float and int8 against the targets (or int8 against float when there are none)."""
     if ref.targets is None:
-        out = {"against": "float model (no targets)", "int8_vs_float": rmse(y_q, y_f)}
+        out = {"against": "float model (no targets)", "int8_vs_float": rmse(y_q, y_f, ref.layout)}
         return out | {"passed": True, "note": "no targets: the RMSE increase is not defined"}
-    f, q = rmse(y_f, ref.targets[ev]), rmse(y_q, ref.targets[ev])
+    f, q = rmse(y_f, ref.targets[ev], ref.layout), rmse(y_q, ref.targets[ev], ref.layout)
     inc = {k: (q[k] - f[k]) / f[k] for k in f}
     return {"against": "targets", "float": f, "int8": q, "rmse_increase": inc,
             "target_increase": INT8_RMSE_TARGET, "passed": max(inc.values()) <= INT8_RMSE_TARGET}
@@ -107,7 +110,7 @@ def scores(y: np.ndarray, ref: Reference, rows: np.ndarray | None = None) -> dic
     if ref.targets is None:
         return None
     rows = ref.eval_rows if rows is None else rows
-    return rmse(np.asarray(y)[rows], ref.targets[rows])
+    return rmse(np.asarray(y)[rows], ref.targets[rows], ref.layout)
 
 
 def measure(source: Path, net: DeployNet, x: np.ndarray, expect: np.ndarray, work: Path,
@@ -255,13 +258,17 @@ def _c_int8(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
            "gcc_host_vs_numpy_int8": check(y_c, y_sim, int8_tolerance(q, y_sim), net.out_scale),
            "int8_vs_float_max_abs_err": np.abs(y_c - y_model[ev]).max(0).tolist(),
            "accuracy": int8_accuracy(y_c, y_model[ev], ref, ev),
-           "scores": None if ref.targets is None else rmse(y_c, ref.targets[ev])}
+           "scores": None if ref.targets is None else rmse(y_c, ref.targets[ev], ref.layout)}
     if emb:
         rep["cortex_m4"] = measure(c, net, ref.x[ev], y_c, out_dir / "build")
     return rep
 
 
 def _firmware(loaded, index, net, ref, y_model, out_dir, emb) -> dict[str, Any]:
+    if net.output_names and tuple(net.output_names) != firmware.FINGERTIP_OUTPUTS:
+        raise AnytipError(f"the firmware struct is the fingertip's ({', '.join(firmware.FINGERTIP_OUTPUTS)}; "
+                          f"8 barometers); this model outputs {', '.join(net.output_names)} from "
+                          f"{net.n_inputs} barometers: export it as onnx or c instead")
     require_relu(net, "firmware")
     nets = {net.unit: firmware.to_firmware(loaded, index, net, ref.x, targets=ref.targets)}
     path = firmware.write_firmware_json(out_dir / "firmware.json", nets, firmware.DESCRIPTION)

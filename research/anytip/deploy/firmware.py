@@ -34,7 +34,8 @@ from anytip.rundir import write_json
 KEYS_W, KEYS_B = ("w1", "w2", "w3", "w4"), ("b1", "b2", "b3", "b4")
 SIZES = (8, 12, 64, 64, 5)
 N_OUT = 5
-OUTPUT_NAMES = ["fx", "fy", "fz", "theta", "phi"]
+FINGERTIP_OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
+OUTPUT_NAMES = list(FINGERTIP_OUTPUTS)
 ANGLE_OUTPUTS = (3, 4)  # theta, phi: deg in the firmware, rad in anytip
 DEG = math.pi / 180.0
 DECIMALS = 14  # the firmware tables' weights are float32 values written with 14 decimals

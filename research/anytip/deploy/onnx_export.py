@@ -59,7 +59,7 @@ def build_onnx(net: DeployNet) -> onnx.ModelProto:
     model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", OPSET)],
                               producer_name="anytip", ir_version=IR_VERSION)
     model.doc_string = (f"anytip contact model, unit {net.unit}: tared pressures (Pa) -> "
-                        f"{', '.join(net.output_names) or 'outputs'} (N, rad)")
+                        f"{', '.join(net.output_names) or 'outputs'} (in the sensor model's target units)")
     onnx.checker.check_model(model, full_check=True)
     return model
 

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from anytip.data.runfile import V1_LAYOUT, TargetLayout
 from anytip.deploy.held_out import HeldOut
 from anytip.deploy.net import DeployNet
 
@@ -15,7 +16,8 @@ TRAINING_ROWS_WARNING = ("nothing tells which of the unit's rows the model train
 
 @dataclass
 class Reference:
-    """x (B, 8) tared Pa; targets (B, 5) N, rad or None; cal: row mask used to calibrate int8."""
+    """x (B, C) tared Pa; targets (B, D) in the units of `layout` (the fingertip's: N, rad) or None;
+    cal: row mask used to calibrate int8."""
 
     x: np.ndarray
     targets: np.ndarray | None
@@ -24,6 +26,7 @@ class Reference:
     note: str
     runs: list[str] = field(default_factory=list)
     held_out: HeldOut | None = None  # the rule that chose held-out rows (None: all the unit's rows)
+    layout: dict[str, TargetLayout] = field(default_factory=lambda: dict(V1_LAYOUT))  # the targets' columns
 
     @property
     def may_include_training_rows(self) -> bool:
@@ -55,7 +58,8 @@ def synthetic_reference(net: DeployNet, rows: int = 4000, seed: int = 0) -> Refe
 
 def registry_reference(registry, unit: str, rows: int = 20000, seed: int = 0,
                        held_out: HeldOut | None = None) -> Reference | None:
-    """Up to `rows` rows of the unit's runs, in contact (|F| > 0.5 N); half calibrate int8 rounding,
+    """Up to `rows` label rows of the unit's runs (with a force target: |F| > 0.5 N); half calibrate
+    int8 rounding,
     the other half are scored. `held_out` keeps the rows its model never trained on (runs,
     protocols, patch cells); without it every row of the unit counts and the reference says that
     they may include training rows. None when no row is left."""
@@ -68,7 +72,9 @@ def registry_reference(registry, unit: str, rows: int = 20000, seed: int = 0,
     if not runs:
         return None
     arr = load_arrays(registry, runs)
-    keep = np.linalg.norm(arr.force, axis=1) > CONTACT_FORCE_N
+    keep = np.ones(arr.n_rows, bool)  # label rows: in contact
+    if arr.layout.get("force") == V1_LAYOUT["force"]:
+        keep = np.linalg.norm(arr.force, axis=1) > CONTACT_FORCE_N
     if h.patches is not None:
         keep &= np.isin(arr.patch, h.patches)
     if not keep.any():
@@ -84,4 +90,4 @@ def registry_reference(registry, unit: str, rows: int = 20000, seed: int = 0,
                      "registry" if held_out is None else "registry, held out",
                      f"{len(idx)} in-contact rows of unit {unit}'s runs "
                      f"{sorted({r.protocol for r in runs}, key=str)} ({which}); half calibrate the int8 "
-                     "rounding, the other half are scored", [r.run_id for r in runs], held_out)
+                     "rounding, the other half are scored", [r.run_id for r in runs], held_out, arr.layout)

@@ -9,13 +9,15 @@ from __future__ import annotations
 import math
 import zlib
 from collections.abc import Sequence
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import torch
 import torch.nn.functional as F
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 from torch import Tensor, nn
+
+from anytip.errors import AnytipError
 
 # leaky_relu (negative slope 0.01, torch's default) and hardswish (x * clamp(x + 3, 0, 6) / 6) need
 # only compares, adds and multiplies, so they export without libm; tanh, gelu and silu do not.
@@ -30,11 +32,17 @@ Plain = list[tuple[Tensor, Tensor]]  # one model as [(W (in, out), b (out,)), ..
 
 
 class MLPConfig(BaseModel):
-    """Shape of one MLP: layer widths from input to output and the nonlinearities."""
+    """Shape of one MLP: layer widths from input to output and the nonlinearities.
+
+    A spec names either `hidden` (the hidden widths; input and output widths then come
+    from the sensor model, see `for_sensor`) or `sizes` (every width, checked against the
+    sensor model). Without either, `sizes` is the fingertip's 8-12-64-64-5.
+    """
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     sizes: tuple[int, ...] = Field((8, 12, 64, 64, 5), min_length=2, max_length=MAX_LAYERS + 1)
+    hidden: tuple[int, ...] | None = Field(None, max_length=MAX_LAYERS - 1)
     activation: Activation = "relu"
     output_activation: Activation | None = None
 
@@ -45,6 +53,36 @@ class MLPConfig(BaseModel):
             raise ValueError(f"sizes {sizes} needs at least an input and an output width, "
                              f"all in 1..{MAX_WIDTH}")
         return sizes
+
+    @model_validator(mode="before")
+    @classmethod
+    def _hidden_to_sizes(cls, data: Any) -> Any:
+        """`hidden` alone sets `sizes` to (8, *hidden, 5) until `for_sensor` sets the ends;
+        `sizes` given as well names every width and wins."""
+        if not isinstance(data, dict) or data.get("hidden") is None:
+            return data
+        hidden = tuple(data["hidden"])
+        if any(not isinstance(h, int) or isinstance(h, bool) or not 1 <= h <= MAX_WIDTH for h in hidden):
+            raise ValueError(f"hidden {list(hidden)}: widths must be integers in 1..{MAX_WIDTH}")
+        if "sizes" in data:  # every width named (e.g. over a block's hidden): sizes wins
+            return {**data, "sizes": tuple(data["sizes"]), "hidden": None}
+        return {**data, "sizes": (8, *hidden, 5), "hidden": hidden}
+
+    def for_sensor(self, channels: int, outputs: int, source: str, sensor_model: str) -> MLPConfig:
+        """This shape with input width `channels` and output width `outputs` (the sensor model's
+        pressure channels and label columns). Explicit `sizes` must already agree: AnytipError
+        naming `source`'s key otherwise."""
+        if self.hidden is None:
+            if self.sizes[0] != channels:
+                raise AnytipError(f"{source}: key 'model.sizes' {list(self.sizes)}: the input width "
+                                  f"{self.sizes[0]} must equal the {channels} pressure channels of sensor "
+                                  f"model {sensor_model!r} (or name only the hidden widths: 'model.hidden')")
+            if self.sizes[-1] != outputs:
+                raise AnytipError(f"{source}: key 'model.sizes' {list(self.sizes)}: the output width "
+                                  f"{self.sizes[-1]} must equal the {outputs} label columns of sensor "
+                                  f"model {sensor_model!r} (or name only the hidden widths: 'model.hidden')")
+            return self
+        return self.model_copy(update={"sizes": (channels, *self.hidden, outputs)})
 
     @property
     def n_params(self) -> int:

@@ -15,8 +15,9 @@ import torch
 from pydantic import BaseModel
 
 from anytip.config import DataConfig, ExperimentSpec
-from anytip.data.arrays import OUTPUT_NAMES, FleetArrays, load_arrays
+from anytip.data.arrays import FleetArrays, load_arrays, output_names
 from anytip.data.registry import Registry, RunRecord
+from anytip.data.runfile import parse_layout
 from anytip.data.splits import TestMask
 from anytip.errors import AnytipError
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
@@ -105,25 +106,19 @@ def select_runs(registry: Registry, cfg: DataConfig, seed: int,
 
 
 def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1,
-                   source: str = "spec") -> None:
+                   source: str = "spec") -> ExperimentSpec:
     """Stop before any work when the registry cannot serve the spec: fewer units than the
     spec's unit roles (validation + held-out + training) or the pipeline's `min_units`, or
-    a model whose input or output width disagrees with the sensor model's channels and
-    targets."""
+    a model whose explicit input or output width disagrees with the sensor model's channels
+    and label columns. Returns the spec with the model's widths set from the sensor model."""
     s = spec.splits
     roles = 1
     if s.n_val_units or s.n_test_units:
         roles = s.n_val_units + s.n_test_units + (s.n_train_units or 1)
     model, records = select_runs(registry, spec.data, spec.seed, max(min_units, roles))
-    channels = {r.channels for r in records}
-    sizes = spec.model.sizes
-    if channels != {sizes[0]}:
-        raise AnytipError(f"{source}: key 'model.sizes' {list(sizes)}: the input width {sizes[0]} must "
-                          f"equal the pressure channels of sensor model {model!r}: {sorted(channels)}")
-    if sizes[-1] != len(OUTPUT_NAMES):
-        raise AnytipError(f"{source}: key 'model.sizes' {list(sizes)}: the output width {sizes[-1]} must "
-                          f"equal the {len(OUTPUT_NAMES)} targets of sensor model {model!r} "
-                          f"({', '.join(OUTPUT_NAMES)})")
+    channels, targets = parse_layout(registry.sensor_models()[model])
+    outputs = len(output_names(targets))
+    return spec.model_copy(update={"model": spec.model.for_sensor(channels, outputs, source, model)})
 
 
 def load(ctx: Context, min_units: int = 1) -> FleetArrays:
@@ -133,6 +128,7 @@ def load(ctx: Context, min_units: int = 1) -> FleetArrays:
         sensor_model=model, runs=[r.run_id for r in records], units=arrays.units,
         registry=str(ctx.registry.root), registry_content_hash=ctx.registry.content_hash(),
         selection_content_hash=ctx.registry.content_hash([r.run_id for r in records]),
+        targets={name: t.to_json() for name, t in arrays.layout.items()},
     )
     return arrays
 
@@ -162,7 +158,8 @@ def per_unit_split(arrays: FleetArrays, units: Sequence[str], test_mask: TestMas
         X_test.append(arrays.pressure[held])
         Y_test.append(targets[held])
         test_rows.append(held)
-    return UnitSplitRows(FleetBatchData.from_units(members, device), X_test, Y_test, test_rows)
+    data = FleetBatchData.from_units(members, device, arrays.output_names)
+    return UnitSplitRows(data, X_test, Y_test, test_rows)
 
 
 def predict_units(fit: FitResult, X: Sequence[np.ndarray], first_model: int = 0) -> list[np.ndarray]:

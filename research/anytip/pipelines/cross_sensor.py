@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
+from anytip.data.arrays import FleetArrays, has_patch_grid
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Budget, Plan, Strategy, plan_for
 from anytip.data.splits import held_out_patches
@@ -30,7 +30,7 @@ from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load
 from anytip.pipelines.cross_sensor_options import FitVariant, Options, budget_list, parse_options
-from anytip.report.cross_sensor import full_set_rows, summary, write_report
+from anytip.report.cross_sensor import METRICS, Metric, full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
     SharedFit,
@@ -40,7 +40,7 @@ from anytip.train.adapt import (
 from anytip.train.adapter_prior import PriorFamily, make_prior
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
-from anytip.train.metrics import scores
+from anytip.train.metrics import scores, target_key
 from anytip.train.shared_split import (
     Roles,
     SeedData,
@@ -72,7 +72,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     for k, seed in enumerate(ctx.spec.all_seeds):
         rows += run_seed(ctx, arrays, opts, seed, sweep=k < opts.sweep_seeds)
-    write_report(ctx, rows, opts)
+    write_report(ctx, rows, opts, report_metrics(ctx.provenance["targets"]))
     return rows
 
 
@@ -84,7 +84,8 @@ def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
     for key, seed_prov in ctx.provenance.get("cross_sensor", {}).items():
         if "val_loss" not in seed_prov:
             seed_prov["val_loss"] = saved_val_losses(ctx.run_dir / "models", key, opts)
-    write_report(ctx, rows, opts)
+    targets = ctx.provenance.get("targets")
+    write_report(ctx, rows, opts, report_metrics(targets) if targets else METRICS)
 
 
 def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, dict[str, float]]:
@@ -102,13 +103,23 @@ def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, di
     return out
 
 
-def summarise(rows: list[dict[str, Any]]) -> str:
-    """One screen: mean RMSE and ratio to per_unit per (method, labeled samples)."""
-    lines = [f"{'method':<46}{'budget':>8}{'force [N]':>11}{'ratio':>8}{'angle [rad]':>13}{'ratio':>8}"]
-    for s in summary(full_set_rows(rows)):
+def report_metrics(targets: dict[str, Any]) -> list[Metric]:
+    """The report's metrics for the run's targets ({name: {unit, components}}, as `load` records
+    them in the provenance); the fingertip's are `force` [N] and `angle` [rad]."""
+    names = {"angles": "angle"}
+    return [Metric(target_key(n), names.get(n, n), f"{names.get(n, n)} RMSE [{t['unit']}]")
+            for n, t in targets.items()]
+
+
+def summarise(rows: list[dict[str, Any]], targets: dict[str, Any] | None = None) -> str:
+    """One screen: mean RMSE and ratio to per_unit per (method, budget), for each target."""
+    metrics = report_metrics(targets) if targets else METRICS
+    head = "".join(f"{m.label:>22}{'ratio':>8}" for m in metrics)
+    lines = [f"{'method':<46}{'budget':>8}{head}"]
+    for s in summary(full_set_rows(rows), metrics):
         budget = "full" if s["budget"] < 0 else f"{s['budget']:g}"
-        lines.append(f"{s['method']:<46}{budget:>8}{s['force']:>11.3f}{s['force_ratio']:>7.2f}x"
-                     f"{s['angle']:>13.4f}{s['angle_ratio']:>7.2f}x")
+        cells = "".join(f"{s[m.name]:>22.4g}{s[f'{m.name}_ratio']:>7.2f}x" for m in metrics)
+        lines.append(f"{s['method']:<46}{budget:>8}{cells}")
     return "\n".join(lines)
 
 
@@ -116,7 +127,8 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
              sweep: bool) -> list[dict[str, Any]]:
     spec = ctx.spec
     sd = prepare(ctx, arrays, opts, seed)
-    base = {"seed": seed, "split": "patches", "n_train_units": len(sd.split.train)}
+    held = "patches" if has_patch_grid(arrays.layout) else "blocks"
+    base = {"seed": seed, "split": held, "n_train_units": len(sd.split.train)}
     rows = [dict(base, **r) for r in per_unit_rows(ctx, arrays, sd, opts, seed)]
     rows += [dict(base, **r) for r in scratch_rows(ctx, arrays, sd, opts, seed)]
     pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), spec.model,
@@ -139,7 +151,8 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             val_by_method.update(validation_by_method(method, val_loss))
             first = first or (chosen, val_loss)
         chosen, val_loss = first
-        meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"))
+        meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"),
+                           arrays.output_names)
         meta["val_loss_by_budget"] = by_budget(val_loss, opts)
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
@@ -188,7 +201,7 @@ def pooled_rows(pooled: SharedFit, arrays: FleetArrays, sd: SeedData) -> list[di
     preds = predict_rows(folded, pooled.in_scaler.take([0] * len(units)), pooled.out_scaler, arrays,
                          [sd.evals[u].test_rows for u in units])
     return [{"method": "pooled", "unit": u, "calib_samples": 0, "calib_seconds": 0.0,
-             **scores(p, arrays.targets[sd.evals[u].test_rows])}
+             **scores(p, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
             for u, p in zip(units, preds, strict=True)]
 
 
@@ -215,7 +228,7 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         rng = np.random.default_rng(seed * 7919 + 1000 + u)
         members.append(unit_tensors(arrays, *split_validation(train_rows, ctx.spec.splits.val_fraction, rng),
                                     unit))
-    data = FleetBatchData.from_units(members, ctx.device)
+    data = FleetBatchData.from_units(members, ctx.device, arrays.output_names)
     recipes = [recipe.model_copy(update={"lr": lr}) for lr in opts.reference_lrs] or [recipe]
     fits = [train_fleet(data, ctx.spec.model, r, seed=seed, device=ctx.device, progress=ctx.progress)
             for r in recipes]
@@ -227,7 +240,8 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     rows = []
     for k, u in enumerate(units):
         row = {"method": "per_unit", "unit": u, "calib_samples": int(data.n_train[k] + data.n_val[k]),
-               "calib_seconds": None, **scores(preds[best[k]][k], arrays.targets[sd.evals[u].test_rows])}
+               "calib_seconds": None, **scores(preds[best[k]][k], arrays.targets[sd.evals[u].test_rows],
+                                                        arrays.layout)}
         if opts.reference_lrs:
             row["reference_lr"] = opts.reference_lrs[best[k]]
         rows.append(row)
@@ -278,13 +292,13 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     if not jobs:
         return []
     members = [unit_tensors(arrays, plan.rows, plan.rows, f"{u}@{b.label}") for u, b, plan in jobs]
-    data = FleetBatchData.from_units(members, ctx.device)
+    data = FleetBatchData.from_units(members, ctx.device, arrays.output_names)
     fit = train_fleet(data, ctx.spec.model, opts.scratch, seed=seed, device=ctx.device,
                       progress=ctx.progress)
     preds = predict_rows(fit.model, fit.in_scaler, fit.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     return [{"method": "scratch" + _suffix(b), "unit": u, **budget_fields(b, plan),
-             **scores(preds[k], arrays.targets[sd.evals[u].test_rows])}
+             **scores(preds[k], arrays.targets[sd.evals[u].test_rows], arrays.layout)}
             for k, (u, b, plan) in enumerate(jobs)]
 
 
@@ -330,7 +344,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         rows.append({"method": method + _suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
                      **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
-                     **scores(pred, arrays.targets[sd.evals[u].test_rows])})
+                     **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)})
     return rows, chosen, val_loss
 
 
@@ -398,7 +412,7 @@ def by_budget(values: dict[Budget, float], opts: Options) -> dict[str, float]:
 
 
 def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], seed: int,
-                sensor_model: str | None) -> dict[str, Any]:
+                sensor_model: str | None, output_names: tuple[str, ...]) -> dict[str, Any]:
     """What `anytip calibrate` needs to fit a new unit's adapter like the benchmark did."""
     return {"unit_ids": shared.unit_ids, "seed": seed, "sensor_model": sensor_model,
             "recipe": shared.recipe.model_dump(mode="json"),
@@ -410,4 +424,4 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], s
             "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
             "calibration_protocol": opts.calibration_protocol,
             "calibration_interleave": opts.calibration_interleave,
-            "output_names": list(OUTPUT_NAMES)}
+            "output_names": list(output_names)}

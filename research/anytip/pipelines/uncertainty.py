@@ -131,7 +131,7 @@ def add_cross_conformal(ctx: Context, arrays: FleetArrays, split: UQSplit, opts:
             train = capped(rest[fold != k], opts.max_train_rows, rng)
             members.append(unit_tensors(arrays, *split_validation(train, ctx.spec.splits.val_fraction, rng),
                                         f"{unit}/fold{k}"))
-    data = FleetBatchData.from_units(members, ctx.device)
+    data = FleetBatchData.from_units(members, ctx.device, arrays.output_names)
     fit = train_hetero_fleet(data, ctx.spec.model, ctx.spec.training, 1, opts.beta, seed, ctx.device)
     ctx.provenance.setdefault("cv_train_s", []).append(round(fit.wall_s, 1))
     y = arrays.targets.astype(np.float64)

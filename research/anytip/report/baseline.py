@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections import defaultdict
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -42,6 +43,7 @@ def summary_table(rows: list[dict[str, Any]]) -> str:
 
 
 def write_report(ctx, rows: list[dict[str, Any]], fig: dict[str, Any]) -> None:
+    """The fingertip's report: held-out patches, the contact region, force bins."""
     out = ctx.run_dir
     spec = ctx.spec
     pred_p, y_p = fig["patches"]
@@ -88,6 +90,87 @@ random split flatters a unit's model on contacts away from its calibration press
 
 {image('force_vs_fz.png', 'force error against normal force')}
 {image('force_vs_fz_random.png', 'force error against normal force, random rows')}
+
+{image('training_curves.png', 'training curves')}
+
+## Provenance
+
+Registry `{prov['registry']}`, content hash `{prov['registry_content_hash'][:16]}`; runs used:
+{len(prov['runs'])}; code {prov.get('code', {}).get('git_commit') or prov.get('code', {}).get('anytip')}.
+"""
+    Report(out).add(text).write()
+
+
+@dataclass(frozen=True)
+class TargetInfo:
+    """One target as the report shows it: its unit, its component names and its result key."""
+
+    unit: str
+    components: tuple[str, ...]
+    key: str  # e.g. position_rmse
+
+
+def targets_table(rows: list[dict[str, Any]], targets: dict[str, TargetInfo],
+                  spread: dict[str, float]) -> str:
+    """Per unit (mean over seeds): each component's (of targets with several) and each target's
+    RMSE on held-out blocks, each
+    target's RMSE on random rows, and each target's held-out RMSE over its spread."""
+    multi = [c for t in targets.values() if len(t.components) > 1 for c in t.components]
+    comps = [f"{c}_rmse" for c in multi]
+    keys = [t.key for t in targets.values()]
+    units = sorted({r["unit"] for r in rows})
+
+    def mean(unit: str | None, split: str, key: str) -> float:
+        return float(np.mean([r[key] for r in rows if r["split"] == split and unit in (None, r["unit"])]))
+
+    body = []
+    for unit in [*units, None]:
+        cells = [mean(unit, "blocks", k) for k in comps + keys] + [mean(unit, "random", k) for k in keys]
+        cells += [f"{mean(unit, 'blocks', t.key) / spread[n]:.3f}" for n, t in targets.items()]
+        body.append(["**mean**" if unit is None else unit, *cells])
+    header = ["unit", *multi, *targets,
+              *(f"{n} (random rows)" for n in targets), *(f"{n} / spread" for n in targets)]
+    return table(header, body, floatfmt=".4g")
+
+
+def write_targets_report(ctx, rows: list[dict[str, Any]], fig: dict[str, Any],
+                         targets: dict[str, TargetInfo], blocks_per_run: int) -> None:
+    """The baseline's report for a sensor model without the fingertip's patch grid: held-out
+    contiguous blocks of each run, RMSE per component and target in the target's unit."""
+    out, spec, prov = ctx.run_dir, ctx.spec, ctx.provenance
+    labels = [f"{c} [{t.unit}]" for t in targets.values() for c in t.components]
+    figures.parity(*fig["blocks"], fig["blocks_rmse"], out / "parity_blocks.png",
+                   "held-out blocks, all units", labels=labels)
+    names = fig["member_names"]
+    curves = {names[u]: [(h["epoch"], h["val_loss"][u]) for h in fig["history"]]
+              for u in range(len(names)) if "(blocks)" in names[u]}
+    figures.training_curves(curves, out / "training_curves.png", f"validation loss, recipe "
+                            f"{spec.training.name!r}", ylabel="validation loss (standardised MSE)")
+    spread = fig["target_std"]
+    spreads = ", ".join(f"{n} {v:.4g} {targets[n].unit}" for n, v in spread.items())
+    described = ", ".join(f"{n} [{t.unit}] ({', '.join(t.components)})" for n, t in targets.items())
+    text = f"""# {spec.name}: per-unit baseline
+
+{spec.description.strip()}
+
+The MLP {' -> '.join(map(str, spec.model.sizes))} ({spec.model.activation}) trained per unit with
+recipe `{spec.training.name}` on {len(prov['units'])} units of `{prov['sensor_model']}` (targets
+{described}; seeds {spec.all_seeds}). Scores are RMSE on test rows the model never trained on, in
+two splits: **held-out blocks** (each run's label rows cut into {blocks_per_run} contiguous blocks;
+{spec.splits.patch_test_fraction:.0%} of the block indices held out, the same blocks of every run
+of a unit) and **random rows** ({spec.splits.random_test_fraction:.0%} of rows, beside training
+rows). A target's RMSE is over its components, in its unit.
+
+## Summary (held-out blocks unless marked; mean over seeds)
+
+{targets_table(rows, targets, spread)}
+
+"spread" is each target's spread over every label row of the registry's units (the RMS of
+its components' standard deviations: {spreads}); "/ spread" is the held-out RMSE in those units.
+
+## Figures
+
+{image('parity_blocks.png', 'parity plots')}
 
 {image('training_curves.png', 'training curves')}
 

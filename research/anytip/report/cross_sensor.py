@@ -4,7 +4,8 @@ to their per-unit models, and against the number of training units."""
 from __future__ import annotations
 
 from collections import defaultdict
-from typing import TYPE_CHECKING, Any
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -17,7 +18,16 @@ if TYPE_CHECKING:
     from pathlib import Path
 
 
-METRICS = (("force_rmse_n", "force RMSE [N]"), ("angle_rmse_rad", "angle RMSE [rad]"))
+class Metric(NamedTuple):
+    """One target as the report shows it: its result key, short name and axis label."""
+
+    key: str  # e.g. force_rmse_n
+    name: str  # e.g. force
+    label: str  # e.g. force RMSE [N]
+
+
+METRICS = (Metric("force_rmse_n", "force", "force RMSE [N]"),
+           Metric("angle_rmse_rad", "angle", "angle RMSE [rad]"))  # the fingertip's
 
 
 def full_set_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -74,30 +84,27 @@ def mean_interval(values: list[float], level: float = 0.95, n_boot: int = 4000) 
     return float(v.mean()), float(lo), float(hi)
 
 
-def summary(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """One line per (method, budget): means over units and seeds and ratios to per_unit: the
-    mean of (unit, seed) ratios, and per distinct unit (seeds averaged first, `force_unit`,
-    `angle_unit`: mean, lower, upper) with a 95% bootstrap interval over units."""
-    rf, ra = ratios(rows, "force_rmse_n"), ratios(rows, "angle_rmse_rad")
-    uf, ua = unit_ratios(rows, "force_rmse_n"), unit_ratios(rows, "angle_rmse_rad")
+def summary(rows: list[dict[str, Any]], metrics: Sequence[Metric] = METRICS) -> list[dict[str, Any]]:
+    """One line per (method, budget): for each metric (by its name, e.g. `force`) the mean over
+    units and seeds and ratios to per_unit: the mean of (unit, seed) ratios (`force_ratio`), and
+    per distinct unit (seeds averaged first, `force_unit`: mean, lower, upper) with a 95%
+    bootstrap interval over units."""
+    pair = {m.name: ratios(rows, m.key) for m in metrics}
+    per_unit = {m.name: unit_ratios(rows, m.key) for m in metrics}
     groups: dict[tuple[str, int], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         groups[(r["method"], budget_of(r) if r["method"] != "per_unit" else -1)].append(r)
     out = []
     for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
         secs = [r["calib_seconds"] for r in rs if r.get("calib_seconds") is not None]
-        line = {
-            "method": method, "budget": budget, "n": len(rs),
-            "seconds": float(np.mean(secs)) if secs else None,
-            "force": float(np.mean([r["force_rmse_n"] for r in rs])),
-            "angle": float(np.mean([r["angle_rmse_rad"] for r in rs])),
-            "force_ratio": float(np.mean(rf[(method, budget)])) if rf.get((method, budget)) else 1.0,
-            "angle_ratio": float(np.mean(ra[(method, budget)])) if ra.get((method, budget)) else 1.0,
-            "units": len({r["unit"] for r in rs}),
-        }
-        for name, per_unit in (("force", uf), ("angle", ua)):
-            values = list(per_unit.get((method, budget), {}).values())
-            line[f"{name}_unit"] = mean_interval(values) if values else (1.0, float("nan"), float("nan"))
+        line = {"method": method, "budget": budget, "n": len(rs),
+                "seconds": float(np.mean(secs)) if secs else None, "units": len({r["unit"] for r in rs})}
+        for m in metrics:
+            line[m.name] = float(np.mean([r[m.key] for r in rs]))
+            r_pair = pair[m.name].get((method, budget))
+            line[f"{m.name}_ratio"] = float(np.mean(r_pair)) if r_pair else 1.0
+            values = list(per_unit[m.name].get((method, budget), {}).values())
+            line[f"{m.name}_unit"] = mean_interval(values) if values else (1.0, float("nan"), float("nan"))
         out.append(line)
     return out
 
@@ -122,7 +129,7 @@ def chosen_methods(val_loss: dict[str, dict[str, dict[str, float]]]) -> dict[tup
 
 
 def targets(lines: list[dict[str, Any]], chosen: dict[tuple[float, str | None], str],
-            seconds: bool = False) -> list[list[Any]]:
+            seconds: bool = False, metrics: Sequence[Metric] = METRICS) -> list[list[Any]]:
     """The benchmark's targets, each at the largest budget that meets its condition (the
     smallest for `>=` conditions) and for each plan strategy, with the method chosen there on
     validation units (`chosen_methods`): its held-out ratio per unit, mean [95% interval over
@@ -147,16 +154,16 @@ def targets(lines: list[dict[str, Any]], chosen: dict[tuple[float, str | None], 
                     if cond(b) and st == strategy and (chosen[(b, st)], b) in by_key]
             label = name if strategy is None else f"{name}, `{strategy}`"
             if not keys:
-                out.append([label, goal, "n/a (no validation choice)", "", "", ""])
+                out.append([label, goal, "n/a (no validation choice)", *([""] * len(metrics)), ""])
                 continue
             b = (min if limit == 1.0 else max)(k[0] for k in keys)
             s = by_key[(chosen[(b, strategy)], b)]
-            worst = max(s["force_unit"][0], s["angle_unit"][0])
+            worst = max(s[f"{m.name}_unit"][0] for m in metrics)
             met = worst < 1.0 if limit == 1.0 else worst <= limit
             if upper is not None:
-                met = met and max(s["force_unit"][2], s["angle_unit"][2]) <= upper
-            out.append([label, goal, f"`{s['method']}` @ {b:g}", ratio_text(s["force_unit"]),
-                        ratio_text(s["angle_unit"]), "met" if met else "**not met**"])
+                met = met and max(s[f"{m.name}_unit"][2] for m in metrics) <= upper
+            out.append([label, goal, f"`{s['method']}` @ {b:g}",
+                        *(ratio_text(s[f"{m.name}_unit"]) for m in metrics), "met" if met else "**not met**"])
     return out
 
 
@@ -165,16 +172,17 @@ def ratio_text(m: tuple[float, float, float]) -> str:
     return f"{m[0]:.2f}x" if np.isnan(m[1]) else f"{m[0]:.2f}x [{m[1]:.2f}, {m[2]:.2f}]"
 
 
-def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
-    """Force and angle RMSE against labeled samples, per method: median over units and seeds,
-    band from the 10th to the 90th percentile; per_unit as a horizontal band."""
-    fig, axes = subplots(1, 2, figsize=(12, 4.5))
+def budget_figure(rows: list[dict[str, Any]], path: Path, metrics: Sequence[Metric] = METRICS) -> Path:
+    """Each metric's RMSE against the budget, per method: median over units and seeds, band
+    from the 10th to the 90th percentile; per_unit as a horizontal band."""
+    fig, axes = subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+    axes = axes[0]
     methods = sorted({r["method"] for r in rows} - {"per_unit"})
     budgets = sorted({budget_of(r) for r in rows if r["method"] != "per_unit"})
     pos = {b: (i if b > 0 else 0) for i, b in enumerate(budgets)}
     secs = {b: np.mean([r["calib_seconds"] for r in rows if budget_of(r) == b and r["method"] != "per_unit"
                         and r.get("calib_seconds") is not None] or [0.0]) for b in budgets}
-    for ax, (key, label) in zip(axes, METRICS, strict=True):
+    for ax, (key, _, label) in zip(axes, metrics, strict=True):
         ref = [r[key] for r in rows if r["method"] == "per_unit"]
         if ref:
             lo, med, hi = np.percentile(ref, [10, 50, 90])
@@ -200,9 +208,11 @@ def budget_figure(rows: list[dict[str, Any]], path: Path) -> Path:
     return save_figure(fig, path)
 
 
-def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Path | None:
-    """Force RMSE ratio to per_unit against the number of training units, one line per budget."""
-    ref = {(r["unit"], r["seed"]): r["force_rmse_n"] for r in rows if r["method"] == "per_unit"}
+def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path,
+                      metric: Metric = METRICS[0]) -> Path | None:
+    """The first metric's RMSE ratio to per_unit against the number of training units, one line
+    per budget."""
+    ref = {(r["unit"], r["seed"]): r[metric.key] for r in rows if r["method"] == "per_unit"}
     sel = [r for r in rows if r["method"].split("@")[0] == method and (r["unit"], r["seed"]) in ref]
     counts = sorted({r["n_train_units"] for r in sel})
     seeds = {r["seed"] for r in rows if r["n_train_units"] < max(counts, default=0)}
@@ -213,14 +223,14 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Pa
     for b in sorted({budget_of(r) for r in sel if r["n_train_units"] < max(counts)}):
         ys = []
         for k in counts:
-            v = [r["force_rmse_n"] / ref[(r["unit"], r["seed"])] for r in sel
+            v = [r[metric.key] / ref[(r["unit"], r["seed"])] for r in sel
                  if r["n_train_units"] == k and budget_of(r) == b and r["seed"] in seeds]
             ys.append(np.percentile(v, [10, 50, 90]) if v else [np.nan] * 3)
         ys = np.array(ys)
         ax.plot(counts, ys[:, 1], marker="o", label=f"{b:g} {unit}")
         ax.fill_between(counts, ys[:, 0], ys[:, 2], alpha=0.15)
     ax.axhline(1.0, color="k", ls="--", lw=1, label="per_unit")
-    ax.set(xscale="log", xlabel="training units", ylabel="force RMSE / per_unit",
+    ax.set(xscale="log", xlabel="training units", ylabel=f"{metric.name} RMSE / per_unit",
            title=f"{method}: how many units to calibrate fully")
     ax.minorticks_off()
     ax.set_xticks(counts, [str(c) for c in counts])
@@ -229,16 +239,22 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path) -> Pa
     return save_figure(fig, path)
 
 
-def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any) -> Path:
+def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
+                 metrics: Sequence[Metric] = METRICS) -> Path:
+    """The report of a cross-sensor run; `metrics` are the sensor model's targets."""
     main = full_set_rows(rows)
-    lines = summary(main)
-    budget_figure(main, ctx.run_dir / "rmse_vs_budget.png")
+    lines = summary(main, metrics)
+    budget_figure(main, ctx.run_dir / "rmse_vs_budget.png", metrics)
     units_fig = unit_count_figure(rows, f"adapted:{opts.sweep_adapter}",
-                                  ctx.run_dir / "rmse_vs_train_units.png")
+                                  ctx.run_dir / "rmse_vs_train_units.png", metrics[0])
     seconds = in_seconds(main)
     body = [[s["method"], "full" if s["budget"] < 0 else f"{s['budget']:g}",
-             "" if s["seconds"] is None else f"{s['seconds']:.1f}", s["force"], ratio_text(s["force_unit"]),
-             s["angle"], ratio_text(s["angle_unit"]), s["units"], s["n"]] for s in lines]
+             "" if s["seconds"] is None else f"{s['seconds']:.1f}",
+             *(v for m in metrics for v in (s[m.name], ratio_text(s[f"{m.name}_unit"]))), s["units"], s["n"]]
+            for s in lines]
+    ratio_heads = [f"{m.name} ratio" for m in metrics]
+    held = "patches" if main[0].get("split", "patches") == "patches" else "blocks of rows"
+    all_heads = [h for m in metrics for h in (m.label, f"{m.name} / per_unit [95% CI]")]
     val_loss = {k: v.get("val_loss", {}) for k, v in ctx.provenance.get("cross_sensor", {}).items()}
     chosen = chosen_methods(val_loss)
     seeds = sorted({r["seed"] for r in rows})
@@ -251,7 +267,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any) -> Path:
 {len(ctx.provenance.get('units', []))} units of `{ctx.provenance.get('sensor_model')}`; per seed
 {len(first.get('train', []))} training, {len(first.get('val', []))} validation and
 {len(first.get('test', []))} held-out units (seeds {seeds}). Every method is scored on the
-same held-out patches ({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's patches)
+same held-out {held} ({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's {held})
 that no method saw in any run. {_budget_text(opts, seconds)}
 `adapted:*` models are scored after folding into the plain
 {' -> '.join(map(str, ctx.spec.model.sizes))} MLP; the adapter prior is chosen per budget on the
@@ -264,13 +280,13 @@ The method of each target is the one with the lowest validation-unit loss at tha
 RMSE over its own per-unit model's, seeds averaged first): mean over units [95% bootstrap
 interval over units].
 
-{table(['target', 'goal', 'method (chosen on validation units)', 'force ratio', 'angle ratio', ''],
-       targets(lines, chosen, seconds))}
+{table(['target', 'goal', 'method (chosen on validation units)', *ratio_heads, ''],
+       targets(lines, chosen, seconds, metrics))}
 
 ## All methods (RMSE: mean over held-out units and seeds; ratios per distinct unit)
 
-{table(['method', 'budget [robot-s]' if seconds else 'labeled samples', 'robot-s', 'force RMSE [N]',
-        'force / per_unit [95% CI]', 'angle RMSE [rad]', 'angle / per_unit [95% CI]', 'units', 'rows'], body)}
+{table(['method', 'budget [robot-s]' if seconds else 'labeled samples', 'robot-s', *all_heads,
+        'units', 'rows'], body)}
 
 ![error against calibration budget](rmse_vs_budget.png)
 """ + ("" if units_fig is None else """

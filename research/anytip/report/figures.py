@@ -30,17 +30,19 @@ def save_figure(fig: Figure, path: Path) -> Path:
 
 
 def parity(pred: np.ndarray, target: np.ndarray, rmse: Sequence[float], path: Path, title: str,
-           max_points: int = 20000, seed: int = 0) -> Path:
-    """Predicted against true value for each of the 5 outputs; pred, target (N, 5), with each
-    output's RMSE over all N rows (`anytip.train.metrics.scores`) in its title."""
+           max_points: int = 20000, seed: int = 0, labels: Sequence[str] = OUTPUT_NAMES) -> Path:
+    """Predicted against true value for each of the D outputs; pred, target (N, D), with each
+    output's RMSE over all N rows (`anytip.train.metrics.scores`) and its label ('Fx [N]') in
+    its title."""
     idx = np.random.default_rng(seed).permutation(len(pred))[:max_points]
-    fig, axes = subplots(1, 5, figsize=(17, 3.6))
-    for k, ax in enumerate(axes):
+    d = pred.shape[1]
+    fig, axes = subplots(1, d, figsize=(3.4 * d, 3.6), squeeze=False)
+    for k, ax in enumerate(axes[0]):
         t, p = target[idx, k], pred[idx, k]
         ax.scatter(t, p, s=1, alpha=0.25, rasterized=True)
         lo, hi = float(min(t.min(), p.min())), float(max(t.max(), p.max()))
         ax.plot([lo, hi], [lo, hi], "k--", lw=0.8)
-        ax.set(title=f"{OUTPUT_NAMES[k]}  RMSE {rmse[k]:.3g}", xlabel="true", ylabel="predicted")
+        ax.set(title=f"{labels[k]}  RMSE {rmse[k]:.3g}", xlabel="true", ylabel="predicted")
     fig.suptitle(title)
     return save_figure(fig, path)
 

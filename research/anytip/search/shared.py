@@ -107,7 +107,7 @@ def shared_scorer(arrays: FleetArrays, data: SharedData, opts: SearchOptions, un
             folded, unit_stats = fold_features(folded, unit_stats, F, input_stats(raw_unlabeled, device))
         test_rows = [data.sd.evals[u].test_rows for u in units]
         preds = predict_rows(folded, unit_stats, shared.out_scaler, arrays, test_rows)
-        return [{"unit": u, "calib_samples": len(r), **scores(p, arrays.targets[t])}
+        return [{"unit": u, "calib_samples": len(r), **scores(p, arrays.targets[t], arrays.layout)}
                 for u, r, p, t in zip(units, budget_rows, preds, test_rows, strict=True)]
 
     return fit_and_score

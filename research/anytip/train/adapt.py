@@ -30,7 +30,7 @@ from anytip.models.scaler import Scaler
 from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, UnitSampler, pad_rows
 from anytip.train.fleet import ProgressBar, _lap
-from anytip.train.metrics import evaluate
+from anytip.train.metrics import evaluate, history_fields, progress_text
 from anytip.train.recipe import FAST, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
 
 
@@ -129,10 +129,8 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
                        data.n_val)
         model.train()
         history.append({"epoch": (step + 1) / sampler.steps_per_epoch, "step": step + 1,
-                        "elapsed_s": train_s, "val_loss": val["loss"].tolist(),
-                        "val_force_rmse": val["force_rmse"].tolist(),
-                        "val_angle_rmse": val["angle_rmse"].tolist()})
-        bar.update(step + 1, f"shared ({kind}): val force {val['force_rmse'].mean():.3f} N")
+                        "elapsed_s": train_s, "val_loss": val["loss"].tolist(), **history_fields(val)})
+        bar.update(step + 1, f"shared ({kind}): {progress_text(val)}")
         if float(val["loss"].mean()) < best_loss:
             best_loss, best = float(val["loss"].mean()), copy.deepcopy(model.state_dict())
         tick = time.perf_counter()

@@ -22,7 +22,7 @@ from anytip.models.io import save_models
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.train.data import FleetBatchData, UnitSampler
-from anytip.train.metrics import evaluate
+from anytip.train.metrics import evaluate, history_fields, progress_text
 from anytip.train.recipe import FAST, EarlyStopping, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
 
 
@@ -133,12 +133,11 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
         model.train()
         history.append({"epoch": (step + 1) / steps_per_epoch, "step": step + 1,
                         "elapsed_s": train_s, "lr": lr, "train_loss": (loss_sum / n_loss).tolist(),
-                        "val_loss": val["loss"].tolist(), "val_force_rmse": val["force_rmse"].tolist(),
-                        "val_angle_rmse": val["angle_rmse"].tolist()})
+                        "val_loss": val["loss"].tolist(), **history_fields(val)})
         loss_sum.zero_()
         n_loss = 0
         all_stopped = snapshot.update(model, val["loss"])
-        bar.update(step + 1, f"fleet of {U}: val force {val['force_rmse'].mean():.3f} N")
+        bar.update(step + 1, f"fleet of {U}: {progress_text(val)}")
         if all_stopped:
             break
         tick = time.perf_counter()

@@ -1,8 +1,9 @@
 """Accuracy in physical units, per unit.
 
-Targets are columns (Fx, Fy, Fz) in N and (theta, phi) in rad. All functions take
-pred, target (..., N, 5) and an optional mask (..., N) of real rows, and reduce over
-rows only, so a (U, N, 5) input gives one number per unit.
+Label columns are the sensor model's targets side by side (the fingertip's: Fx, Fy, Fz
+in N, then theta, phi in rad). The torch functions take pred, target (..., N, D) and an
+optional mask (..., N) of real rows, and reduce over rows only, so a (U, N, D) input
+gives one number per unit.
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from anytip.data.arrays import OUTPUT_NAMES, TARGET_SLICES
+from anytip.data.arrays import OUTPUT_NAMES, TARGET_SLICES, output_names, target_slices
+from anytip.data.runfile import V1_LAYOUT, TargetLayout
 from anytip.models.scaler import Scaler
 from anytip.train.data import pad_rows
 
@@ -58,12 +60,29 @@ def rmse(pred: np.ndarray, target: np.ndarray) -> float:
     return float(np.sqrt(((np.asarray(pred, np.float64) - target) ** 2).mean()))
 
 
-def scores(pred: np.ndarray, target: np.ndarray) -> dict[str, float]:
-    """RMSE of one unit's rows (n, 5): per output (`fx_rmse`, ...), force over its three axes
-    (`force_rmse_n`, N) and angles over theta and phi (`angle_rmse_rad`, rad)."""
-    out = {f"{name}_rmse": rmse(pred[:, k], target[:, k]) for k, name in enumerate(OUTPUT_NAMES)}
-    out["force_rmse_n"] = rmse(pred[:, FORCE], target[:, FORCE])
-    out["angle_rmse_rad"] = rmse(pred[:, ANGLE], target[:, ANGLE])
+# The fingertip's targets keep the names its reports have always used.
+TARGET_KEYS = {"force": "force_rmse_n", "angles": "angle_rmse_rad"}
+
+
+def target_key(name: str) -> str:
+    """The result key of target `name`'s RMSE: `<name>_rmse` (the fingertip's `force_rmse_n`
+    and `angle_rmse_rad`)."""
+    return TARGET_KEYS.get(name, f"{name}_rmse")
+
+
+def target_keys(layout: dict[str, TargetLayout]) -> list[str]:
+    """The result keys of every target of `layout`, in layout order."""
+    return [target_key(name) for name in layout]
+
+
+def scores(pred: np.ndarray, target: np.ndarray,
+           layout: dict[str, TargetLayout] = V1_LAYOUT) -> dict[str, float]:
+    """RMSE of one unit's rows (n, D): per component (`fx_rmse`, ...) and per target over its
+    components in the target's unit (`target_key`: `force_rmse_n` in N, `angle_rmse_rad` in
+    rad, `position_rmse` in m, ...)."""
+    out = {f"{name}_rmse": rmse(pred[:, k], target[:, k]) for k, name in enumerate(output_names(layout))}
+    for name, cols in target_slices(layout).items():
+        out[target_key(name)] = rmse(pred[:, cols], target[:, cols])
     return out
 
 
@@ -127,8 +146,9 @@ def evaluate(model: Callable[[Tensor], Tensor], in_scaler: Scaler, out_scaler: S
     """Per-unit accuracy of every unit on its own rows.
 
     X, Y: lists of per-unit (n_u, 8) / (n_u, 5) tensors, or padded (U, N, .) with counts n (U,).
-    Returns float64 tensors: force_rmse (U,) N, angle_rmse (U,) rad, rmse (U, 5) per output,
-    loss (U,) = MSE on standardised outputs (what training minimises).
+    Returns float64 tensors: rmse (U, D) per output, loss (U,) = MSE on standardised outputs
+    (what training minimises), and for the fingertip's 5 columns force_rmse (U,) N and
+    angle_rmse (U,) rad.
     """
     if not isinstance(X, Tensor):
         device = out_scaler.mean.device
@@ -137,5 +157,21 @@ def evaluate(model: Callable[[Tensor], Tensor], in_scaler: Scaler, out_scaler: S
     mask = None if n is None else torch.arange(X.shape[1], device=X.device) < n[:, None]
     pred = predict(model, in_scaler, out_scaler, X)
     loss = _mse_per_output(out_scaler.transform(pred), out_scaler.transform(Y), mask).mean(-1)
-    return {"force_rmse": force_rmse(pred, Y, mask), "angle_rmse": angle_rmse(pred, Y, mask),
-            "rmse": rmse_per_output(pred, Y, mask), "loss": loss}
+    out = {"rmse": rmse_per_output(pred, Y, mask), "loss": loss}
+    if Y.shape[-1] == len(OUTPUT_NAMES):  # the fingertip's columns: its two headline figures
+        out |= {"force_rmse": force_rmse(pred, Y, mask), "angle_rmse": angle_rmse(pred, Y, mask)}
+    return out
+
+
+def history_fields(val: dict[str, Tensor], unit: int | None = None) -> dict[str, object]:
+    """A history row's validation figures from `evaluate`: the fingertip's val_force_rmse (N)
+    and val_angle_rmse (rad), else val_rmse per output; per-unit lists, or unit `unit`'s."""
+    keys = [k for k in ("force_rmse", "angle_rmse") if k in val] or ["rmse"]
+    return {f"val_{k}": (val[k].tolist() if unit is None else val[k][unit].tolist()) for k in keys}
+
+
+def progress_text(val: dict[str, Tensor]) -> str:
+    """One progress-bar phrase: mean validation force RMSE, or the loss for other targets."""
+    if "force_rmse" in val:
+        return f"val force {val['force_rmse'].mean():.3f} N"
+    return f"val loss {val['loss'].mean():.3f}"

@@ -18,7 +18,7 @@ from anytip.models.mlp import BatchedMLP, MLPConfig, sequential_to_plain, unit_s
 from anytip.models.scaler import Scaler
 from anytip.train.data import FleetBatchData
 from anytip.train.fleet import FitResult, ProgressBar, _lap
-from anytip.train.metrics import evaluate
+from anytip.train.metrics import evaluate, history_fields, progress_text
 from anytip.train.recipe import PAPER, EarlyStopping, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
 
 
@@ -91,13 +91,12 @@ def _fit_unit(data: FleetBatchData, u: int, config: MLPConfig, recipe: TrainReci
         val_loss = float(val["loss"][0])
         rows.append({"unit": u, "epoch": (step + 1) / steps_per_epoch, "step": step + 1,
                      "elapsed_s": train_s, "lr": lr, "train_loss": float(loss_sum) / n_loss,
-                     "val_loss": val_loss, "val_force_rmse": float(val["force_rmse"][0]),
-                     "val_angle_rmse": float(val["angle_rmse"][0])})
+                     "val_loss": val_loss, **history_fields(val, 0)})
         loss_sum.zero_()
         n_loss = 0
         if stopping.update(torch.tensor([val_loss], dtype=torch.float64))[0]:
             best_state = _copy_state(net)
-        bar.update(step + 1, f"unit {unit.unit_id}: val force {rows[-1]['val_force_rmse']:.3f} N")
+        bar.update(step + 1, f"unit {unit.unit_id}: {progress_text(val)}")
         if stopping.all_stopped:
             break
         tick = time.perf_counter()

@@ -85,7 +85,7 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         members.append(unit_tensors(arrays, fit, val, unit))
         stream = calibration_stream(arrays, unit, calibration_protocol, interleave=interleave)
         stats.append(torch.from_numpy(arrays.pressure[stream.unlabeled(roles.unlabeled_s)]))
-    train = FleetBatchData.from_units(members, device)
+    train = FleetBatchData.from_units(members, device, arrays.output_names)
     return SeedData(split, train, input_stats(stats, device), evals)
 
 

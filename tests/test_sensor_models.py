@@ -1,0 +1,155 @@
+"""Sensor models other than the fingertip: a lab's 4-barometer edge sensor written from the format
+spec alone (tests/fixtures/edge4), and the simulator's edge and pad sensors, through import,
+the training arrays, the per-unit baseline with the committed spec, and export."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from anytip.data.arrays import BLOCKS_PER_RUN, REST_S, load_arrays
+from anytip.data.registry import Registry
+from anytip.data.simulated import regenerate, simulate_flat_into
+from anytip.deploy.export import export_model
+from anytip.errors import AnytipError
+from anytip.runner import run_experiment
+from anytip.sensor import flat
+
+REPO = Path(__file__).resolve().parents[1]
+FIXTURE = REPO / "tests" / "fixtures" / "edge4"
+BASELINE = REPO / "experiments" / "baseline.yaml"
+
+
+@pytest.fixture(scope="module")
+def lab(tmp_path_factory) -> Registry:
+    reg = Registry(tmp_path_factory.mktemp("lab") / "reg")
+    reg.import_paths([FIXTURE])
+    return reg
+
+
+@pytest.fixture(scope="module")
+def lab_baseline(lab, tmp_path_factory) -> Path:
+    return run_experiment(BASELINE, lab, out=tmp_path_factory.mktemp("run") / "baseline", progress=False)
+
+
+def test_the_fixture_imports_with_its_layout(lab):
+    assert lab.units() == ["LAB-E1", "LAB-E2", "LAB-E3"]
+    channels, = {r.channels for r in lab.list_runs()}
+    assert channels == 4
+    layout = json.loads(lab.sensor_models()["edge-4baro-lab"])
+    assert layout == {"channels": 4, "targets": {"depth": {"unit": "m", "components": ["z"]},
+                                                 "position": {"unit": "m", "components": ["x"]}}}
+
+
+def test_a_run_without_in_contact_labels_every_row_and_tares_from_its_first_half_second(lab):
+    rec, = lab.list_runs(unit="LAB-E3")
+    arrays = load_arrays(lab, [rec])
+    with h5py.File(FIXTURE / "LAB-E3.h5") as f:
+        assert "in_contact" not in f
+        raw, time = f["pressure"][()].astype(np.float64), f["time"][()]
+    assert arrays.n_rows == len(raw)
+    np.testing.assert_allclose(arrays.tare[0], raw[time < REST_S].mean(0))
+    np.testing.assert_allclose(arrays.pressure, (raw - arrays.tare[0]).astype(np.float32))
+
+
+def test_runs_with_in_contact_keep_only_contact_rows_as_labels(lab):
+    recs = lab.list_runs(unit="LAB-E1")
+    arrays = load_arrays(lab, recs)
+    with h5py.File(FIXTURE / "LAB-E1.h5") as f:
+        contact = f["in_contact"][()]
+        depth = f["targets/depth"][()]
+    assert arrays.n_rows == contact.sum()
+    np.testing.assert_array_equal(arrays.target("depth"), depth[contact])
+
+
+def test_the_blocked_split_cuts_each_run_into_contiguous_blocks(lab):
+    arrays = load_arrays(lab, lab.list_runs())
+    for k in range(len(arrays.runs)):
+        patch = arrays.patch[arrays.run == k]
+        assert np.all(np.diff(patch) >= 0) and set(patch) == set(range(BLOCKS_PER_RUN))
+        sizes = np.bincount(patch)
+        assert sizes.max() - sizes.min() <= 1
+
+
+def test_the_committed_baseline_spec_trains_the_edge_sensor(lab_baseline):
+    rows = json.loads((lab_baseline / "metrics.json").read_text())["results"]
+    config = (lab_baseline / "config.yaml").read_text()
+    assert "- 4\n  - 12\n  - 64\n  - 64\n  - 2\n" in config  # widths from the sensor model
+    assert {r["split"] for r in rows} == {"blocks", "random"}
+    held = [r for r in rows if r["split"] == "blocks"]
+    keys = {"position_rmse", "depth_rmse", "x_rmse", "z_rmse"}
+    assert len(held) == 3 and all(keys <= r.keys() for r in held)
+    # the labels spread over about 8 mm of position and 0.45 mm of depth; a model that learnt
+    # nothing would err by that much
+    assert np.mean([r["position_rmse"] for r in held]) < 0.2 * 8e-3
+    assert np.mean([r["depth_rmse"] for r in held]) < 0.2 * 0.45e-3
+    report = (lab_baseline / "report.md").read_text()
+    assert "held-out blocks" in report and "position / spread" in report
+
+
+def test_the_edge_model_exports_to_c_and_onnx_verified_and_the_firmware_struct_is_refused(
+        lab, lab_baseline, tmp_path):
+    model = lab_baseline / "models" / "per_unit_seed0" / "model.safetensors"
+    for fmt in ("c", "onnx"):
+        report = export_model(model, fmt, tmp_path / fmt, unit="LAB-E2", registry=lab)
+        assert report["passed"], report
+        assert set(report["scores"]) == {"depth_rmse", "position_rmse"}
+    with pytest.raises(AnytipError, match=r"firmware struct is the fingertip's.*outputs z, x from 4 baro"):
+        export_model(model, "firmware", tmp_path / "fw", unit="LAB-E2", registry=lab)
+    assert not (tmp_path / "fw" / "firmware.json").exists()
+
+
+def test_explicit_widths_that_disagree_with_the_sensor_model_are_refused(lab, tmp_path):
+    with pytest.raises(AnytipError, match=r"model.sizes.*input width 8 must equal the 4 pressure channels"):
+        run_experiment(BASELINE, lab, out=tmp_path / "x", overrides=["model.sizes=[8, 12, 64, 64, 5]"],
+                       progress=False)
+    assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("model", sorted(flat.DESIGNS))
+def test_simulated_flat_sensors_are_deterministic_v2_runs(model, tmp_path):
+    reg = Registry(tmp_path / "reg")
+    assert simulate_flat_into(reg, model, 2, 5, ("quick",)) == (2, 0)
+    assert simulate_flat_into(reg, model, 2, 5, ("quick",)) == (0, 2)
+    design = flat.get_design(model)
+    rec = reg.list_runs()[0]
+    run = reg.open_run(rec.run_id)
+    assert run.format_version == 2 and run.n_channels == design.channels
+    assert {n: (t.unit, t.components) for n, t in run.target_layout.items()} == \
+        {n: (u, c) for n, u, c in design.targets}
+    assert regenerate(run.extra["simulator"]).content_hash() == run.content_hash()
+    assert not run.in_contact[: int(REST_S * run.sample_rate_hz)].any()
+
+
+def test_flat_sensor_units_differ_and_severity_scales_it():
+    design = flat.get_design("pad-16baro")
+
+    def spread(severity: float) -> float:
+        gains = [flat.draw_unit(design, np.random.default_rng(i), severity).gain for i in range(40)]
+        return float(np.std(gains))
+
+    assert spread(0.0) == 0.0
+    assert 1.5 < spread(2.0) / spread(1.0) < 2.5
+
+
+def test_pressure_grows_with_load_and_peaks_under_the_contact():
+    design = flat.get_design("pad-16baro")
+    unit = flat.draw_unit(design, np.random.default_rng(0), 0.0)
+    xy = np.array([design.baro_xy_m[5]] * 2)
+    p = flat.layer_pressure(xy, np.array([[0, 0, -2.0], [0, 0, -4.0]]), unit, design.tip_radius_m)
+    assert np.argmax(p[0]) == 5 and np.all(p[1] > p[0]) and np.all(p > 0)
+
+
+@pytest.mark.parametrize("model", sorted(flat.DESIGNS))
+def test_the_baseline_trains_each_simulated_sensor_model(model, tmp_path):
+    reg = Registry(tmp_path / "reg")
+    simulate_flat_into(reg, model, 2, 1, ("short",))
+    run_dir = run_experiment(BASELINE, reg, out=tmp_path / "run", progress=False,
+                             overrides=["training.epochs=3", "data.protocol=short"])
+    rows = json.loads((run_dir / "metrics.json").read_text())["results"]
+    keys = {flat.get_design(model).targets[k][0] for k in range(2)}
+    assert all({f"{k}_rmse" if k != "force" else "force_rmse_n" for k in keys} <= r.keys() for r in rows)
