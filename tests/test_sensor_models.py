@@ -153,3 +153,41 @@ def test_the_baseline_trains_each_simulated_sensor_model(model, tmp_path):
     rows = json.loads((run_dir / "metrics.json").read_text())["results"]
     keys = {flat.get_design(model).targets[k][0] for k in range(2)}
     assert all({f"{k}_rmse" if k != "force" else "force_rmse_n" for k in keys} <= r.keys() for r in rows)
+
+
+@pytest.fixture(scope="module")
+def two_designs(tmp_path_factory) -> Registry:
+    reg = Registry(tmp_path_factory.mktemp("designs") / "reg")
+    for model in ("edge-4baro", "pad-16baro"):
+        simulate_flat_into(reg, model, 8, 2, ("quick", "short"))
+    return reg
+
+
+def test_the_sensor_models_spec_runs_baseline_and_adapters_on_each_design(two_designs, tmp_path):
+    spec = REPO / "experiments" / "sensor_models.yaml"
+    run_dir = run_experiment(spec, two_designs, out=tmp_path / "run", progress=False, overrides=[
+        "training.epochs=1", "data.protocol=[quick, short]", "options.cross_sensor.budgets=[0, 200]",
+        "options.cross_sensor.adapters=[input_affine+film]", "options.cross_sensor.priors=[10]"])
+    rows = json.loads((run_dir / "metrics.json").read_text())["results"]
+    assert {(r["sensor_model"], r["stage"]) for r in rows} == {
+        (m, s) for m in ("edge-4baro", "pad-16baro") for s in ("baseline", "cross_sensor")}
+    edge = [r for r in rows if r["sensor_model"] == "edge-4baro" and r["stage"] == "cross_sensor"]
+    assert {"adapted:input_affine+film", "per_unit"} <= {r["method"] for r in edge}
+    assert all("position_rmse" in r and "depth_rmse" in r and r["split"] == "blocks" for r in edge)
+    pad = [r for r in rows if r["sensor_model"] == "pad-16baro"]
+    assert all("force_rmse_n" in r and "position_rmse" in r for r in pad)
+    report = (run_dir / "report.md").read_text()
+    assert "| budget | edge-4baro | pad-16baro |" in report
+    assert "position" in report and (run_dir / "pad-16baro" / "cross_sensor" / "report.md").is_file()
+
+
+SEARCH_ON_8_UNITS = ["options.n_search_units=2", "options.n_test_units=2"]
+
+
+@pytest.mark.parametrize(("spec", "fewer"), [("uncertainty.yaml", []), ("search.yaml", SEARCH_ON_8_UNITS)])
+def test_pipelines_written_for_the_fingertip_refuse_other_designs_before_any_work(two_designs, spec, fewer,
+                                                                                  tmp_path):
+    with pytest.raises(AnytipError, match=r"written for the fingertip's targets.*'edge-4baro' has depth"):
+        run_experiment(REPO / "experiments" / spec, two_designs, out=tmp_path / "x", progress=False,
+                       overrides=["data.sensor_model=edge-4baro", "data.protocol=short", *fewer])
+    assert not (tmp_path / "x").exists()

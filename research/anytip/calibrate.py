@@ -33,7 +33,7 @@ from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
-from anytip.train.metrics import predict, scores
+from anytip.train.metrics import predict, scores, target_key
 from anytip.validation import read_yaml
 
 
@@ -296,7 +296,8 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     check = None
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
-        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout)}
+        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout),
+                 "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
     result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes,
                         own, wall_s)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {

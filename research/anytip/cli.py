@@ -180,8 +180,9 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
           f"{r.unlabeled_samples} unlabeled{f', prior {r.prior:g}' if r.calib_samples else ''}; "
           f"folded model in {r.path / 'model.safetensors'}")
     if r.check is not None:
-        print(f"on the unit's other runs ({r.check['rows']} rows, not used to calibrate): force RMSE "
-              f"{r.check['force_rmse_n']:.3f} N, angle RMSE {r.check['angle_rmse_rad']:.4f} rad")
+        figures = ", ".join(f"{key.removesuffix('_rmse_n').removesuffix('_rmse_rad').removesuffix('_rmse')} "
+                            f"RMSE {r.check[key]:.4g} {unit}" for key, unit in r.check["units"].items())
+        print(f"on the unit's other runs ({r.check['rows']} rows, not used to calibrate): {figures}")
     if r.own_check is not None:
         own = r.own_check
         fleet = ""

@@ -26,7 +26,7 @@ from anytip.validation import NAME_PATTERN, load_yaml, mask_secrets, read_yaml, 
 
 BLOCK_DIRS = {"fleet": "fleets", "model": "models", "training": "training"}
 Pipeline = Literal["baseline", "cross_sensor", "deploy", "fleet_speed", "impulse_ratio", "realism",
-                   "search", "uncertainty"]
+                   "search", "sensor_models", "uncertainty"]
 
 
 MAX_SEED = 2**32 - 1

@@ -76,7 +76,8 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
     fill_if_empty(spec, registry, progress)
     if use == "required":
         need = module.min_units(ctx) if hasattr(module, "min_units") else 1
-        spec = ctx.spec = check_registry(spec, registry, need, str(spec_path))
+        fingertip_only = getattr(module, "FINGERTIP_ONLY", False)
+        spec = ctx.spec = check_registry(spec, registry, need, str(spec_path), fingertip_only)
     run_dir = rundir.new_run_dir(spec.name, out, force=force)
     ctx.run_dir = run_dir
     rundir.write_config(run_dir, public_config(spec))

@@ -71,8 +71,8 @@ class MLPConfig(BaseModel):
     def for_sensor(self, channels: int, outputs: int, source: str, sensor_model: str) -> MLPConfig:
         """This shape with input width `channels` and output width `outputs` (the sensor model's
         pressure channels and label columns). Explicit `sizes` must already agree: AnytipError
-        naming `source`'s key otherwise."""
-        if self.hidden is None:
+        naming `source`'s key otherwise. The default shape keeps its hidden widths."""
+        if self.hidden is None and "sizes" in self.model_fields_set:
             if self.sizes[0] != channels:
                 raise AnytipError(f"{source}: key 'model.sizes' {list(self.sizes)}: the input width "
                                   f"{self.sizes[0]} must equal the {channels} pressure channels of sensor "
@@ -82,7 +82,7 @@ class MLPConfig(BaseModel):
                                   f"{self.sizes[-1]} must equal the {outputs} label columns of sensor "
                                   f"model {sensor_model!r} (or name only the hidden widths: 'model.hidden')")
             return self
-        return self.model_copy(update={"sizes": (channels, *self.hidden, outputs)})
+        return self.model_copy(update={"sizes": (channels, *self.sizes[1:-1], outputs)})
 
     @property
     def n_params(self) -> int:

@@ -15,9 +15,9 @@ import torch
 from pydantic import BaseModel
 
 from anytip.config import DataConfig, ExperimentSpec
-from anytip.data.arrays import FleetArrays, load_arrays, output_names
+from anytip.data.arrays import FleetArrays, has_patch_grid, load_arrays, output_names
 from anytip.data.registry import Registry, RunRecord
-from anytip.data.runfile import parse_layout
+from anytip.data.runfile import V1_LAYOUT, describe_targets, parse_layout
 from anytip.data.splits import TestMask
 from anytip.errors import AnytipError
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
@@ -105,18 +105,27 @@ def select_runs(registry: Registry, cfg: DataConfig, seed: int,
     return model, records
 
 
+ANY_SENSOR_PIPELINES = ("baseline", "cross_sensor", "sensor_models")
+
+
 def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1,
-                   source: str = "spec") -> ExperimentSpec:
+                   source: str = "spec", fingertip_only: bool = False) -> ExperimentSpec:
     """Stop before any work when the registry cannot serve the spec: fewer units than the
-    spec's unit roles (validation + held-out + training) or the pipeline's `min_units`, or
-    a model whose explicit input or output width disagrees with the sensor model's channels
-    and label columns. Returns the spec with the model's widths set from the sensor model."""
+    spec's unit roles (validation + held-out + training) or the pipeline's `min_units`, a
+    model whose explicit input or output width disagrees with the sensor model's channels
+    and label columns, or a pipeline written for the fingertip (`fingertip_only`) on another
+    sensor model. Returns the spec with the model's widths set from the sensor model."""
     s = spec.splits
     roles = 1
     if s.n_val_units or s.n_test_units:
         roles = s.n_val_units + s.n_test_units + (s.n_train_units or 1)
     model, records = select_runs(registry, spec.data, spec.seed, max(min_units, roles))
     channels, targets = parse_layout(registry.sensor_models()[model])
+    if fingertip_only and not has_patch_grid(targets):
+        raise AnytipError(f"{source}: pipeline {spec.pipeline!r} is written for the fingertip's targets "
+                          f"({describe_targets(V1_LAYOUT)}); sensor model {model!r} has "
+                          f"{describe_targets(targets)}. Pipelines for any sensor model: "
+                          f"{', '.join(ANY_SENSOR_PIPELINES)}")
     outputs = len(output_names(targets))
     return spec.model_copy(update={"model": spec.model.for_sensor(channels, outputs, source, model)})
 

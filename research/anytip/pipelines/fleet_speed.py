@@ -27,6 +27,8 @@ from anytip.train.metrics import scores
 from anytip.train.recipe import PAPER
 from anytip.train.sequential import train_sequential
 
+FINGERTIP_ONLY = True  # its figures and objectives are the fingertip's force and angles (runner)
+
 
 class Options(BaseModel):
     """`options:` of a fleet_speed spec."""

@@ -23,6 +23,8 @@ from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import scores
 
+FINGERTIP_ONLY = True  # its figures and objectives are the fingertip's force and angles (runner)
+
 
 def _pooled_data(split, device: torch.device) -> FleetBatchData:
     """All training units' train and validation rows as one member."""

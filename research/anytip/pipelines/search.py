@@ -41,6 +41,8 @@ from anytip.train.metrics import scores
 from anytip.train.recipe import TrainRecipe
 from anytip.validation import mask_secrets
 
+FINGERTIP_ONLY = True  # its figures and objectives are the fingertip's force and angles (runner)
+
 # a storage URL from the environment keeps credentials out of specs, command lines and run files
 STORAGE_ENV = "ANYTIP_SEARCH_STORAGE"
 MAX_FRONT = 6  # front members retrained on the test units: the most accurate on the search units

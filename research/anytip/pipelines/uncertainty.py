@@ -55,6 +55,8 @@ from anytip.uncertainty.shared_scale import (
 )
 from anytip.uncertainty.split import UQSplit, capped, uq_split
 
+FINGERTIP_ONLY = True  # its figures and objectives are the fingertip's force and angles (runner)
+
 GROUPS = {**{name: [k] for k, name in enumerate(OUTPUT_NAMES)}, "force": [0, 1, 2], "angle": [3, 4]}
 CURVE_LEVELS = np.round(np.linspace(0.05, 0.99, 20), 3)
 
