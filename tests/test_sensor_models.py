@@ -181,13 +181,42 @@ def test_the_sensor_models_spec_runs_baseline_and_adapters_on_each_design(two_de
     assert "position" in report and (run_dir / "pad-16baro" / "cross_sensor" / "report.md").is_file()
 
 
-SEARCH_ON_8_UNITS = ["options.n_search_units=2", "options.n_test_units=2"]
+def test_search_runs_on_the_pad_with_an_objective_per_target(two_designs, tmp_path):
+    overrides = ["data.sensor_model=pad-16baro", "data.protocol=short", "training.epochs=1",
+                 "options.n_trials=3", "options.n_search_units=2", "options.n_test_units=2"]
+    run_dir = run_experiment(REPO / "experiments" / "search.yaml", two_designs, out=tmp_path / "s",
+                             progress=False, overrides=overrides)
+    rows = json.loads((run_dir / "metrics.json").read_text())["results"]
+    assert rows and all({"force_rmse_n", "position_rmse"} <= r.keys() for r in rows)
+    assert all(r["sizes"][0] == 16 and r["sizes"][-1] == 5 and r["features"] == "raw" for r in rows)
+    table = json.loads((run_dir / "provenance.json").read_text())["search"]["table"]
+    assert all("position_rmse" in t and "angle_rmse_rad" not in t for t in table)
+    assert "left out" in (run_dir / "report.md").read_text()
 
 
-@pytest.mark.parametrize(("spec", "fewer"), [("uncertainty.yaml", []), ("search.yaml", SEARCH_ON_8_UNITS)])
-def test_pipelines_written_for_the_fingertip_refuse_other_designs_before_any_work(two_designs, spec, fewer,
-                                                                                  tmp_path):
+def test_realism_is_refused_for_other_designs_before_any_work(two_designs, tmp_path):
     with pytest.raises(AnytipError, match=r"written for the fingertip's targets.*'edge-4baro' has depth"):
-        run_experiment(REPO / "experiments" / spec, two_designs, out=tmp_path / "x", progress=False,
-                       overrides=["data.sensor_model=edge-4baro", "data.protocol=short", *fewer])
+        run_experiment(REPO / "experiments" / "realism.yaml", two_designs, out=tmp_path / "x", progress=False,
+                       overrides=["data.sensor_model=edge-4baro", "data.protocol=short"])
     assert not (tmp_path / "x").exists()
+
+
+def test_uncertainty_runs_on_the_edge_sensor_with_coverage_per_target(two_designs, tmp_path):
+    run_dir = run_experiment(REPO / "experiments" / "uncertainty.yaml", two_designs, out=tmp_path / "u",
+                             progress=False, overrides=[
+                                 "data.sensor_model=edge-4baro", "data.protocol=[quick, short]",
+                                 "training.epochs=1", "options.members=2", "options.bootstrap=10",
+                                 "options.cv_folds=2", "options.max_train_rows=3000",
+                                 "options.foreign_units=1",
+                                 "options.adapted.epochs=1", "options.adapted.scale_epochs=1",
+                                 "options.adapted.budget=500", "options.adapted.calib_rows=500",
+                                 "splits.n_val_units=2", "splits.n_test_units=2"])
+    rows = json.loads((run_dir / "metrics.json").read_text())["results"]
+    cover = [r for r in rows if r.get("nominal_coverage") == 0.9 and r["method"] == "conformal"]
+    assert {r["group"] for r in cover} == {"x", "z", "position", "depth"}
+    assert {r["group"] for r in cover if r["target_group"]} == {"position", "depth"}
+    assert all(0.5 < r["coverage"] <= 1.0 and "position_rmse" in r for r in cover)
+    assert any(r["method"].startswith("adapted:") for r in rows)
+    assert not any("fscale" in r["method"] for r in rows)  # a + b |F| needs a force target
+    report = (run_dir / "report.md").read_text()
+    assert "foreign-unit faults skipped" in report and "coverage_map" not in report

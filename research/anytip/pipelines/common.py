@@ -20,9 +20,10 @@ from anytip.data.registry import Registry, RunRecord
 from anytip.data.runfile import V1_LAYOUT, describe_targets, parse_layout
 from anytip.data.splits import TestMask
 from anytip.errors import AnytipError
+from anytip.report.metric import Metric
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import FitResult
-from anytip.train.metrics import predict
+from anytip.train.metrics import predict, target_key
 from anytip.validation import validate_strict
 
 
@@ -105,7 +106,7 @@ def select_runs(registry: Registry, cfg: DataConfig, seed: int,
     return model, records
 
 
-ANY_SENSOR_PIPELINES = ("baseline", "cross_sensor", "sensor_models")
+ANY_SENSOR_PIPELINES = ("baseline", "cross_sensor", "sensor_models", "uncertainty", "search", "deploy")
 
 
 def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1,
@@ -119,13 +120,14 @@ def check_registry(spec: ExperimentSpec, registry: Registry, min_units: int = 1,
     roles = 1
     if s.n_val_units or s.n_test_units:
         roles = s.n_val_units + s.n_test_units + (s.n_train_units or 1)
-    model, records = select_runs(registry, spec.data, spec.seed, max(min_units, roles))
+    model, _ = select_runs(registry, spec.data, spec.seed, 1)  # the design first: more units would not help
     channels, targets = parse_layout(registry.sensor_models()[model])
     if fingertip_only and not has_patch_grid(targets):
         raise AnytipError(f"{source}: pipeline {spec.pipeline!r} is written for the fingertip's targets "
                           f"({describe_targets(V1_LAYOUT)}); sensor model {model!r} has "
                           f"{describe_targets(targets)}. Pipelines for any sensor model: "
                           f"{', '.join(ANY_SENSOR_PIPELINES)}")
+    select_runs(registry, spec.data, spec.seed, max(min_units, roles))
     outputs = len(output_names(targets))
     return spec.model_copy(update={"model": spec.model.for_sensor(channels, outputs, source, model)})
 
@@ -181,3 +183,16 @@ def predict_units(fit: FitResult, X: Sequence[np.ndarray], first_model: int = 0)
         pred = predict(model, fit.in_scaler.slice(m), fit.out_scaler.slice(m), xt)[0]
         out.append(pred.cpu().numpy())
     return out
+
+
+def report_metrics(units: dict[str, str]) -> list[Metric]:
+    """The report columns of a sensor model's targets, given {target: unit}; the fingertip's are
+    `force` [N] and `angle` [rad] under its historical keys."""
+    names = {"angles": "angle"}
+    return [Metric(target_key(n), names.get(n, n), f"{names.get(n, n)} RMSE [{unit}]")
+            for n, unit in units.items()]
+
+
+def unit_of(targets: dict[str, Any]) -> dict[str, str]:
+    """{target: unit} of recorded targets ({target: {"unit": ..., "components": [...]}})."""
+    return {name: t["unit"] for name, t in targets.items()}

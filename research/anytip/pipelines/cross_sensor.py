@@ -28,9 +28,9 @@ from anytip.data.plans import Budget, Plan, Strategy, plan_for
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.scaler import Scaler
-from anytip.pipelines.common import Context, load
+from anytip.pipelines.common import Context, load, report_metrics, unit_of
 from anytip.pipelines.cross_sensor_options import FitVariant, Options, budget_list, parse_options
-from anytip.report.cross_sensor import METRICS, Metric, full_set_rows, summary, write_report
+from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
     SharedFit,
@@ -40,7 +40,7 @@ from anytip.train.adapt import (
 from anytip.train.adapter_prior import PriorFamily, make_prior
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
-from anytip.train.metrics import scores, target_key
+from anytip.train.metrics import scores
 from anytip.train.shared_split import (
     Roles,
     SeedData,
@@ -72,7 +72,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     for k, seed in enumerate(ctx.spec.all_seeds):
         rows += run_seed(ctx, arrays, opts, seed, sweep=k < opts.sweep_seeds)
-    write_report(ctx, rows, opts, report_metrics(ctx.provenance["targets"]))
+    write_report(ctx, rows, opts, report_metrics(unit_of(ctx.provenance["targets"])))
     return rows
 
 
@@ -85,7 +85,7 @@ def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
         if "val_loss" not in seed_prov:
             seed_prov["val_loss"] = saved_val_losses(ctx.run_dir / "models", key, opts)
     targets = ctx.provenance.get("targets")
-    write_report(ctx, rows, opts, report_metrics(targets) if targets else METRICS)
+    write_report(ctx, rows, opts, report_metrics(unit_of(targets)) if targets else METRICS)
 
 
 def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, dict[str, float]]:
@@ -103,17 +103,9 @@ def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, di
     return out
 
 
-def report_metrics(targets: dict[str, Any]) -> list[Metric]:
-    """The report's metrics for the run's targets ({name: {unit, components}}, as `load` records
-    them in the provenance); the fingertip's are `force` [N] and `angle` [rad]."""
-    names = {"angles": "angle"}
-    return [Metric(target_key(n), names.get(n, n), f"{names.get(n, n)} RMSE [{t['unit']}]")
-            for n, t in targets.items()]
-
-
 def summarise(rows: list[dict[str, Any]], targets: dict[str, Any] | None = None) -> str:
     """One screen: mean RMSE and ratio to per_unit per (method, budget), for each target."""
-    metrics = report_metrics(targets) if targets else METRICS
+    metrics = report_metrics(unit_of(targets)) if targets else METRICS
     head = "".join(f"{m.label:>22}{'ratio':>8}" for m in metrics)
     lines = [f"{'method':<46}{'budget':>8}{head}"]
     for s in summary(full_set_rows(rows), metrics):

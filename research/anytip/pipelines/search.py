@@ -19,9 +19,17 @@ from typing import Any
 
 import optuna
 
+from anytip.data.arrays import has_patch_grid
 from anytip.data.splits import patch_test_mask, split_units
 from anytip.errors import AnytipError
-from anytip.pipelines.common import Context, load, per_unit_split, predict_units, validate_options
+from anytip.pipelines.common import (
+    Context,
+    load,
+    per_unit_split,
+    predict_units,
+    report_metrics,
+    validate_options,
+)
 from anytip.report.search import write_report
 from anytip.search.budget import cost, load_budget
 from anytip.search.fit import train_candidate
@@ -29,6 +37,7 @@ from anytip.search.shared import prepare_shared, shared_scorer
 from anytip.search.study import (
     Candidate,
     SearchOptions,
+    Shape,
     candidate_of,
     front_table,
     is_paper,
@@ -37,11 +46,9 @@ from anytip.search.study import (
     paper_params,
     remaining,
 )
-from anytip.train.metrics import scores
+from anytip.train.metrics import scores, target_keys
 from anytip.train.recipe import TrainRecipe
 from anytip.validation import mask_secrets
-
-FINGERTIP_ONLY = True  # its figures and objectives are the fingertip's force and angles (runner)
 
 # a storage URL from the environment keeps credentials out of specs, command lines and run files
 STORAGE_ENV = "ANYTIP_SEARCH_STORAGE"
@@ -71,40 +78,41 @@ def unit_scorer(ctx: Context, arrays, units: list[str], seed: int):
     def fit_and_score(cand: Candidate, recipe: TrainRecipe) -> list[dict[str, Any]]:
         fit = train_candidate(split.data, cand, recipe, seed, ctx.device)
         preds = predict_units(fit, split.X_test)
-        return [{"unit": u, "calib_samples": int(n), **scores(p, y)}
+        return [{"unit": u, "calib_samples": int(n), **scores(p, y, arrays.layout)}
                 for u, p, y, n in zip(units, preds, split.Y_test, split.data.n_train, strict=True)]
 
     return fit_and_score
 
 
-def _worker(url: str, name: str, opts: SearchOptions, objective, n: int, worker: int = 0) -> None:
+def _worker(url: str, name: str, opts: SearchOptions, objective, n: int, worker: int = 0,
+            n_objectives: int = 3) -> None:
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    open_study(url, name, opts, worker).optimize(objective, n_trials=n, catch=(RuntimeError,))
+    open_study(url, name, opts, worker, n_objectives).optimize(objective, n_trials=n, catch=(RuntimeError,))
 
 
-def run_trials(url: str, opts: SearchOptions, objective, workers: int) -> float:
+def run_trials(url: str, opts: SearchOptions, objective, workers: int, n_objectives: int = 3) -> float:
     """Run the study's remaining trials in `workers` processes; returns wall seconds."""
-    study = open_study(url, opts.study_name, opts)
+    study = open_study(url, opts.study_name, opts, n_objectives=n_objectives)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", optuna.exceptions.ExperimentalWarning)
         optuna.storages.fail_stale_trials(study)  # a killed run's trials: failed, then retried
     n = remaining(study, opts.n_trials)
     start = time.perf_counter()
     if workers <= 1 or n <= 1:
-        _worker(url, opts.study_name, opts, objective, n)
+        _worker(url, opts.study_name, opts, objective, n, n_objectives=n_objectives)
     else:
         ctx = mp.get_context("fork")
         shares = [n // workers + (k < n % workers) for k in range(workers)]
-        procs = [ctx.Process(target=_worker, args=(url, opts.study_name, opts, objective, s, k))
+        procs = [ctx.Process(target=_worker, args=(url, opts.study_name, opts, objective, s, k, n_objectives))
                  for k, s in enumerate(shares) if s]
         for p in procs:
             p.start()
         for p in procs:
             p.join()
         # a worker that died (killed, or a storage error) leaves trials undone: finish them here
-        left = remaining(open_study(url, opts.study_name, opts), opts.n_trials)
+        left = remaining(open_study(url, opts.study_name, opts, n_objectives=n_objectives), opts.n_trials)
         if left:
-            _worker(url, opts.study_name, opts, objective, left, workers)
+            _worker(url, opts.study_name, opts, objective, left, workers, n_objectives)
     return time.perf_counter() - start
 
 
@@ -128,20 +136,23 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     workers = opts.workers
     budget = load_budget(opts.budget)
     arrays = load(ctx, min_units=min_units(ctx))
+    shape = Shape(arrays.pressure.shape[1], len(arrays.output_names), tuple(target_keys(arrays.layout)))
+    opts = features_for(ctx, opts, arrays)
     search_scorer, test_scorer, roles = scorers(ctx, arrays, opts)
     url = opts.storage or os.environ.get(STORAGE_ENV) or f"sqlite:///{ctx.run_dir / 'study.db'}"
-    study = open_study(url, opts.study_name, opts)
+    n_obj = len(shape.keys) + 1
+    study = open_study(url, opts.study_name, opts, n_objectives=n_obj)
     paper = paper_params(opts, spec.training)
     if not study.trials and paper is not None:
         study.enqueue_trial(paper)
-    objective = make_objective(search_scorer, opts, budget, spec.training)
-    run_trials(url, opts, objective, workers)
-    study = open_study(url, opts.study_name, opts)
+    objective = make_objective(search_scorer, opts, budget, spec.training, shape)
+    run_trials(url, opts, objective, workers, n_obj)
+    study = open_study(url, opts.study_name, opts, n_objectives=n_obj)
     wall = study_seconds(study)
-    table = [r | {"paper": is_paper(candidate_of(r), opts)} for r in front_table(study)]
-    front = test_candidates(table)
+    table = [r | {"paper": is_paper(candidate_of(r), opts, shape)} for r in front_table(study, shape.keys)]
+    front = test_candidates(table, shape.keys[0])
     front += ablations(front, budget, opts.measure)
-    rows = test_rows(ctx, test_scorer, front, spec.training, opts.family)
+    rows = test_rows(ctx, test_scorer, front, spec.training, opts.family, shape.keys)
     done = sum(t.state == optuna.trial.TrialState.COMPLETE for t in study.trials)
     ctx.provenance["search"] = {
         "storage": mask_secrets(url), "study_name": opts.study_name, "workers": workers,
@@ -149,8 +160,19 @@ def run(ctx: Context) -> list[dict[str, Any]]:
         "family": opts.family, **roles, "wall_s": wall, "trials": len(study.trials), "complete": done,
         "trials_per_hour": 3600 * len(study.trials) / wall if wall > 0 else None,
         "trial_seconds": trial_seconds(study), "table": table}
-    write_report(ctx, rows, table, budget)
+    write_report(ctx, rows, table, budget, report_metrics({n: t.unit for n, t in arrays.layout.items()}))
     return rows
+
+
+def features_for(ctx: Context, opts: SearchOptions, arrays) -> SearchOptions:
+    """The options' input features this sensor model can take: `neighbour_diffs` is built from the
+    fingertip's barometer geometry, so another design searches raw pressures only (noted)."""
+    if has_patch_grid(arrays.layout) or opts.features == ["raw"]:
+        return opts
+    ctx.provenance.setdefault("skipped", []).append(
+        f"input features {[f for f in opts.features if f != 'raw']} left out: they are built from the "
+        f"fingertip's barometer geometry, not {ctx.provenance.get('sensor_model')!r}'s")
+    return opts.model_copy(update={"features": ["raw"]})
 
 
 def trial_seconds(study: optuna.Study) -> dict[str, float | None]:
@@ -171,11 +193,11 @@ def study_seconds(study: optuna.Study) -> float:
     return (max(ends) - min(starts)).total_seconds() if starts and ends else 0.0
 
 
-def test_candidates(table: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The paper's MLP and the MAX_FRONT front members most accurate on the search units."""
+def test_candidates(table: list[dict[str, Any]], key: str = "force_rmse_n") -> list[dict[str, Any]]:
+    """The paper's MLP and the MAX_FRONT front members most accurate (`key`, the first target's
+    RMSE) on the search units."""
     paper = [r | {"method": "paper_mlp"} for r in table if r["paper"]][:1]
-    front = sorted((r for r in table if r["pareto"] and not r["paper"]),
-                   key=lambda r: r["force_rmse_n"])[:MAX_FRONT]
+    front = sorted((r for r in table if r["pareto"] and not r["paper"]), key=lambda r: r[key])[:MAX_FRONT]
     return paper + [r | {"method": "search"} for r in front]
 
 
@@ -197,8 +219,8 @@ def ablations(candidates: list[dict[str, Any]], budget, measure: bool) -> list[d
     return out
 
 
-def test_rows(ctx: Context, score, candidates: list[dict[str, Any]], recipe: TrainRecipe,
-              family: str) -> list[dict[str, Any]]:
+def test_rows(ctx: Context, score, candidates: list[dict[str, Any]], recipe: TrainRecipe, family: str,
+              keys: tuple[str, ...] = ("force_rmse_n", "angle_rmse_rad")) -> list[dict[str, Any]]:
     """`candidates` (front_table rows with a `method`) retrained and scored on the test units."""
     rows = []
     for r in candidates:
@@ -207,7 +229,7 @@ def test_rows(ctx: Context, score, candidates: list[dict[str, Any]], recipe: Tra
         for s in score(candidate_of(r), rec):
             rows.append({"method": method, "unit": s["unit"], "calib_samples": s["calib_samples"],
                          "seed": ctx.spec.seed, "family": family,
-                         "force_rmse_n": s["force_rmse_n"], "angle_rmse_rad": s["angle_rmse_rad"],
+                         **{k: s[k] for k in keys},
                          "sizes": list(r["sizes"]), "trial": r["number"], "pareto": r["pareto"],
                          **{k: r[k] for k in ("params", "macs", "flash_bytes", "ram_bytes", "cycles",
                                               "measured", "activation", "features", "adapter")}})

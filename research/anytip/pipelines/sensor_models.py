@@ -20,7 +20,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from anytip.data.runfile import parse_layout
 from anytip.errors import AnytipError
 from anytip.pipelines import baseline, cross_sensor
-from anytip.pipelines.common import Context, validate_options
+from anytip.pipelines.common import Context, report_metrics, unit_of, validate_options
 from anytip.report.cross_sensor import chosen_methods, full_set_rows, ratio_text, summary
 from anytip.report.markdown import table
 from anytip.report.writer import Report
@@ -118,7 +118,7 @@ def baseline_lines(rows: list[dict[str, Any]], targets: dict[str, Any]) -> list[
     held = [r for r in rows if r["stage"] == "baseline" and r["split"] != "random"]
     out = []
     for name, t in targets.items():
-        key = cross_sensor.report_metrics({name: t})[0].key
+        key = report_metrics({name: t['unit']})[0].key
         out.append([name, f"{np.mean([r[key] for r in held]):.4g} {t['unit']}"])
     return out
 
@@ -127,7 +127,7 @@ def chosen_lines(rows: list[dict[str, Any]], targets: dict[str, Any], val_loss: 
                  ) -> dict[float, tuple[str, str, int]]:
     """Per budget: (the method chosen on validation units, its held-out ratio to per_unit for each
     target as 'name mean [95% interval over units]', the number of held-out units)."""
-    metrics = cross_sensor.report_metrics(targets)
+    metrics = report_metrics(unit_of(targets))
     lines = summary(full_set_rows([r for r in rows if r["stage"] == "cross_sensor"]), metrics)
     by_key = {(s["method"], s["budget"]): s for s in lines}
     out = {}

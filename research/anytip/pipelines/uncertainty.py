@@ -18,8 +18,9 @@ from typing import Any
 import numpy as np
 from scipy.stats import norm
 
-from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
+from anytip.data.arrays import FleetArrays, has_patch_grid, output_names, target_slices
 from anytip.data.plans import stream_plan
+from anytip.data.runfile import V1_LAYOUT, TargetLayout
 from anytip.errors import AnytipError
 from anytip.models.heteroscedastic import output_scaler_2d
 from anytip.models.io import save_models
@@ -30,10 +31,10 @@ from anytip.pipelines.cross_sensor import prepare as cross_prepare
 from anytip.pipelines.cross_sensor_options import Options as CrossOptions
 from anytip.pipelines.uncertainty_faults import fault_rows
 from anytip.pipelines.uncertainty_options import AdaptedOptions, Options
-from anytip.report.uncertainty import BAND, write_report
+from anytip.report.uncertainty import BAND, is_target, write_report
 from anytip.train.adapt import AdapterRecipe, SharedFit, train_shared
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
-from anytip.train.metrics import scores
+from anytip.train.metrics import scores, target_keys
 from anytip.train.shared_split import calibrate_many, predict_rows
 from anytip.uncertainty import conformal as cp
 from anytip.uncertainty import coverage_bootstrap as boot
@@ -55,9 +56,22 @@ from anytip.uncertainty.shared_scale import (
 )
 from anytip.uncertainty.split import UQSplit, capped, uq_split
 
-FINGERTIP_ONLY = True  # its figures and objectives are the fingertip's force and angles (runner)
+TARGET_NAMES = {"angles": "angle"}  # the fingertip's rows name its angle group `angle`
 
-GROUPS = {**{name: [k] for k, name in enumerate(OUTPUT_NAMES)}, "force": [0, 1, 2], "angle": [3, 4]}
+
+def output_groups(layout: dict[str, TargetLayout]) -> dict[str, list[int]]:
+    """Coverage groups of a layout: each label column by its component name, then each target
+    over its columns (the fingertip's: fx ... phi, force, angle)."""
+    names = output_names(layout)
+    cols = {name: [k] for k, name in enumerate(names)}
+    for target, sl in target_slices(layout).items():
+        cols[TARGET_NAMES.get(target, target)] = list(range(sl.start, sl.stop))
+    return cols
+
+
+def target_groups(layout: dict[str, TargetLayout]) -> list[str]:
+    """The group names that are whole targets (the fingertip's: force, angle)."""
+    return [TARGET_NAMES.get(t, t) for t in layout]
 CURVE_LEVELS = np.round(np.linspace(0.05, 0.99, 20), 3)
 
 
@@ -161,41 +175,45 @@ def nll(p: MethodPreds, y: np.ndarray) -> np.ndarray | None:
 
 def method_rows(name: str, p: MethodPreds, y: np.ndarray, y_cal: np.ndarray, base: dict[str, Any],
                 levels: list[float], patches: np.ndarray | None = None, n_boot: int = 0,
-                seed: int = 0) -> list[dict[str, Any]]:
-    """One row per (nominal level, output group). Given the test rows' patch ids (n,) and
-    n_boot > 0, `coverage_sd` is the spread of the group's coverage over test patches drawn
+                seed: int = 0, layout: dict[str, TargetLayout] = V1_LAYOUT) -> list[dict[str, Any]]:
+    """One row per (nominal level, output group of `layout`). Given the test rows' patch ids (n,)
+    and n_boot > 0, `coverage_sd` is the spread of the group's coverage over test patches drawn
     again with replacement (how well the test set pins this unit's coverage down)."""
-    rows, point, n = [], scores(p.mean_t, y), nll(p, y)
+    rows, n = [], nll(p, y)
+    point = {k: v for k, v in scores(p.mean_t, y, layout).items() if k in target_keys(layout)}
+    whole = target_groups(layout)
     rng = np.random.default_rng(seed)
     for level in levels:
         lo, hi = p.interval(level, y_cal)
         cov, wid = cp.coverage(lo, hi, y), cp.width(lo, hi)
         boots = (boot.bootstrap_test_patches((y >= lo) & (y <= hi), patches, n_boot, rng)
                  if patches is not None and n_boot else None)
-        for group, cols in GROUPS.items():
+        for group, cols in output_groups(layout).items():
             extra = {} if boots is None else {"coverage_sd": float(boots[:, cols].mean(1).std())}
             rows.append({**base, "method": name, "nominal_coverage": level, "group": group,
+                         "target_group": group in whole,
                          "coverage": float(cov[cols].mean()), "interval_width": float(wid[cols].mean()),
-                         "nll": None if n is None else float(n[cols].mean()),
-                         "force_rmse_n": point["force_rmse_n"],
-                         "angle_rmse_rad": point["angle_rmse_rad"], **extra})
+                         "nll": None if n is None else float(n[cols].mean()), **point, **extra})
     return rows
 
 
 def mapie_rows(p: MethodPreds, y: np.ndarray, y_cal: np.ndarray, base: dict[str, Any],
-               levels: list[float]) -> list[dict[str, Any]]:
+               levels: list[float], layout: dict[str, TargetLayout] = V1_LAYOUT) -> list[dict[str, Any]]:
     """MAPIE's split conformal on the same residuals, and its gap to the own `conformal`."""
-    rows, point = [], scores(p.mean_t, y)
+    rows = []
+    point = {k: v for k, v in scores(p.mean_t, y, layout).items() if k in target_keys(layout)}
+    whole = target_groups(layout)
     for level in levels:
         half = cp.mapie_halfwidth(p.mean_t, y_cal, p.mean_c, level)
         lo, hi = cp.interval(p.mean_t, half)
         own = cp.conformal_quantile(cp.scores_of(p.mean_c, y_cal), 1 - level)
         cov = cp.coverage(lo, hi, y)
-        for group, cols in GROUPS.items():
+        for group, cols in output_groups(layout).items():
             rows.append({**base, "method": "mapie", "nominal_coverage": level, "group": group,
+                         "target_group": group in whole,
                          "coverage": float(cov[cols].mean()), "interval_width": float(2 * half[cols].mean()),
                          "nll": None, "mapie_minus_own_width": float(2 * (half[cols] - own[cols]).max()),
-                         "force_rmse_n": point["force_rmse_n"], "angle_rmse_rad": point["angle_rmse_rad"]})
+                         **point})
     return rows
 
 
@@ -204,7 +222,7 @@ BOOTSTRAP_METHODS = ("conformal", "hetero+conformal", "ensemble+conformal")
 
 def bootstrap_rows(methods: dict[str, MethodPreds], y: np.ndarray, y_cal: np.ndarray, patch_t: np.ndarray,
                    patch_c: np.ndarray, base: dict[str, Any], n_boot: int, seed: int,
-                   level: float = 0.9) -> list[dict[str, Any]]:
+                   level: float = 0.9, layout: dict[str, TargetLayout] = V1_LAYOUT) -> list[dict[str, Any]]:
     """Patch-bootstrap spread of one unit's coverage at `level`, per output, for a method
     that is exactly calibrated: test patches drawn again (`test`), and calibration patches
     too (`test+calibration`, the conformal methods)."""
@@ -220,24 +238,25 @@ def bootstrap_rows(methods: dict[str, MethodPreds], y: np.ndarray, y_cal: np.nda
                      p.cal_scores(y_cal), patch_c, p.scale_t, resid, patch_t, level, n_boot, rng)}
         for kind, b in boots.items():
             band = boot.exact_method_band(b, observed, level, BAND)
-            for k, out in enumerate(OUTPUT_NAMES):
+            for k, out in enumerate(output_names(layout)):
                 rows.append({**base, "method": name, "group": out, "bootstrap": kind,
-                             "force_rmse_n": None, "angle_rmse_rad": None,
+                             **dict.fromkeys(target_keys(layout)),
                              "bootstrap_level": level, "observed": float(observed[k]),
                              **{f"exact_{key}": float(v[k]) for key, v in band.items()},
                              "test_patches": len(np.unique(patch_t)), "cal_patches": len(np.unique(patch_c))})
     return rows
 
 
-def curve_and_maps(methods: dict[str, MethodPreds], y: np.ndarray, y_cal: np.ndarray
-                   ) -> dict[str, Any]:
-    """Calibration curve per method (levels -> coverage over all outputs) and per-row
-    force-coverage at nominal 0.9 (for the contact-region map and against force)."""
+def curve_and_maps(methods: dict[str, MethodPreds], y: np.ndarray, y_cal: np.ndarray,
+                   first: slice = slice(0, 3)) -> dict[str, Any]:
+    """Calibration curve per method (levels -> coverage over all outputs) and per-row coverage
+    of the first target's columns `first` at nominal 0.9 (the fingertip's force, for the
+    contact-region map and against force)."""
     curves, covered = {}, {}
     for name, p in methods.items():
         curves[name] = [float(cp.coverage(*p.interval(lv, y_cal), y).mean()) for lv in CURVE_LEVELS]
         lo, hi = p.interval(0.9, y_cal)
-        covered[name] = ((y >= lo) & (y <= hi))[:, :3].mean(1)
+        covered[name] = ((y >= lo) & (y <= hi))[:, first].mean(1)
     return {"curves": curves, "covered": covered}
 
 
@@ -246,6 +265,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     arrays = load(ctx)
     rows: list[dict[str, Any]] = []
     fig: dict[str, Any] = {"curves": [], "covered": [], "angles": [], "force": []}
+    fingertip = has_patch_grid(arrays.layout)
     for seed in spec.all_seeds:
         split = uq_split(arrays, opts.max_train_rows, opts.calib_patch_fraction,
                          spec.splits.patch_test_fraction, spec.splits.val_fraction, seed, ctx.device)
@@ -262,19 +282,21 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                     "conformal_rows": len(split.Y_cal[u]), "test_rows": len(split.Y_test[u])}
             y, y_cal, methods = split.Y_test[u], split.Y_cal[u], all_methods[u]
             for name, p in methods.items():
-                rows += method_rows(name, p, y, y_cal, base, opts.nominal)
+                rows += method_rows(name, p, y, y_cal, base, opts.nominal, layout=arrays.layout)
             if opts.mapie:
-                rows += mapie_rows(methods["conformal"], y, y_cal, base, opts.nominal)
+                rows += mapie_rows(methods["conformal"], y, y_cal, base, opts.nominal, arrays.layout)
             if opts.bootstrap:
                 rows += bootstrap_rows(methods, y, y_cal, arrays.patch[split.test_idx[u]],
-                                       arrays.patch[split.cal_idx[u]], base, opts.bootstrap, seed * 1009 + u)
+                                       arrays.patch[split.cal_idx[u]], base, opts.bootstrap, seed * 1009 + u,
+                                       layout=arrays.layout)
             if seed == spec.all_seeds[0]:
-                maps = curve_and_maps(methods, y, y_cal)
+                maps = curve_and_maps(methods, y, y_cal, next(iter(arrays.slices.values())))
                 fig["curves"].append(maps["curves"])
                 fig["covered"].append(maps["covered"])
-                fig["angles"].append(y[:, 3:])
-                fig["force"].append(np.linalg.norm(y[:, :3], axis=1))
-        rows += fault_rows(ctx, arrays, fit, split, opts, seed)
+                if fingertip:
+                    fig["angles"].append(y[:, 3:])
+                    fig["force"].append(np.linalg.norm(y[:, :3], axis=1))
+        rows += fault_rows(ctx, arrays, fit, split, opts, seed, target_keys(arrays.layout))
         if opts.adapted is not None:
             rows += adapted_rows(ctx, arrays, opts.adapted, opts.nominal, seed, opts.beta, opts.bootstrap)
     write_report(ctx, rows, fig, opts, CURVE_LEVELS, embedded_costs(tuple(spec.model.sizes)))
@@ -282,16 +304,16 @@ def run(ctx: Context) -> list[dict[str, Any]]:
 
 
 def summarise(rows: list[dict[str, Any]]) -> str:
-    """Coverage at nominal 0.9 per method (min / mean / max over units, force and angle)."""
+    """Coverage at nominal 0.9 per method (min / mean / max over units, per target)."""
     lines = [f"{'method':<46}{'group':<7}{'min':>7}{'mean':>7}{'max':>7}{'width':>9}"]
     keyed: dict[tuple[str, str], list[dict[str, Any]]] = {}
     for r in rows:
-        if r.get("nominal_coverage") == 0.9 and r.get("group") in ("force", "angle"):
+        if r.get("nominal_coverage") == 0.9 and "group" in r and is_target(r):
             keyed.setdefault((r["method"], r["group"]), []).append(r)
     for (method, group), rs in keyed.items():
         c = [r["coverage"] for r in rs]
         lines.append(f"{method:<46}{group:<7}{min(c):>7.3f}{np.mean(c):>7.3f}{max(c):>7.3f}"
-                     f"{np.mean([r['interval_width'] for r in rs]):>9.3f}")
+                     f"{np.mean([r['interval_width'] for r in rs]):>11.4g}")
     return "\n".join(lines)
 
 
@@ -332,13 +354,16 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
             if v.gaussian:  # the uncalibrated Gaussian beside it
                 rows += method_rows(v.gaussian, MethodPreds(
                     mu_t[m], sig_t[m], mu_c[m], sig_c[m], "gaussian"), y[test[m]], y[:0],
-                    {**base, "members": a.members if "+ensemble" in name else 1}, levels, *boot_args)
+                    {**base, "members": a.members if "+ensemble" in name else 1}, levels, *boot_args,
+                    layout=arrays.layout)
             p = MethodPreds(mu_t[m], sig_t[m], mu_c[m], sig_c[m], "conformal")
             rows += method_rows(f"{name}:val_units", replace(p, pooled_scores=pooled), y[test[m]], y[:0],
-                                {**base, "conformal_rows": len(pooled)}, levels, *boot_args)
+                                {**base, "conformal_rows": len(pooled)}, levels, *boot_args,
+                                layout=arrays.layout)
             if len(cal[m]):
                 rows += method_rows(f"{name}:budget", p, y[test[m]], y[cal[m]],
-                                    {**base, "conformal_rows": len(cal[m])}, levels, *boot_args)
+                                    {**base, "conformal_rows": len(cal[m])}, levels, *boot_args,
+                                    layout=arrays.layout)
     return rows
 
 
@@ -394,9 +419,10 @@ def adapted_variants(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a:
                     for m, r in enumerate(rows)]
 
         variants[f"adapted:{a.kind}+scale+conformal"] = Variant(sigma(test), sigma(cal), pred_t, pred_c)
-    coef = fit_force_scale(shared, sd.train)
-    variants[f"adapted:{a.kind}+fscale+conformal"] = Variant(
-        [force_scale(p, coef) for p in pred_t], [force_scale(p, coef) for p in pred_c], pred_t, pred_c)
+    if has_patch_grid(arrays.layout):  # a + b |F_hat| needs the fingertip's force in the first columns
+        coef = fit_force_scale(shared, sd.train)
+        variants[f"adapted:{a.kind}+fscale+conformal"] = Variant(
+            [force_scale(p, coef) for p in pred_t], [force_scale(p, coef) for p in pred_c], pred_t, pred_c)
     if a.members > 1:
         (ens_t, spread_t) = ensemble_of([m.pred_test for m in members])
         (ens_c, spread_c) = ensemble_of([m.pred_cal for m in members])

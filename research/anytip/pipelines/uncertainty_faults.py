@@ -6,12 +6,13 @@ AUROC of every "untrustworthy" signal per row and per window.
 from __future__ import annotations
 
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from anytip.data.arrays import FleetArrays, load_arrays
+from anytip.data.arrays import FleetArrays, has_patch_grid, load_arrays
 from anytip.data.faults import MissingData, RunStream, baseline_drift, fault_suite, rest_rows, run_streams
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
@@ -62,12 +63,18 @@ def foreign_pressures(ctx: Context, opts: Options, seed: int, root: Path) -> dic
 
 
 def fault_rows(ctx: Context, arrays: FleetArrays, fit: EnsembleFit, split: UQSplit, opts: Options,
-               seed: int) -> list[dict[str, Any]]:
+               seed: int, keys: Sequence[str] = ("force_rmse_n", "angle_rmse_rad")) -> list[dict[str, Any]]:
     """AUROC of every signal for every fault on every unit, per row and per window: clean
     test rows against the same rows with the fault injected (or a foreign unit's rows
     through this unit's model). Rows are whole windows of consecutive test rows."""
+    fingertip = has_patch_grid(arrays.layout)  # the foreign units are simulated fingertips
+    if opts.foreign_units and not fingertip:
+        note = (f"foreign-unit faults skipped: the simulator's foreign units are fingertips, not "
+                f"{ctx.provenance.get('sensor_model')!r} units")
+        if note not in ctx.provenance.setdefault("skipped", []):
+            ctx.provenance["skipped"].append(note)
     with tempfile.TemporaryDirectory() as tmp:
-        foreign = foreign_pressures(ctx, opts, seed, Path(tmp)) if opts.foreign_units else {}
+        foreign = foreign_pressures(ctx, opts, seed, Path(tmp)) if opts.foreign_units and fingertip else {}
     rows = []
     for u, unit in enumerate(split.data.unit_ids):
         rng = np.random.default_rng(seed * 31 + u)
@@ -80,7 +87,7 @@ def fault_rows(ctx: Context, arrays: FleetArrays, fit: EnsembleFit, split: UQSpl
             for k, v in foreign.items()}
         clean = _signals(fit, u, x, novelty)
         base = {"unit": unit, "seed": seed, "calib_samples": int(split.data.n_train[u]),
-                "force_rmse_n": None, "angle_rmse_rad": None}
+                **dict.fromkeys(keys)}  # detection rows score no target
         for fault, xf in faults.items():
             bad = _signals(fit, u, xf, novelty)
             changed = (xf != x).any(1) if fault == "saturation" else slice(None)

@@ -5,29 +5,21 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from anytip.errors import AnytipError
 from anytip.report.figures import save_figure, subplots
 from anytip.report.markdown import table
+from anytip.report.metric import FINGERTIP_METRICS, Metric
 from anytip.report.writer import Report
 
 if TYPE_CHECKING:
     from pathlib import Path
 
 
-class Metric(NamedTuple):
-    """One target as the report shows it: its result key, short name and axis label."""
-
-    key: str  # e.g. force_rmse_n
-    name: str  # e.g. force
-    label: str  # e.g. force RMSE [N]
-
-
-METRICS = (Metric("force_rmse_n", "force", "force RMSE [N]"),
-           Metric("angle_rmse_rad", "angle", "angle RMSE [rad]"))  # the fingertip's
+METRICS = FINGERTIP_METRICS
 
 
 def full_set_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

@@ -16,6 +16,12 @@ from anytip.report.writer import Report
 BAND = (0.87, 0.93)
 
 
+def is_target(row: dict[str, Any]) -> bool:
+    """Whether a coverage row is a whole target (force, angle, position, ...) rather than one
+    output; rows written before targets were named carry the fingertip's two."""
+    return row.get("target_group", row["group"] in ("force", "angle"))
+
+
 def _group(rows: list[dict[str, Any]], *keys: str) -> dict[tuple, list[dict[str, Any]]]:
     out: dict[tuple, list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
@@ -26,7 +32,7 @@ def _group(rows: list[dict[str, Any]], *keys: str) -> dict[tuple, list[dict[str,
 def coverage_table(rows: list[dict[str, Any]]) -> str:
     """Per nominal level, method and group: coverage over units (min/mean/max), width, NLL."""
     body = []
-    sel = [r for r in rows if "nominal_coverage" in r and r["group"] in ("force", "angle")]
+    sel = [r for r in rows if "nominal_coverage" in r and is_target(r)]
     for (level, method, group), rs in sorted(_group(sel, "nominal_coverage", "method", "group").items()):
         c = [r["coverage"] for r in rs]
         nll = [r["nll"] for r in rs if r["nll"] is not None]
@@ -34,12 +40,12 @@ def coverage_table(rows: list[dict[str, Any]]) -> str:
                      float(np.mean([r["interval_width"] for r in rs])),
                      float(np.mean(nll)) if nll else "-"])
     return table(["nominal", "method", "group", "coverage min", "mean", "max",
-                  "width (N or rad)", "NLL"], body)
+                  "width (the target's unit)", "NLL"], body)
 
 
 def target_table(rows: list[dict[str, Any]]) -> str:
     """At nominal 0.9: per method, how many (unit, seed, output) lie in the 0.87-0.93 band."""
-    sel = [r for r in rows if r.get("nominal_coverage") == 0.9 and r["group"] not in ("force", "angle")]
+    sel = [r for r in rows if r.get("nominal_coverage") == 0.9 and not is_target(r)]
     body = []
     for (method,), rs in sorted(_group(sel, "method").items()):
         c = np.array([r["coverage"] for r in rs])
@@ -185,13 +191,15 @@ def coverage_vs_force(force: np.ndarray, covered: dict[str, np.ndarray], path: P
 def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts: Any,
                  levels: np.ndarray, costs: dict[str, Any]) -> Path:
     d = ctx.run_dir
-    angles, force = np.concatenate(fig["angles"]), np.concatenate(fig["force"])
     covered = {m: np.concatenate([c[m] for c in fig["covered"]]) for m in fig["covered"][0]}
     calibration_curves(levels, fig["curves"], d / "calibration_curves.png")
-    coverage_vs_force(force, covered, d / "coverage_vs_force.png")
-    for m in ("conformal", "ensemble+conformal", "ensemble"):
-        coverage_map(angles, covered[m], d / f"coverage_map_{m.replace('+', '_')}.png",
-                     f"{m}: force coverage at nominal 0.9")
+    contact_figures = bool(fig["angles"])  # the fingertip's: coverage over its contact region and force
+    if contact_figures:
+        angles, force = np.concatenate(fig["angles"]), np.concatenate(fig["force"])
+        coverage_vs_force(force, covered, d / "coverage_vs_force.png")
+        for m in ("conformal", "ensemble+conformal", "ensemble"):
+            coverage_map(angles, covered[m], d / f"coverage_map_{m.replace('+', '_')}.png",
+                         f"{m}: force coverage at nominal 0.9")
     gap = [abs(r["mapie_minus_own_width"]) for r in rows if "mapie_minus_own_width" in r]
     units = sorted({r["unit"] for r in rows})
     parts = [
@@ -218,7 +226,8 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], fig: dict[str, Any], opts
                                              opts.adapted.members if opts.adapted else 1,
                                              bool(opts.adapted and opts.adapted.hetero)),
         "\n## Figures\n", image("calibration_curves.png", "calibration curves"),
-        image("coverage_vs_force.png", "coverage against force"),
-        *[image(f"coverage_map_{m}.png", m) for m in ("conformal", "ensemble_conformal", "ensemble")],
+        *([image("coverage_vs_force.png", "coverage against force"),
+           *[image(f"coverage_map_{m}.png", m) for m in ("conformal", "ensemble_conformal", "ensemble")]]
+          if contact_figures else []),
     ]
     return Report(d).add(*parts).write()

@@ -37,7 +37,7 @@ PAPER_HIDDEN = (12, 64, 64)
 
 @dataclass(frozen=True)
 class Candidate:
-    """What a trial trains: deployed layer widths (8 -> hidden -> 5), the activation, the input
+    """What a trial trains: deployed layer widths (channels -> hidden -> outputs), the activation, the input
     features (folded into the first layer before scoring) and, for shared models, the adapter."""
 
     sizes: tuple[int, ...]
@@ -109,8 +109,22 @@ class SearchOptions(BaseModel):
         return kinds
 
 
-def suggest(trial: optuna.Trial, opts: SearchOptions) -> tuple[Candidate, float, int]:
-    """(candidate, lr, batch) of a trial; sizes run 8 -> hidden widths -> 5."""
+@dataclass(frozen=True)
+class Shape:
+    """What the sensor model fixes of every candidate: its input width (pressure channels), its
+    output width (label columns) and the result keys of its targets, the objectives."""
+
+    channels: int = 8
+    outputs: int = 5
+    keys: tuple[str, ...] = ("force_rmse_n", "angle_rmse_rad")
+
+
+FINGERTIP = Shape()
+
+
+def suggest(trial: optuna.Trial, opts: SearchOptions,
+            shape: Shape = FINGERTIP) -> tuple[Candidate, float, int]:
+    """(candidate, lr, batch) of a trial; sizes run channels -> hidden widths -> outputs."""
     n = trial.suggest_int("n_hidden", opts.min_hidden, opts.max_hidden)
     choices = sorted(set(opts.widths) | set(PAPER_HIDDEN))  # the paper's MLP is always a candidate
     hidden = [trial.suggest_categorical(f"width{k}", choices) for k in range(opts.max_hidden)][:n]
@@ -119,7 +133,7 @@ def suggest(trial: optuna.Trial, opts: SearchOptions) -> tuple[Candidate, float,
     adapter = trial.suggest_categorical("adapter", opts.adapters) if opts.family == "shared" else None
     lr = trial.suggest_float("lr", *opts.lr, log=True)
     batch = trial.suggest_categorical("batch_size", opts.batch_sizes)
-    return Candidate((8, *hidden, 5), activation, features, adapter), lr, batch
+    return Candidate((shape.channels, *hidden, shape.outputs), activation, features, adapter), lr, batch
 
 
 def paper_params(opts: SearchOptions, recipe: TrainRecipe) -> dict[str, Any] | None:
@@ -136,20 +150,22 @@ def paper_params(opts: SearchOptions, recipe: TrainRecipe) -> dict[str, Any] | N
             "activation": "relu", "features": "raw", **shared, "lr": lr, "batch_size": batch}
 
 
-def is_paper(c: Candidate, opts: SearchOptions) -> bool:
-    """Whether `c` is the paper's MLP as the study enqueues it."""
+def is_paper(c: Candidate, opts: SearchOptions, shape: Shape = FINGERTIP) -> bool:
+    """Whether `c` is the paper's MLP (its hidden widths on this sensor model) as the study
+    enqueues it."""
     adapter = opts.adapters[0] if opts.family == "shared" else None
-    return c == Candidate((8, *PAPER_HIDDEN, 5), "relu", "raw", adapter)
+    return c == Candidate((shape.channels, *PAPER_HIDDEN, shape.outputs), "relu", "raw", adapter)
 
 
 def make_objective(fit_and_score: Callable[[Candidate, TrainRecipe], list[dict[str, Any]]],
-                   opts: SearchOptions, budget: Budget, recipe: TrainRecipe
-                   ) -> Callable[[optuna.Trial], tuple[float, float, float]]:
-    """objective(trial) -> mean held-out force RMSE [N] and angle RMSE [rad] over the units
-    `fit_and_score` scored (one row each, with its `unit`, kept as the trial's `units`), and MACs."""
+                   opts: SearchOptions, budget: Budget, recipe: TrainRecipe, shape: Shape = FINGERTIP
+                   ) -> Callable[[optuna.Trial], tuple[float, ...]]:
+    """objective(trial) -> each target's mean held-out RMSE over the units `fit_and_score` scored
+    (the fingertip's force [N] and angle [rad]; one row per unit, with its `unit`, kept as the
+    trial's `units`), then MACs."""
 
-    def objective(trial: optuna.Trial) -> tuple[float, float, float]:
-        cand, lr, batch = suggest(trial, opts)
+    def objective(trial: optuna.Trial) -> tuple[float, ...]:
+        cand, lr, batch = suggest(trial, opts, shape)
         sizes = cand.sizes
         c = cost(sizes, budget, measure_if_possible=opts.measure, activation=cand.activation)
         with warnings.catch_warnings():  # a retried trial carries its constraints over already
@@ -162,8 +178,7 @@ def make_objective(fit_and_score: Callable[[Candidate, TrainRecipe], list[dict[s
             raise optuna.TrialPruned(f"{sizes} exceeds the {budget.name} budget")
         rows = fit_and_score(cand, recipe.model_copy(update={"lr": lr, "batch_size": batch}))
         trial.set_user_attr("units", [r["unit"] for r in rows])
-        force, angle = mean_scores(rows)
-        return force, angle, float(c.macs)
+        return (*mean_scores(rows, shape.keys), float(c.macs))
 
     return objective
 
@@ -205,14 +220,15 @@ def rdb_storage(url: str, opts: SearchOptions) -> optuna.storages.RDBStorage:
             raise AnytipError(f"options.storage {shown}: cannot open the database ({reason})") from None
 
 
-def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0) -> optuna.Study:
+def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0,
+               n_objectives: int = 3) -> optuna.Study:
     """Create or load the study; stale running trials (no heartbeat) are failed and retried.
     Each worker samples from its own seed, so parallel workers do not propose the same trial."""
     storage = rdb_storage(url, opts)
     sampler = optuna.samplers.TPESampler(seed=opts.seed * 1000 + worker,
                                          n_startup_trials=min(8, opts.n_trials))
     return optuna.create_study(study_name=name, storage=storage, load_if_exists=True, sampler=sampler,
-                               directions=["minimize", "minimize", "minimize"])
+                               directions=["minimize"] * n_objectives)
 
 
 def remaining(study: optuna.Study, n_trials: int) -> int:
@@ -227,15 +243,15 @@ def pareto_numbers(study: optuna.Study) -> set[int]:
     return {t.number for t in study.best_trials}
 
 
-def front_table(study: optuna.Study) -> list[dict[str, Any]]:
-    """Complete trials as plain dicts, sorted by MACs."""
+def front_table(study: optuna.Study, keys: tuple[str, ...] = FINGERTIP.keys) -> list[dict[str, Any]]:
+    """Complete trials as plain dicts (each target's RMSE under its key), sorted by MACs."""
     front = pareto_numbers(study)
     out = []
     for t in study.trials:
         if t.state != optuna.trial.TrialState.COMPLETE:
             continue
         out.append({"number": t.number, "sizes": tuple(t.user_attrs["sizes"]),
-                    "force_rmse_n": t.values[0], "angle_rmse_rad": t.values[1], "macs": int(t.values[2]),
+                    **dict(zip(keys, t.values[:-1], strict=True)), "macs": int(t.values[-1]),
                     "params": t.user_attrs["params"], "flash_bytes": t.user_attrs["flash_bytes"],
                     "ram_bytes": t.user_attrs["ram_bytes"], "cycles": t.user_attrs["cycles"],
                     "measured": bool(t.user_attrs["measured_sizes"]),
@@ -243,12 +259,12 @@ def front_table(study: optuna.Study) -> list[dict[str, Any]]:
                     "pareto": t.number in front, "lr": t.params["lr"], "batch_size": t.params["batch_size"],
                     "activation": t.params.get("activation", "relu"),
                     "features": t.params.get("features", "raw"), "adapter": t.params.get("adapter")})
-    return sorted(out, key=lambda r: (r["macs"], r["force_rmse_n"]))
+    return sorted(out, key=lambda r: (r["macs"], r[keys[0]]))
 
 
-def mean_scores(scores: list[dict[str, Any]]) -> tuple[float, float]:
-    return (float(np.mean([s["force_rmse_n"] for s in scores])),
-            float(np.mean([s["angle_rmse_rad"] for s in scores])))
+def mean_scores(scores: list[dict[str, Any]], keys: tuple[str, ...] = FINGERTIP.keys) -> tuple[float, ...]:
+    """Each key's mean over the units' score rows."""
+    return tuple(float(np.mean([s[k] for s in scores])) for k in keys)
 
 
 def candidate_of(row: dict[str, Any]) -> Candidate:
