@@ -91,7 +91,7 @@ def run_model(ctx: Context, model: str, opts: Options) -> tuple[list[dict[str, A
         sub = Context(replace_spec(ctx, model, opts, options), ctx.registry, run_dir, ctx.device,
                       ctx.progress, {"spec_file": ctx.provenance.get("spec_file")})
         rows += [{**r, "sensor_model": model, "stage": stage} for r in module.run(sub)]
-        prov[stage] = sub.provenance
+        prov[stage] = sub.provenance | {"model_sizes": list(sub.spec.model.sizes)}
     return rows, prov
 
 
@@ -107,9 +107,27 @@ def run(ctx: Context) -> list[dict[str, Any]]:
             "selection_content_hash": prov["baseline"]["selection_content_hash"],
             "val_loss": {k: v.get("val_loss", {})
                          for k, v in prov["cross_sensor"].get("cross_sensor", {}).items()},
+            "cross_sensor_provenance": prov["cross_sensor"],
         }
     write_report(ctx, rows)
     return rows
+
+
+def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
+    """Write this run's report and each model's cross-sensor report again from the recorded rows
+    (`anytip report RUN_DIR`)."""
+    opts = parse_options(ctx)
+    for model, info in ctx.provenance.get("sensor_models", {}).items():
+        if "cross_sensor_provenance" not in info:
+            continue  # recorded before the sub-runs' provenance was kept
+        prov = info["cross_sensor_provenance"]
+        spec = replace_spec(ctx, None, opts)
+        sized = spec.model.model_copy(update={"sizes": tuple(prov["model_sizes"])})
+        spec = spec.model_copy(update={"model": sized})
+        sub = Context(spec, ctx.registry, ctx.run_dir / model / "cross_sensor", ctx.device, False, prov)
+        mine = [r for r in rows if r["sensor_model"] == model and r["stage"] == "cross_sensor"]
+        cross_sensor.report(sub, mine)
+    write_report(ctx, rows)
 
 
 def baseline_lines(rows: list[dict[str, Any]], targets: dict[str, Any]) -> list[list[Any]]:

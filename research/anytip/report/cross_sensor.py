@@ -159,6 +159,11 @@ def targets(lines: list[dict[str, Any]], chosen: dict[tuple[float, str | None], 
     return out
 
 
+def rmse_text(v: float) -> str:
+    """An RMSE in its unit: three decimals, or three significant digits below 0.01 (metres)."""
+    return f"{v:.3f}" if abs(v) >= 0.01 else f"{v:.3g}"
+
+
 def ratio_text(m: tuple[float, float, float]) -> str:
     """A unit-level ratio as `mean [lower, upper]`."""
     return f"{m[0]:.2f}x" if np.isnan(m[1]) else f"{m[0]:.2f}x [{m[1]:.2f}, {m[2]:.2f}]"
@@ -242,7 +247,8 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
     seconds = in_seconds(main)
     body = [[s["method"], "full" if s["budget"] < 0 else f"{s['budget']:g}",
              "" if s["seconds"] is None else f"{s['seconds']:.1f}",
-             *(v for m in metrics for v in (s[m.name], ratio_text(s[f"{m.name}_unit"]))), s["units"], s["n"]]
+             *(v for m in metrics for v in (rmse_text(s[m.name]), ratio_text(s[f"{m.name}_unit"]))),
+             s["units"], s["n"]]
             for s in lines]
     ratio_heads = [f"{m.name} ratio" for m in metrics]
     held = "patches" if main[0].get("split", "patches") == "patches" else "blocks of rows"
