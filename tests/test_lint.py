@@ -1,4 +1,5 @@
-"""The code base passes its linter (ruff, configured in pyproject.toml)."""
+"""The code base passes its linter (ruff, configured in pyproject.toml) and holds no repeated
+blocks of code (pylint's duplicate-code check)."""
 
 import shutil
 import subprocess
@@ -15,4 +16,12 @@ def test_ruff_is_clean():
     if not Path(ruff).exists():
         pytest.fail("ruff is not installed; `make test` installs the dev extras")
     result = subprocess.run([ruff, "check", "research", "tests"], cwd=REPO, capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_no_block_of_code_is_repeated():
+    result = subprocess.run([sys.executable, "-m", "pylint", "--disable=all", "--enable=duplicate-code",
+                             "--score=n", "research/anytip"], cwd=REPO, capture_output=True, text=True)
+    if "No module named pylint" in result.stderr:
+        pytest.fail("pylint is not installed; `make test` installs the dev extras")
     assert result.returncode == 0, result.stdout + result.stderr
