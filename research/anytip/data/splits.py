@@ -9,6 +9,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from anytip.data.seeds import TEST_PATCHES, stream_seed
 from anytip.errors import AnytipError
 
 
@@ -92,9 +93,9 @@ TestMask = Callable[[np.ndarray, int], np.ndarray]
 
 def patch_test_mask(fraction: float, seed: int) -> TestMask:
     """Held-out whole patches; each unit draws its own patches (seed, unit index)."""
-    return lambda patch, u: held_out_patches(patch, fraction, seed * 100_003 + u)
+    return lambda patch, u: held_out_patches(patch, fraction, stream_seed(TEST_PATCHES, seed, u))
 
 
 def random_test_mask(fraction: float, seed: int) -> TestMask:
     """The paper's random rows."""
-    return lambda patch, u: random_rows(len(patch), fraction, seed * 100_003 + u)
+    return lambda patch, u: random_rows(len(patch), fraction, stream_seed(TEST_PATCHES, seed, u))

@@ -28,8 +28,9 @@ from collections.abc import Sequence
 import torch
 from torch import Tensor, nn
 
+from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
-from anytip.models.mlp import ACTIVATIONS, BatchedMLP, MLPConfig, unit_seed
+from anytip.models.mlp import ACTIVATIONS, BatchedMLP, MLPConfig
 
 PARTS = ("input_affine", "input_diag", "embedding", "film", "delta", "lowrank<r>")
 _LOWRANK = re.compile(r"lowrank([1-9][0-9]{0,2})")

@@ -7,16 +7,15 @@ every model is one `torch.baddbmm` per layer: x (U, B, in) -> (U, B, out).
 from __future__ import annotations
 
 import math
-import zlib
 from collections.abc import Sequence
 from typing import Any, Literal
 
-import numpy as np
 import torch
 import torch.nn.functional as F
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 from torch import Tensor, nn
 
+from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
 
 # leaky_relu (negative slope 0.01, torch's default) and hardswish (x * clamp(x + 3, 0, 6) / 6) need
@@ -88,12 +87,6 @@ class MLPConfig(BaseModel):
     def n_params(self) -> int:
         """Weights and biases of one model."""
         return sum((i + 1) * o for i, o in zip(self.sizes[:-1], self.sizes[1:], strict=True))
-
-
-def unit_seed(seed: int, unit: int, stream: str = "init") -> int:
-    """A 63-bit seed for one unit's random stream that does not depend on the fleet size."""
-    entropy = [seed, unit, zlib.crc32(stream.encode())]
-    return int(np.random.SeedSequence(entropy).generate_state(1, np.uint64)[0] >> 1)
 
 
 class BatchedMLP(nn.Module):

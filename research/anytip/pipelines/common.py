@@ -18,6 +18,7 @@ from anytip.config import DataConfig, ExperimentSpec
 from anytip.data.arrays import FleetArrays, has_patch_grid, load_arrays, output_names
 from anytip.data.registry import Registry, RunRecord
 from anytip.data.runfile import V1_LAYOUT, describe_targets, parse_layout
+from anytip.data.seeds import VALIDATION_ROWS, stream_seed
 from anytip.data.splits import TestMask
 from anytip.errors import AnytipError
 from anytip.report.metric import Metric
@@ -163,7 +164,7 @@ def per_unit_split(arrays: FleetArrays, units: Sequence[str], test_mask: TestMas
         rows = np.flatnonzero(arrays.unit == arrays.units.index(unit))
         test = test_mask(arrays.patch[rows], u)
         train_rows, held = rows[~test], rows[test]
-        rng = np.random.default_rng(seed * 7919 + u)
+        rng = np.random.default_rng(stream_seed(VALIDATION_ROWS, seed, u))
         fit_rows, val_rows = split_validation(train_rows, val_fraction, rng)
         members.append(unit_tensors(arrays, fit_rows, val_rows, unit))
         X_test.append(arrays.pressure[held])

@@ -25,6 +25,7 @@ import numpy as np
 from anytip.data.arrays import FleetArrays, has_patch_grid
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Budget, Plan, Strategy, plan_for
+from anytip.data.seeds import CALIBRATION_ROWS, VALIDATION_PATCHES, stream_seed
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.scaler import Scaler
@@ -214,10 +215,10 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         train_rows = np.setdiff1d(mine, sd.evals[unit].test_rows)
         if opts.reference_val == "patches":
             val = held_out_patches(arrays.patch[train_rows], ctx.spec.splits.val_fraction,
-                                   seed * 100_003 + 7919 + u)
+                                   stream_seed(VALIDATION_PATCHES, seed, u))
             members.append(unit_tensors(arrays, train_rows[~val], train_rows[val], unit))
             continue
-        rng = np.random.default_rng(seed * 7919 + 1000 + u)
+        rng = np.random.default_rng(stream_seed(CALIBRATION_ROWS, seed, u))
         members.append(unit_tensors(arrays, *split_validation(train_rows, ctx.spec.splits.val_fraction, rng),
                                     unit))
     data = FleetBatchData.from_units(members, ctx.device, arrays.output_names)

@@ -20,6 +20,7 @@ from typing import Any
 import optuna
 
 from anytip.data.arrays import has_patch_grid
+from anytip.data.seeds import SEARCH_TEST_SCORER, stream_seed
 from anytip.data.splits import patch_test_mask, split_units
 from anytip.errors import AnytipError
 from anytip.pipelines.common import (
@@ -128,7 +129,7 @@ def scorers(ctx: Context, arrays, opts: SearchOptions) -> tuple[Any, Any, dict[s
     split = split_units(arrays.units, seed, opts.n_search_units, opts.n_test_units)
     roles = {"search_units": list(split.val), "test_units": list(split.test)}
     return (unit_scorer(ctx, arrays, roles["search_units"], seed),
-            unit_scorer(ctx, arrays, roles["test_units"], seed + 1), roles)
+            unit_scorer(ctx, arrays, roles["test_units"], stream_seed(SEARCH_TEST_SCORER, seed)), roles)
 
 
 def run(ctx: Context) -> list[dict[str, Any]]:

@@ -21,6 +21,15 @@ from scipy.stats import norm
 from anytip.data.arrays import FleetArrays, has_patch_grid, output_names, target_slices
 from anytip.data.plans import stream_plan
 from anytip.data.runfile import V1_LAYOUT, TargetLayout
+from anytip.data.seeds import (
+    BOOTSTRAP,
+    ENSEMBLE_MEMBER,
+    FOLD_MODEL,
+    FOLD_ROWS,
+    PATCH_FOLDS,
+    UNSEEN_ROWS,
+    stream_seed,
+)
 from anytip.errors import AnytipError
 from anytip.models.heteroscedastic import output_scaler_2d
 from anytip.models.io import save_models
@@ -140,10 +149,10 @@ def add_cross_conformal(ctx: Context, arrays: FleetArrays, split: UQSplit, opts:
         if K < 2 or n_patches < K:
             raise AnytipError(f"options.cv_folds={K}: needs 2 or more folds and at most the {n_patches} "
                               f"non-test patches of unit {unit}; use 0 to skip cross-conformal")
-        fold = patch_folds(arrays.patch[rest], K, seed * 7 + u + 501)
+        fold = patch_folds(arrays.patch[rest], K, stream_seed(PATCH_FOLDS, seed, u))
         folds.append(fold)
         for k in range(K):
-            rng = np.random.default_rng(seed * 7919 + 31 * u + k)
+            rng = np.random.default_rng(stream_seed(FOLD_ROWS, seed, 31 * u + k))
             train = capped(rest[fold != k], opts.max_train_rows, rng)
             members.append(unit_tensors(arrays, *split_validation(train, ctx.spec.splits.val_fraction, rng),
                                         f"{unit}/fold{k}"))
@@ -158,7 +167,7 @@ def add_cross_conformal(ctx: Context, arrays: FleetArrays, split: UQSplit, opts:
             for out, x in ((pred_r, arrays.pressure[rest]), (pred_t, split.X_test[u])):
                 m, s = predict_members(fit, u * K + k, x)
                 out.append((m[0], s[0]))
-        mu_t, sig_t = pick_fold_model(pred_t, np.random.default_rng(seed * 13 + u))
+        mu_t, sig_t = pick_fold_model(pred_t, np.random.default_rng(stream_seed(FOLD_MODEL, seed, u)))
         mu_c, sig_c = out_of_fold(pred_r, folds[u])
         for name, st, sc in (("cv+conformal", None, None), ("cv+hetero+conformal", sig_t, sig_c)):
             methods[u][name] = MethodPreds(mu_t, st, mu_c, sc, "conformal",
@@ -287,7 +296,8 @@ def run(ctx: Context) -> list[dict[str, Any]]:
                 rows += mapie_rows(methods["conformal"], y, y_cal, base, opts.nominal, arrays.layout)
             if opts.bootstrap:
                 rows += bootstrap_rows(methods, y, y_cal, arrays.patch[split.test_idx[u]],
-                                       arrays.patch[split.cal_idx[u]], base, opts.bootstrap, seed * 1009 + u,
+                                       arrays.patch[split.cal_idx[u]], base, opts.bootstrap,
+                                       stream_seed(BOOTSTRAP, seed, u),
                                        layout=arrays.layout)
             if seed == spec.all_seeds[0]:
                 maps = curve_and_maps(methods, y, y_cal, next(iter(arrays.slices.values())))
@@ -335,7 +345,8 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
     if a.test == "patches":
         test = [sd.evals[u].test_rows for u in units]
     else:
-        test = [unseen_rows(arrays, st, a.budget + a.calib_rows, a.max_test_rows, seed * 4099 + m)
+        test = [unseen_rows(arrays, st, a.budget + a.calib_rows, a.max_test_rows,
+                            stream_seed(UNSEEN_ROWS, seed, m))
                 for m, st in enumerate(streams)]
     some = [c if len(c) else t[:1] for c, t in zip(cal, test, strict=True)]  # empty: no budget variant
     variants = adapted_variants(ctx, arrays, sd, co, a, streams, test, some, seed, beta)
@@ -350,7 +361,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, a: AdaptedOptions, levels: l
             base = {"unit": units[m], "seed": seed, "calib_samples": a.budget, "test": a.test,
                     "n_train_units": len(sd.split.train), "test_rows": len(test[m]),
                     "test_patches": len(np.unique(patches))}
-            boot_args = (patches, bootstrap, seed * 1009 + m)
+            boot_args = (patches, bootstrap, stream_seed(BOOTSTRAP, seed, m))
             if v.gaussian:  # the uncalibrated Gaussian beside it
                 rows += method_rows(v.gaussian, MethodPreds(
                     mu_t[m], sig_t[m], mu_c[m], sig_c[m], "gaussian"), y[test[m]], y[:0],
@@ -404,7 +415,8 @@ def adapted_variants(ctx: Context, arrays: FleetArrays, sd, co: CrossOptions, a:
     its own adapters, folded; their mean, scaled by their spread. `+hetero`: a shared model
     with heteroscedastic heads, its adapters fitted by beta-NLL too, folded and saved with
     its scale outputs; scaled by its own sigma."""
-    members = [adapted_member(ctx, arrays, sd, co, a, streams, test, cal, seed * 1000 + k if k else seed)
+    members = [adapted_member(ctx, arrays, sd, co, a, streams, test, cal,
+                              stream_seed(ENSEMBLE_MEMBER, seed, k) if k else seed)
                for k in range(a.members)]
     first = members[0]
     shared, stats, pred_t, pred_c = first.shared, first.stats, first.pred_test, first.pred_cal

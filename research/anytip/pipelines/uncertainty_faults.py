@@ -15,6 +15,7 @@ import numpy as np
 from anytip.data.arrays import FleetArrays, has_patch_grid, load_arrays
 from anytip.data.faults import MissingData, RunStream, baseline_drift, fault_suite, rest_rows, run_streams
 from anytip.data.registry import Registry
+from anytip.data.seeds import FAULT_ROWS, FOREIGN_UNITS, stream_seed
 from anytip.data.simulated import simulate_into
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context
@@ -57,7 +58,8 @@ def foreign_pressures(ctx: Context, opts: Options, seed: int, root: Path) -> dic
     out = {}
     for k, (name, cfg) in enumerate(foreign_fleets(ctx.spec.fleet).items()):
         reg = Registry(root / f"{name}_seed{seed}")
-        simulate_into(reg, cfg, opts.foreign_units, seed=10_000 + 97 * seed + k, protocols=("short",))
+        simulate_into(reg, cfg, opts.foreign_units, seed=stream_seed(FOREIGN_UNITS, seed, k),
+                      protocols=("short",))
         out[name] = load_arrays(reg, reg.list_runs()).pressure
     return out
 
@@ -77,7 +79,7 @@ def fault_rows(ctx: Context, arrays: FleetArrays, fit: EnsembleFit, split: UQSpl
         foreign = foreign_pressures(ctx, opts, seed, Path(tmp)) if opts.foreign_units and fingertip else {}
     rows = []
     for u, unit in enumerate(split.data.unit_ids):
-        rng = np.random.default_rng(seed * 31 + u)
+        rng = np.random.default_rng(stream_seed(FAULT_ROWS, seed, u))
         pick = contiguous_windows(len(split.X_test[u]), max(opts.windows), opts.max_detect_rows, rng)
         x = split.X_test[u][pick]
         novelty = (InputNovelty.fit(split.X_fit[u]), KnnNovelty.fit(split.X_fit[u], seed=seed))

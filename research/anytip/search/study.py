@@ -22,6 +22,7 @@ import numpy as np
 import optuna
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from anytip.data.seeds import SEARCH_WORKER, stream_seed
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.features import FEATURES
@@ -225,7 +226,7 @@ def open_study(url: str, name: str, opts: SearchOptions, worker: int = 0,
     """Create or load the study; stale running trials (no heartbeat) are failed and retried.
     Each worker samples from its own seed, so parallel workers do not propose the same trial."""
     storage = rdb_storage(url, opts)
-    sampler = optuna.samplers.TPESampler(seed=opts.seed * 1000 + worker,
+    sampler = optuna.samplers.TPESampler(seed=stream_seed(SEARCH_WORKER, opts.seed, worker),
                                          n_startup_trials=min(8, opts.n_trials))
     return optuna.create_study(study_name=name, storage=storage, load_if_exists=True, sampler=sampler,
                                directions=["minimize"] * n_objectives)

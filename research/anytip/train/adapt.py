@@ -21,11 +21,12 @@ from typing import Any
 import torch
 from torch import Tensor
 
+from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
 from anytip.models.adapted import AdaptedMLP
 from anytip.models.heteroscedastic import hetero_config, unit_loss
 from anytip.models.io import LoadedShared
-from anytip.models.mlp import BatchedMLP, MLPConfig, unit_seed
+from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, UnitSampler, pad_rows

@@ -15,7 +15,7 @@ import torch
 from torch import Tensor
 
 from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
-from anytip.models.mlp import unit_seed
+from anytip.data.seeds import unit_seed
 
 ArrayLike = Tensor | np.ndarray
 

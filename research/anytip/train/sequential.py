@@ -14,7 +14,8 @@ from typing import Any
 import torch
 from torch import nn
 
-from anytip.models.mlp import BatchedMLP, MLPConfig, sequential_to_plain, unit_seed
+from anytip.data.seeds import unit_seed
+from anytip.models.mlp import BatchedMLP, MLPConfig, sequential_to_plain
 from anytip.models.scaler import Scaler
 from anytip.train.data import FleetBatchData
 from anytip.train.fleet import FitResult, ProgressBar, _lap

@@ -20,6 +20,7 @@ import torch
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan, Presses, find_presses
+from anytip.data.seeds import TEST_PATCHES, VALIDATION_ROWS, stream_seed
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
@@ -71,7 +72,8 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
     for k, unit in enumerate([*split.val, *split.test]):
         mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
         own = unit_main_rows(arrays, unit, main)
-        held = held_out_patches(arrays.patch[own], roles.patch_test_fraction, seed * 100_003 + k)
+        held = held_out_patches(arrays.patch[own], roles.patch_test_fraction,
+                                stream_seed(TEST_PATCHES, seed, k))
         test_cells = np.unique(arrays.patch[own][held])
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
@@ -81,7 +83,8 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
     members, stats = [], []
     for u, unit in enumerate(split.train):
         mine = unit_main_rows(arrays, unit, main)
-        fit, val = split_validation(mine, roles.val_fraction, np.random.default_rng(seed * 7919 + u))
+        rng = np.random.default_rng(stream_seed(VALIDATION_ROWS, seed, u))
+        fit, val = split_validation(mine, roles.val_fraction, rng)
         members.append(unit_tensors(arrays, fit, val, unit))
         stream = calibration_stream(arrays, unit, calibration_protocol, interleave=interleave)
         stats.append(torch.from_numpy(arrays.pressure[stream.unlabeled(roles.unlabeled_s)]))

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import torch
 
+from anytip.data.seeds import TEST_PATCHES, stream_seed
 from anytip.train.data import FleetBatchData, split_rows
 
 PRESSURE_SCALE_PA = 2e4
@@ -31,5 +32,6 @@ def synthetic_fleet(n_units: int = 3, n_rows: int = 2000, seed: int = 0, val_fra
         X = PRESSURE_SCALE_PA * (s @ M.T + 0.3 * np.sin(s @ K.T + c))
         X += noise_pa * rng.normal(size=X.shape)
         Y = s * TARGET_SCALE + TARGET_SHIFT
-        units.append(split_rows(X, Y, val_fraction, seed=seed * 100_003 + u, unit_id=f"syn{u:03d}"))
+        units.append(split_rows(X, Y, val_fraction, seed=stream_seed(TEST_PATCHES, seed, u),
+                                unit_id=f"syn{u:03d}"))
     return FleetBatchData.from_units(units, device)

@@ -9,6 +9,7 @@ import numpy as np
 import torch
 
 from anytip.data.arrays import FleetArrays
+from anytip.data.seeds import CALIBRATION_PATCHES, VALIDATION_ROWS, stream_seed
 from anytip.data.splits import held_out_patches, patch_test_mask
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 
@@ -46,9 +47,10 @@ def uq_split(arrays: FleetArrays, max_train_rows: int | None, calib_patch_fracti
         rows = np.flatnonzero(arrays.unit == u)
         test = test_mask(arrays.patch[rows], u)
         rest = rows[~test]
-        cal = held_out_patches(arrays.patch[rest], calib_patch_fraction, seed * 100_003 + u + 77)
+        cal = held_out_patches(arrays.patch[rest], calib_patch_fraction,
+                               stream_seed(CALIBRATION_PATCHES, seed, u))
         train = rest[~cal]
-        rng = np.random.default_rng(seed * 7919 + u)
+        rng = np.random.default_rng(stream_seed(VALIDATION_ROWS, seed, u))
         fit, val = split_validation(capped(train, max_train_rows, rng), val_fraction, rng)
         members.append(unit_tensors(arrays, fit, val, unit))
         for key, idx in (("cal", rest[cal]), ("test", rows[test])):
