@@ -10,13 +10,13 @@ import torch
 
 from anytip.calibrate import calibrate_unit, find_shared
 from anytip.cli import main
-from anytip.config import load_spec
+from anytip.config import DataConfig, load_spec
 from anytip.data.arrays import load_arrays
 from anytip.data.registry import Registry
-from anytip.data.simulated import simulate_into
+from anytip.data.simulated import simulate_flat_into, simulate_into
 from anytip.errors import AnytipError
 from anytip.models.io import load_models, load_shared
-from anytip.pipelines.common import Context
+from anytip.pipelines.common import Context, load_extra
 from anytip.pipelines.cross_sensor import main_rows, prepare
 from anytip.pipelines.cross_sensor_options import parse_options
 from anytip.runner import run_experiment
@@ -346,3 +346,52 @@ def test_a_finished_run_rewrites_its_report_from_its_records(seconds_run, tmp_pa
     (copy / "metrics.json").write_text("{not json")
     assert main(["report", str(copy)]) == 2
     assert "metrics.json: not a readable JSON file" in capsys.readouterr().err
+
+
+@pytest.fixture(scope="module")
+def extra_registry(tmp_path_factory) -> Registry:
+    """Three more units of the same design (another fleet seed: no unit in common)."""
+    registry = Registry(tmp_path_factory.mktemp("extra"))
+    simulate_into(registry, FleetConfig(), 3, seed=12, protocols=(QUICK,))
+    return registry
+
+
+def test_extra_units_only_train(two_protocol_registry, extra_registry, tmp_path):
+    """Units of `options.extra_units` join the shared model's training units, after the split's
+    own, and never become validation or held-out units."""
+    ctx = Context(load_spec(SPEC, TINY), two_protocol_registry, tmp_path, torch.device("cpu"), False)
+    opts = parse_options(ctx)
+    arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs())
+    ctx.provenance["sensor_model"] = arrays.runs[0].sensor_model
+    extra = load_extra(ctx, str(extra_registry.root), DataConfig(protocol=None), arrays)
+    sd = prepare(ctx, arrays, opts, seed=0, extra=extra)
+    assert sd.n_extra == 3 and sd.train.unit_ids == [*sd.split.train, *extra.units]
+    assert set(extra.units).isdisjoint([*sd.split.train, *sd.split.val, *sd.split.test, *sd.evals])
+    assert sd.train_stats.mean.shape[0] == len(sd.split.train) + 3
+    assert ctx.provenance["extra_units"]["units"] == extra.units
+
+
+def test_a_run_with_extra_units_says_so(two_protocol_registry, extra_registry, tmp_path):
+    overrides = [*TINY, "options.sweep_seeds=0", "options.adapters=[input_affine+film]",
+                 f"options.extra_units={{registry: {extra_registry.root}}}"]
+    run = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "run", overrides=overrides,
+                         progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    assert {r["n_extra_units"] for r in rows} == {3}
+    assert "also trains on 3 units of registry" in (run / "report.md").read_text()
+
+
+def test_extra_units_are_refused_when_they_overlap_or_differ(two_protocol_registry, tmp_path):
+    same = Registry(tmp_path / "same")
+    simulate_into(same, FleetConfig(), 2, seed=11, protocols=(QUICK,))  # the registry's own first units
+    overrides = [*TINY, f"options.extra_units={{registry: {same.root}}}"]
+    with pytest.raises(AnytipError, match=r"holds 2 units that the experiment's registry holds too \(SIM"):
+        run_experiment(SPEC, two_protocol_registry, out=tmp_path / "a", overrides=overrides, progress=False)
+    other = Registry(tmp_path / "edge")
+    simulate_flat_into(other, "edge-4baro", 2, seed=3, protocols=("quick",))
+    overrides = [*TINY, f"options.extra_units={{registry: {other.root}}}"]
+    with pytest.raises(AnytipError, match="must hold sensor model 'fingertip-8baro-r10'.*no runs of it"):
+        run_experiment(SPEC, two_protocol_registry, out=tmp_path / "b", overrides=overrides, progress=False)
+    overrides = [*TINY, f"options.extra_units={{registry: {tmp_path / 'nothing'}}}"]
+    with pytest.raises(AnytipError, match="not a registry"):
+        run_experiment(SPEC, two_protocol_registry, out=tmp_path / "c", overrides=overrides, progress=False)

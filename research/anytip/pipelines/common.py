@@ -17,7 +17,7 @@ from pydantic import BaseModel
 from anytip.config import DataConfig, ExperimentSpec
 from anytip.data.arrays import FleetArrays, has_patch_grid, load_arrays, output_names
 from anytip.data.registry import Registry, RunRecord
-from anytip.data.runfile import V1_LAYOUT, describe_targets, parse_layout
+from anytip.data.runfile import V1_LAYOUT, describe_layout, describe_targets, parse_layout
 from anytip.data.seeds import VALIDATION_ROWS, stream_seed
 from anytip.data.splits import TestMask
 from anytip.errors import AnytipError
@@ -142,6 +142,34 @@ def load(ctx: Context, min_units: int = 1) -> FleetArrays:
         selection_content_hash=ctx.registry.content_hash([r.run_id for r in records]),
         targets={name: t.to_json() for name, t in arrays.layout.items()},
     )
+    return arrays
+
+
+def load_extra(ctx: Context, root: str, data: DataConfig, like: FleetArrays,
+               source: str = "options.extra_units") -> FleetArrays:
+    """Training-only units from another registry (`root`, relative to the working directory):
+    runs of the sensor model `ctx` loaded, which must have the same channels and targets, and
+    no unit that `like` (the experiment's own units) holds. Recorded in the provenance under
+    `extra_units`."""
+    registry = Registry(Path(root), create=False)
+    model = ctx.provenance["sensor_model"]
+    mine, theirs = ctx.registry.sensor_models().get(model), registry.sensor_models().get(model)
+    if theirs is None or parse_layout(theirs) != parse_layout(mine):
+        found = describe_layout(theirs) if theirs else "no runs of it"
+        raise AnytipError(f"{source}: registry {root} must hold sensor model {model!r} with "
+                          f"{describe_layout(mine)}; it has {found}")
+    _, records = select_runs(registry, data.model_copy(update={"sensor_model": model}), ctx.spec.seed, 1)
+    both = sorted({r.unit for r in records} & set(like.units))
+    if both:
+        raise AnytipError(f"{source}: registry {root} holds {len(both)} units that the experiment's "
+                          f"registry holds too ({', '.join(both[:4])}); a validation or held-out unit "
+                          f"must never train the shared model")
+    arrays = load_arrays(registry, records)
+    ctx.provenance["extra_units"] = {
+        "registry": str(registry.root), "registry_content_hash": registry.content_hash(),
+        "selection_content_hash": registry.content_hash([r.run_id for r in records]),
+        "units": arrays.units, "runs": len(records),
+    }
     return arrays
 
 

@@ -29,7 +29,7 @@ from anytip.data.seeds import CALIBRATION_ROWS, VALIDATION_PATCHES, stream_seed
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.scaler import Scaler
-from anytip.pipelines.common import Context, load, report_metrics, unit_of
+from anytip.pipelines.common import Context, load, load_extra, report_metrics, unit_of
 from anytip.pipelines.cross_sensor_options import FitVariant, Options, budget_list, parse_options
 from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
 from anytip.train.adapt import (
@@ -53,13 +53,15 @@ from anytip.train.shared_split import (
 )
 
 
-def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int) -> SeedData:
-    """The seed's unit roles and tensors (`anytip.train.shared_split`) for this spec."""
+def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
+            extra: FleetArrays | None = None) -> SeedData:
+    """The seed's unit roles and tensors (`anytip.train.shared_split`) for this spec; `extra`:
+    training-only units of `options.extra_units`."""
     s = ctx.spec.splits
     roles = Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction, s.val_fraction,
                   s.unit_folds, opts.unlabeled_s)
     return prepare_seed(arrays, roles, opts.calibration_protocol, opts.calibration_interleave, seed,
-                        ctx.device)
+                        ctx.device, extra)
 
 
 def min_units(ctx: Context) -> int:
@@ -70,9 +72,12 @@ def min_units(ctx: Context) -> int:
 def run(ctx: Context) -> list[dict[str, Any]]:
     opts = parse_options(ctx)
     arrays = load(ctx, min_units=min_units(ctx))
+    extra = None
+    if opts.extra_units is not None:
+        extra = load_extra(ctx, opts.extra_units.registry, opts.extra_units.data(), arrays)
     rows: list[dict[str, Any]] = []
     for k, seed in enumerate(ctx.spec.all_seeds):
-        rows += run_seed(ctx, arrays, opts, seed, sweep=k < opts.sweep_seeds)
+        rows += run_seed(ctx, arrays, opts, seed, sweep=k < opts.sweep_seeds, extra=extra)
     write_report(ctx, rows, opts, report_metrics(unit_of(ctx.provenance["targets"])))
     return rows
 
@@ -117,11 +122,13 @@ def summarise(rows: list[dict[str, Any]], targets: dict[str, Any] | None = None)
 
 
 def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
-             sweep: bool) -> list[dict[str, Any]]:
+             sweep: bool, extra: FleetArrays | None = None) -> list[dict[str, Any]]:
     spec = ctx.spec
-    sd = prepare(ctx, arrays, opts, seed)
+    sd = prepare(ctx, arrays, opts, seed, extra)
     held = "patches" if has_patch_grid(arrays.layout) else "blocks"
     base = {"seed": seed, "split": held, "n_train_units": len(sd.split.train)}
+    if sd.n_extra:
+        base["n_extra_units"] = sd.n_extra
     rows = [dict(base, **r) for r in per_unit_rows(ctx, arrays, sd, opts, seed)]
     rows += [dict(base, **r) for r in scratch_rows(ctx, arrays, sd, opts, seed)]
     pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), spec.model,

@@ -7,6 +7,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from anytip.config import DataConfig
 from anytip.data.plans import Budget, BudgetUnit, RigTiming, Strategy
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
@@ -51,6 +52,23 @@ class FitVariant(BaseModel):
     def suffix(self) -> str:
         """What a method name says of the fit besides its kind: its steps where set."""
         return "" if self.steps is None else f"[{self.steps} steps]"
+
+
+class ExtraUnits(BaseModel):
+    """`options.extra_units`: more training units for the shared models, from another registry
+    of the same sensor model (for example hundreds of simulated units with wide variation).
+    They train every shared model beside the registry's training units, with their own
+    adapters; they are never validation or held-out units, and no unit may be in both
+    registries."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    registry: str = Field(min_length=1, description="the other registry's directory")
+    protocol: str | list[str] | None = None  # which of its runs (None: all)
+    max_units: int | None = Field(default=None, ge=1, le=100_000)  # chosen by the spec's seed
+
+    def data(self) -> DataConfig:
+        return DataConfig(protocol=self.protocol, max_units=self.max_units)
 
 
 class Options(BaseModel):
@@ -98,6 +116,7 @@ class Options(BaseModel):
     adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0, le=1e9)
     # the chance a training unit's adapter is left out of a step of shared training
     adapter_dropout: float = Field(default=0.0, ge=0, lt=1)
+    extra_units: ExtraUnits | None = None
     scratch: TrainRecipe = SCRATCH
     unlabeled_s: float | None = Field(
         default=None, ge=0, le=1e7, description="seconds of a new unit's stream whose pressures (no "

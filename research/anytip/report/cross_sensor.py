@@ -264,9 +264,10 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
 
 {len(ctx.provenance.get('units', []))} units of `{ctx.provenance.get('sensor_model')}`; per seed
 {len(first.get('train', []))} training, {len(first.get('val', []))} validation and
-{len(first.get('test', []))} held-out units (seeds {seeds}). Every method is scored on the
-same held-out {held} ({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's {held})
-that no method saw in any run. {_budget_text(opts, seconds)}
+{len(first.get('test', []))} held-out units (seeds {seeds}).{_extra_text(ctx.provenance)}
+Every method is scored on the same held-out {held}
+({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's {held}) that no method saw in
+any run. {_budget_text(opts, seconds)}
 `adapted:*` models are scored after folding into the plain
 {' -> '.join(map(str, ctx.spec.model.sizes))} MLP; the adapter prior is chosen per budget on the
 validation units. Label-free rows (budget 0) use the unit's unlabeled stream for input statistics.
@@ -292,6 +293,15 @@ interval over units].
 
 ![error against training units](rmse_vs_train_units.png)
 """)).write()
+
+
+def _extra_text(provenance: dict[str, Any]) -> str:
+    """The report's sentence on training-only units from another registry, if any."""
+    extra = provenance.get("extra_units")
+    if not extra:
+        return ""
+    return (f" Every shared model also trains on {len(extra['units'])} units of registry "
+            f"`{extra['registry']}` (`options.extra_units`; training only, no unit in common).")
 
 
 def _budget_text(opts: Any, seconds: bool) -> str:

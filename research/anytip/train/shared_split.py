@@ -12,6 +12,7 @@ architecture search and `anytip calibrate`'s benchmark twin alike.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,7 +27,7 @@ from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.train.adapt import AdapterRecipe, SharedFit, calibrate_and_fold, input_stats
 from anytip.train.adapter_prior import AdapterPrior
-from anytip.train.data import FleetBatchData, pad_rows, split_validation, unit_tensors
+from anytip.train.data import FleetBatchData, UnitTensors, pad_rows, split_validation, unit_tensors
 from anytip.train.metrics import predict
 
 
@@ -47,6 +48,7 @@ class SeedData:
     train: FleetBatchData  # training units' rows, 10% random rows for model selection
     train_stats: Scaler  # (U_train, 1, C) label-free input statistics
     evals: dict[str, EvalUnit]  # validation and held-out units
+    n_extra: int = 0  # training units from another registry, after the split's own in `train`
 
 
 @dataclass(frozen=True)
@@ -63,8 +65,12 @@ class Roles:
 
 
 def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
-                 interleave: bool, seed: int, device: torch.device | str = "cpu") -> SeedData:
-    """Unit roles, test patches of validation and held-out units, training tensors."""
+                 interleave: bool, seed: int, device: torch.device | str = "cpu",
+                 extra: FleetArrays | None = None) -> SeedData:
+    """Unit roles, test patches of validation and held-out units, training tensors.
+
+    `extra`: units of another registry that only train (same channels and targets, no unit
+    in common); their tensors follow the split's training units in `train`."""
     split = split_units(arrays.units, seed, max(roles.n_val_units, 1), max(roles.n_test_units, 1),
                         roles.n_train_units, roles.unit_folds)
     main = main_rows(arrays, calibration_protocol)
@@ -80,16 +86,31 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
         evals[unit] = EvalUnit(unit, own[exclude[own]], stream,
                                find_presses(arrays, unit, exclude | stream.outside(arrays)))
+    members, stats = training_units(arrays, split.train, roles, calibration_protocol, interleave, seed)
+    if extra is not None:
+        more = training_units(extra, extra.units, roles, calibration_protocol, interleave, seed,
+                              first_index=len(split.train))
+        members, stats = members + more[0], stats + more[1]
+    train = FleetBatchData.from_units(members, device, arrays.output_names)
+    return SeedData(split, train, input_stats(stats, device), evals,
+                    0 if extra is None else len(extra.units))
+
+
+def training_units(arrays: FleetArrays, units: Sequence[str], roles: Roles, calibration_protocol: str | None,
+                   interleave: bool, seed: int, first_index: int = 0
+                   ) -> tuple[list[UnitTensors], list[torch.Tensor]]:
+    """Each training unit's tensors (main rows, a random `val_fraction` for model selection)
+    and its unlabeled pressures for input statistics, (n, C) each."""
+    main = main_rows(arrays, calibration_protocol)
     members, stats = [], []
-    for u, unit in enumerate(split.train):
+    for u, unit in enumerate(units, start=first_index):
         mine = unit_main_rows(arrays, unit, main)
         rng = np.random.default_rng(stream_seed(VALIDATION_ROWS, seed, u))
         fit, val = split_validation(mine, roles.val_fraction, rng)
         members.append(unit_tensors(arrays, fit, val, unit))
         stream = calibration_stream(arrays, unit, calibration_protocol, interleave=interleave)
         stats.append(torch.from_numpy(arrays.pressure[stream.unlabeled(roles.unlabeled_s)]))
-    train = FleetBatchData.from_units(members, device, arrays.output_names)
-    return SeedData(split, train, input_stats(stats, device), evals)
+    return members, stats
 
 
 def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarray:
