@@ -1,7 +1,9 @@
 """The cross-sensor pipeline and `anytip calibrate` on a tiny fleet: roles, no leakage,
 folded models, the deployment workflow end to end."""
 
+import dataclasses
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -395,3 +397,51 @@ def test_extra_units_are_refused_when_they_overlap_or_differ(two_protocol_regist
     overrides = [*TINY, f"options.extra_units={{registry: {tmp_path / 'nothing'}}}"]
     with pytest.raises(AnytipError, match="not a registry"):
         run_experiment(SPEC, two_protocol_registry, out=tmp_path / "c", overrides=overrides, progress=False)
+
+
+def test_the_benchmark_records_each_units_own_check(seconds_run):
+    """Validation and held-out units' calibrations are checked on their own presses, as
+    `anytip calibrate` checks a new unit; the shared model keeps the validation units' figures."""
+    own = json.loads((seconds_run / "provenance.json").read_text())["cross_sensor"]["seed0"]["own_check"]
+    checks = own["by_shared_model"]["input_affine-film"]
+    units = json.loads((seconds_run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
+    assert set(checks) == {"8 s first", "8 s spread", "40 s first", "40 s spread"}
+    assert set(checks["40 s spread"]) == {*units["val"], *units["test"]}
+    assert all(v > 0 for v in checks["40 s spread"].values())
+    meta = load_shared(seconds_run / "models" / "shared_input_affine-film_seed0.safetensors").meta
+    assert meta["own_check_by_budget"]["40"] == [checks["40 s spread"][u] for u in units["val"]]
+    report = (seconds_run / "report.md").read_text()
+    assert "## The calibration's own check on ordinary units" in report
+    assert "| `input_affine-film` | 40 s spread | 2 |" in report  # 2 held-out units, one seed
+
+
+def kgf_labelled_unit(registry: Registry, unit: str, name: str) -> None:
+    """Add a copy of `unit`'s runs as unit `name` whose force labels are 9.81x too large (a rig
+    log in kilogram-force imported as newtons)."""
+    runs = []
+    for rec in registry.list_runs(unit=unit):
+        run = registry.open_run(rec.run_id)
+        force = run.targets["force"]
+        targets = {**run.targets, "force": dataclasses.replace(force, values=force.values * np.float32(9.81))}
+        runs.append(dataclasses.replace(run, sensor_id=name, targets=targets))
+    registry.add_runs(runs)
+
+
+def test_calibrate_flags_a_unit_with_wrong_labels(seconds_run, two_protocol_registry, tmp_path, capsys):
+    """Force labels in the wrong unit make the calibration's own check far worse than any
+    validation unit's; `anytip calibrate` says so on stderr. The held-out unit they were
+    copied from passes."""
+    shutil.copytree(two_protocol_registry.root, tmp_path / "reg")
+    registry = Registry(tmp_path / "reg")
+    prov = json.loads((seconds_run / "provenance.json").read_text())
+    unit = prov["cross_sensor"]["seed0"]["units"]["test"][0]
+    kgf_labelled_unit(registry, unit, "SIM99-000")
+    good = calibrate_unit(seconds_run, unit, registry, tmp_path / "good", budget_seconds=40.0)
+    bad = calibrate_unit(seconds_run, "SIM99-000", registry, tmp_path / "bad", budget_seconds=40.0)
+    assert bad.own_check["over_validation"] > 5 * good.own_check["over_validation"]
+    assert bad.own_check["alarm"] and not good.own_check["alarm"]
+    assert main(["calibrate", "--model", str(seconds_run), "--unit", "SIM99-000", "--budget-seconds", "40",
+                 "--registry", str(registry.root), "--out", str(tmp_path / "cli")]) == 0
+    captured = capsys.readouterr()
+    assert "checked the same way" in captured.out and "(ALARM)" in captured.out
+    assert "warning: the calibration's own check is" in captured.err

@@ -34,7 +34,12 @@ from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import predict, scores, target_key
+from anytip.train.shared_split import OWN_CHECK_EVERY, own_check_losses
 from anytip.validation import read_yaml
+
+# A new unit whose own check exceeds the worst validation unit's by more than this is flagged.
+# The benchmark reports how the held-out units' checks compare (reports/cross_sensor_alarm/).
+OWN_CHECK_ALARM = 2.0
 
 
 @dataclass
@@ -123,13 +128,29 @@ def _val_loss(path: Path, budget: float | None) -> float | None:
 def _val_loss_table(meta: dict[str, Any], budget: float | None) -> float | None:
     """The validation-unit loss a shared model's metadata records (`val_loss_by_budget`) at the
     largest budget <= `budget`, or its mean over budgets for None; None if it has none."""
-    losses = meta.get("val_loss_by_budget")
-    if not isinstance(losses, dict):
-        return None
-    table = {float(b): float(v) for b, v in losses.items()
-             if _is_amount(b) and isinstance(v, (int, float)) and math.isfinite(v)}
+    table = {b: float(v) for b, v in _budget_table(meta, "val_loss_by_budget").items()
+             if isinstance(v, (int, float)) and math.isfinite(v)}
     if budget is None:
         return float(np.mean(list(table.values()))) if table else None
+    return _at_budget(table, budget)
+
+
+def _own_check_table(meta: dict[str, Any], budget: float) -> list[float] | None:
+    """The validation units' own-check losses the metadata records (`own_check_by_budget`) at
+    the largest budget <= `budget`; None if it records none."""
+    def finite(v: Any) -> bool:
+        return isinstance(v, (int, float)) and math.isfinite(v)
+    table = {b: [float(x) for x in v] for b, v in _budget_table(meta, "own_check_by_budget").items()
+             if isinstance(v, list) and v and all(finite(x) for x in v)}
+    return _at_budget(table, budget)
+
+
+def _budget_table(meta: dict[str, Any], key: str) -> dict[float, Any]:
+    values = meta.get(key)
+    return {float(b): v for b, v in values.items() if _is_amount(b)} if isinstance(values, dict) else {}
+
+
+def _at_budget(table: dict[float, Any], budget: float) -> Any:
     below = [b for b in table if b <= budget]
     return table[max(below)] if below else None
 
@@ -213,43 +234,49 @@ def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationSt
 Fit = Callable[[np.ndarray, float], tuple[BatchedMLP, Scaler]]
 
 
-def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unlabeled: list[torch.Tensor],
-            prior: float) -> Fit:
+def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unlabeled_rows: np.ndarray,
+            prior: float) -> tuple[Fit, Callable[[Plan], float | None]]:
     """fit(rows, n_effective) -> (folded MLP, input scaler): the unit's adapter fitted on `rows`
-    as the shared model's benchmark fitted adapters (recipe, prior family and strength)."""
+    as the shared model's benchmark fitted adapters (recipe, prior family and strength); and
+    check(plan): the calibration's own check as the benchmark measured it on its validation
+    units (`train.shared_split.own_check_losses`)."""
     recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
+    seed = int(meta.get("seed", 0))
     family = None
     if shared.model.adapter_parameters():
         family = make_prior(meta.get("adapter_prior", "identity"), shared.model,
                             int(meta.get("prior_rank", 4)))
+    unlabeled = [torch.from_numpy(arrays.pressure[unlabeled_rows])]
 
     def fit(rows: np.ndarray, n_effective: float) -> tuple[BatchedMLP, Scaler]:
         X, Y = [torch.from_numpy(arrays.pressure[rows])], [torch.from_numpy(arrays.targets[rows])]
         return calibrate_and_fold(shared, unlabeled, X, Y, [len(rows)], [prior], recipe,
-                                  seed=int(meta.get("seed", 0)), n_effective=[n_effective],
-                                  adapter_prior=family)
-    return fit
+                                  seed=seed, n_effective=[n_effective], adapter_prior=family)
+
+    def check(plan: Plan) -> float | None:
+        return own_check_losses(shared, arrays, [unlabeled_rows], [plan], [prior], recipe, seed,
+                                adapter_prior=family)[0]
+    return fit, check
 
 
-def own_check(fit: Fit, shared: LoadedShared, arrays: FleetArrays, plan: Plan, fleet_loss: float | None,
-              every: int = 5) -> dict[str, float] | None:
-    """The calibration's own validation: refit without every `every`-th press of the plan and
-    score those presses (standardised MSE, as the benchmark's validation units are scored),
-    beside the fleet's validation-unit loss at this budget (`over_fleet`: their ratio; the two
-    score different rows, presses of the plan against whole test patches, so the ratio is a
-    guide, not a test: no threshold is applied). None
-    for a plan of fewer than 2 presses."""
-    fit_rows, check_rows = plan.split_presses(every)
-    if not len(check_rows):
+def own_check(loss: float | None, plan: Plan, fleet_loss: float | None,
+              validation: list[float] | None) -> dict[str, Any] | None:
+    """The calibration's own check (every 5th press of the plan held out, the adapter refitted
+    without them, standardised MSE on them) beside what the shared model's benchmark measured:
+    the same statistic on its validation units at this budget (`validation`; `over_validation`
+    is the ratio to the worst of them, and `alarm` is set above OWN_CHECK_ALARM), and the
+    validation units' loss on their test patches (`over_fleet`: other rows, a guide only).
+    None for a plan of fewer than 2 presses."""
+    if loss is None:
         return None
-    folded, stats = fit(fit_rows, plan.n_effective * len(fit_rows) / len(plan.rows))
-    pred = predict(folded, stats, shared.out_scaler, torch.from_numpy(arrays.pressure[check_rows])[None])[0]
-    std = shared.out_scaler.std.reshape(-1)
-    loss = float((((pred - torch.from_numpy(arrays.targets[check_rows])) / std) ** 2).mean())
-    out = {"held_out_presses": int(np.ceil(plan.presses / every)), "rows": int(len(check_rows)),
-           "standardised_mse": loss}
+    _, check_rows = plan.split_presses(OWN_CHECK_EVERY)
+    out: dict[str, Any] = {"held_out_presses": int(np.ceil(plan.presses / OWN_CHECK_EVERY)),
+                           "rows": int(len(check_rows)), "standardised_mse": loss}
     if fleet_loss is not None:
         out |= {"fleet_validation_mse": fleet_loss, "over_fleet": loss / fleet_loss}
+    if validation:
+        over = loss / max(validation)
+        out |= {"validation_units_mse": validation, "over_validation": over, "alarm": over > OWN_CHECK_ALARM}
     return out
 
 
@@ -285,11 +312,15 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
                      "calibration check is not an unseen-unit result")
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
-    unlabeled = [torch.from_numpy(arrays.pressure[unlabeled_rows])]
     tick = time.perf_counter()
-    fit = _fitter(shared, meta, arrays, unlabeled, prior)
+    fit, check_plan = _fitter(shared, meta, arrays, unlabeled_rows, prior)
     folded, stats = fit(plan.rows, plan.n_effective)
-    own = own_check(fit, shared, arrays, plan, _val_loss_table(meta, budget))
+    own = own_check(check_plan(plan), plan, _val_loss_table(meta, budget), _own_check_table(meta, budget))
+    if own is not None and own.get("alarm"):
+        notes.append(f"warning: the calibration's own check is {own['over_validation']:.1f}x the worst of "
+                     "the shared model's validation units checked the same way (alarm above "
+                     f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels before "
+                     "deploying it")
     wall_s = time.perf_counter() - tick
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = stream.outside(arrays)

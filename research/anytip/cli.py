@@ -191,6 +191,10 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
                      f"patches at this budget, {own['over_fleet']:.2f}x; not the same rows)")
         print(f"own check: standardised MSE {own['standardised_mse']:.3g} on {own['held_out_presses']} "
               f"presses of the plan, held out and refitted without{fleet}")
+        if "over_validation" in own:
+            val = ", ".join(f"{v:.3g}" for v in own["validation_units_mse"])
+            print(f"  the shared model's validation units, checked the same way: {val}; this unit is "
+                  f"{own['over_validation']:.2f}x the worst of them{' (ALARM)' if own['alarm'] else ''}")
     print(f"fitted and folded in {r.wall_s:.1f} s")
     return 0
 

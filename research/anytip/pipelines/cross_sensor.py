@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from anytip.calibrate import OWN_CHECK_ALARM
 from anytip.data.arrays import FleetArrays, has_patch_grid
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Budget, Plan, Strategy, plan_for
@@ -47,6 +48,7 @@ from anytip.train.shared_split import (
     SeedData,
     calibrate_many,
     main_rows,
+    own_check_losses,
     predict_rows,
     prepare_seed,
     unit_main_rows,
@@ -136,6 +138,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     rows += [dict(base, **r) for r in pooled_rows(pooled, arrays, sd)]
     priors_chosen: dict[str, dict[Budget, float]] = {}
     val_by_method: dict[str, dict[str, float]] = {}
+    own_by_method: dict[str, dict[str, dict[str, float | None]]] = {}
     for kind in ["none", *opts.adapters]:
         shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay,
@@ -149,11 +152,17 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             method = adapted_method(fit_kind, family) + fit.suffix()
             priors_chosen[method.removeprefix("adapted:")] = chosen
             val_by_method.update(validation_by_method(method, val_loss))
-            first = first or (chosen, val_loss)
-        chosen, val_loss = first
+            first = first or (chosen, val_loss, family, fit)
+        chosen, val_loss, family, fit = first
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"),
                            arrays.output_names)
         meta["val_loss_by_budget"] = by_budget(val_loss, opts)
+        checks = own_checks(arrays, sd, opts, shared, seed, chosen, family, fit)
+        if checks:
+            val = {b: [v for u, v in c.items() if u in sd.split.val and v is not None]
+                   for b, c in checks.items()}
+            meta["own_check_by_budget"] = by_budget(val, opts)
+            own_by_method[_slug(kind)] = {b.label: c for b, c in checks.items()}
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
@@ -161,6 +170,8 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         "priors_chosen": {k: {b.label: p for b, p in v.items()} for k, v in priors_chosen.items()},
         "test_patches": {u: np.unique(arrays.patch[e.test_rows]).tolist() for u, e in sd.evals.items()},
         "calibration_runs": {u: list(e.stream.runs) for u, e in sd.evals.items()},
+        "own_check": {"validation_units": list(sd.split.val), "alarm_above": OWN_CHECK_ALARM,
+                      "by_shared_model": own_by_method},
     }
     if sweep:
         rows += unit_count_rows(ctx, arrays, sd, opts, seed, priors_chosen.get(opts.sweep_adapter, {}))
@@ -361,6 +372,29 @@ def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndar
     return loss
 
 
+def own_checks(arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit, seed: int,
+               chosen: dict[Budget, float], family: PriorFamily, fit: FitVariant
+               ) -> dict[Budget, dict[str, float | None]]:
+    """Budget -> validation or held-out unit -> its calibration's own check at the chosen
+    prior (`train.shared_split.own_check_losses`: every 5th press held out and refitted
+    without). Budgets in robot seconds only (a stream prefix has no presses to hold out);
+    empty for a shared model without adapters."""
+    kind = fit.kind(shared.model.kind)
+    budgets = [b for b in chosen if b.amount > 0 and b.unit == "seconds"]
+    if kind == "none" or not budgets:
+        return {}
+    jobs = [(u, b) for b in budgets for u in [*sd.split.val, *sd.split.test]]
+    prior = make_prior(family, shared.model, opts.prior_rank) if kind == shared.model.kind else None
+    unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u, _ in jobs]
+    recipe = AdapterRecipe(fit.steps or opts.adapter_steps, opts.adapter_lr)
+    losses = own_check_losses(shared, arrays, unlabeled, [plan_of(sd, u, b, opts, seed) for u, b in jobs],
+                              [chosen[b] for _, b in jobs], recipe, seed, kind, prior)
+    out: dict[Budget, dict[str, float | None]] = {}
+    for (u, b), loss in zip(jobs, losses, strict=True):
+        out.setdefault(b, {})[u] = loss
+    return out
+
+
 def choose_priors(loss: dict[tuple[Budget, float], list[float]]) -> dict[Budget, float]:
     """Per budget > 0, the prior with the lowest mean validation loss."""
     chosen: dict[Budget, float] = {}
@@ -403,7 +437,7 @@ def calibrate_strategy(opts: Options) -> Strategy:
     return "spread" if "spread" in opts.plan_strategies else opts.plan_strategies[0]
 
 
-def by_budget(values: dict[Budget, float], opts: Options) -> dict[str, float]:
+def by_budget(values: dict[Budget, Any], opts: Options) -> dict[str, Any]:
     """Per-budget values keyed by amount (samples, or seconds of calibrate's strategy)."""
     keep = {b: v for b, v in values.items()
             if b.unit == "samples" or b.strategy == calibrate_strategy(opts)}

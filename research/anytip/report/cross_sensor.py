@@ -288,11 +288,44 @@ interval over units].
         'units', 'rows'], body)}
 
 ![error against calibration budget](rmse_vs_budget.png)
-""" + ("" if units_fig is None else """
+{own_check_section(cs)}""" + ("" if units_fig is None else """
 ## How many units to calibrate fully
 
 ![error against training units](rmse_vs_train_units.png)
 """)).write()
+
+
+def own_check_section(cross_sensor: dict[str, Any]) -> str:
+    """How the calibration's own check (`anytip calibrate`'s bad-unit alarm) behaves on the
+    held-out units, which are ordinary units: each one's check over the worst validation
+    unit's, per shared model and budget, pooled over seeds. Empty when no run recorded one."""
+    ratios: dict[tuple[str, str], list[float]] = {}
+    alarm = None
+    for record in cross_sensor.values():
+        own = record.get("own_check") or {}
+        alarm = own.get("alarm_above", alarm)
+        val = set(own.get("validation_units", []))
+        for model, by_budget in (own.get("by_shared_model") or {}).items():
+            for budget, losses in by_budget.items():
+                worst = max((v for u, v in losses.items() if u in val and v is not None), default=None)
+                if worst:
+                    ratios.setdefault((model, budget), []).extend(
+                        v / worst for u, v in losses.items() if u not in val and v is not None)
+    if not ratios or alarm is None:
+        return ""
+    body = [[f"`{model}`", budget, len(r), f"{np.median(r):.2f}x", f"{max(r):.2f}x",
+             sum(x > alarm for x in r)] for (model, budget), r in ratios.items() if r]
+    return f"""
+## The calibration's own check on ordinary units
+
+`anytip calibrate` refits a new unit's adapter without every 5th press of its plan, scores
+those presses, and warns when the result is more than {alarm:g}x the worst of the shared model's
+validation units checked the same way. The held-out units here are ordinary units: how often
+would the alarm have fired on them (unit-seeds pooled)?
+
+{table(['shared model', 'budget', 'held-out unit-seeds', 'median check / worst validation',
+        'largest', f'alarms (> {alarm:g}x)'], body)}
+"""
 
 
 def _extra_text(provenance: dict[str, Any]) -> str:

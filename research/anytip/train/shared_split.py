@@ -23,6 +23,7 @@ from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan, Presses, find_presses
 from anytip.data.seeds import TEST_PATCHES, VALIDATION_ROWS, stream_seed
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
+from anytip.models.io import LoadedShared
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.train.adapt import AdapterRecipe, SharedFit, calibrate_and_fold, input_stats
@@ -149,3 +150,33 @@ def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[
     Y = [torch.from_numpy(arrays.targets[p.rows]) for p in plans]
     return calibrate_and_fold(shared, unlabeled, X, Y, [len(p.rows) for p in plans], priors, recipe, seed,
                               fit_kind, [p.n_effective for p in plans], adapter_prior)
+
+
+OWN_CHECK_EVERY = 5  # every 5th press of a plan is held out for the calibration's own check
+
+
+def own_check_losses(shared: SharedFit | LoadedShared, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
+                     plans: list[Plan], priors: list[float], recipe: AdapterRecipe, seed: int,
+                     fit_kind: str | None = None, adapter_prior: AdapterPrior | None = None,
+                     every: int = OWN_CHECK_EVERY) -> list[float | None]:
+    """Each job's calibration checked on its own data: the adapter refitted without every
+    `every`-th press of the plan (the prior scaled by the presses kept), scored on those
+    presses as standardised MSE over all outputs (the benchmark's validation loss). None for a
+    plan of fewer than 2 presses. The same statistic on the benchmark's validation units is
+    what a new unit's check is compared with (`anytip calibrate`)."""
+    splits = [p.split_presses(every) for p in plans]
+    live = [k for k, (_, check) in enumerate(splits) if len(check)]
+    out: list[float | None] = [None] * len(plans)
+    if not live:
+        return out
+    X = [torch.from_numpy(arrays.pressure[splits[k][0]]) for k in live]
+    Y = [torch.from_numpy(arrays.targets[splits[k][0]]) for k in live]
+    folded, stats = calibrate_and_fold(
+        shared, [torch.from_numpy(arrays.pressure[unlabeled_rows[k]]) for k in live], X, Y,
+        [len(x) for x in X], [priors[k] for k in live], recipe, seed, fit_kind,
+        [plans[k].n_effective * len(splits[k][0]) / len(plans[k].rows) for k in live], adapter_prior)
+    preds = predict_rows(folded, stats, shared.out_scaler, arrays, [splits[k][1] for k in live])
+    std = shared.out_scaler.std.reshape(-1).cpu().numpy()
+    for k, pred in zip(live, preds, strict=True):
+        out[k] = float((((pred - arrays.targets[splits[k][1]]) / std) ** 2).mean())
+    return out
