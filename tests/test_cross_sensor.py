@@ -445,3 +445,29 @@ def test_calibrate_flags_a_unit_with_wrong_labels(seconds_run, two_protocol_regi
     captured = capsys.readouterr()
     assert "checked the same way" in captured.out and "(ALARM)" in captured.out
     assert "warning: the calibration's own check is" in captured.err
+
+
+def test_a_shared_model_of_another_shape_folds_into_that_shape(two_protocol_registry, tmp_path, capsys):
+    """`options.shared_model` sets the shape of the shared models (and what `anytip calibrate`
+    writes); the per-unit reference keeps the spec's model."""
+    overrides = [*TINY, "options.sweep_seeds=0", "options.adapters=[input_affine+film]",
+                 "options.shared_model={hidden: [16, 24]}"]
+    run = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "run", overrides=overrides,
+                         progress=False)
+    shared = load_shared(find_shared(run, "input_affine+film")[0])
+    assert shared.model.config.sizes == (8, 16, 24, 5)
+    x = torch.randn(shared.model.n_units, 50, 8)
+    torch.testing.assert_close(shared.model.fold()(x), shared.model(x), atol=1e-5, rtol=1e-5)
+    assert load_models(run / "models" / "per_unit_seed0").model.config.sizes == (8, 12, 64, 64, 5)
+    assert "8 -> 16 -> 24 -> 5 MLP (`options.shared_model`)" in (run / "report.md").read_text()
+    unit = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]["test"][0]
+    code = main(["calibrate", "--model", str(run), "--unit", unit, "--budget-samples", "300",
+                 "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cal")])
+    assert code == 0 and load_models(tmp_path / "cal").model.config.sizes == (8, 16, 24, 5)
+
+
+def test_a_shared_model_whose_ends_disagree_is_refused(two_protocol_registry, tmp_path, capsys):
+    code = main(["run", str(SPEC), "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "r"),
+                 *[a for o in [*TINY, "options.shared_model={sizes: [8, 16, 3]}"] for a in ("--set", o)]])
+    err = capsys.readouterr().err
+    assert code != 0 and "options.shared_model" in err and "output width" in err

@@ -58,8 +58,10 @@ class MLPConfig(BaseModel):
     def _hidden_to_sizes(cls, data: Any) -> Any:
         """`hidden` alone sets `sizes` to (8, *hidden, 5) until `for_sensor` sets the ends;
         `sizes` given as well names every width and wins."""
-        if not isinstance(data, dict) or data.get("hidden") is None:
+        if not isinstance(data, dict):
             return data
+        if data.get("hidden") is None:  # strict validation takes a tuple only as a tuple here
+            return {**data, "sizes": tuple(data["sizes"])} if isinstance(data.get("sizes"), list) else data
         hidden = tuple(data["hidden"])
         if any(not isinstance(h, int) or isinstance(h, bool) or not 1 <= h <= MAX_WIDTH for h in hidden):
             raise ValueError(f"hidden {list(hidden)}: widths must be integers in 1..{MAX_WIDTH}")

@@ -29,6 +29,7 @@ from anytip.data.plans import Budget, Plan, Strategy, plan_for
 from anytip.data.seeds import CALIBRATION_ROWS, VALIDATION_PATCHES, stream_seed
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
+from anytip.models.mlp import MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, load_extra, report_metrics, unit_of
 from anytip.pipelines.cross_sensor_options import FitVariant, Options, budget_list, parse_options
@@ -64,6 +65,12 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
                   s.unit_folds, opts.unlabeled_s)
     return prepare_seed(arrays, roles, opts.calibration_protocol, opts.calibration_interleave, seed,
                         ctx.device, extra)
+
+
+def shared_shape(ctx: Context, opts: Options) -> MLPConfig:
+    """The shape the shared and pooled models train (and adapters fold into)."""
+    return opts.shared_shape(ctx.spec.model, str(ctx.provenance.get("spec_file", ctx.spec.name)),
+                             str(ctx.provenance.get("sensor_model")))
 
 
 def min_units(ctx: Context) -> int:
@@ -133,14 +140,15 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         base["n_extra_units"] = sd.n_extra
     rows = [dict(base, **r) for r in per_unit_rows(ctx, arrays, sd, opts, seed)]
     rows += [dict(base, **r) for r in scratch_rows(ctx, arrays, sd, opts, seed)]
-    pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), spec.model,
+    shape = shared_shape(ctx, opts)
+    pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), shape,
                           "none", spec.training, seed, ctx.device, ctx.progress)
     rows += [dict(base, **r) for r in pooled_rows(pooled, arrays, sd)]
     priors_chosen: dict[str, dict[Budget, float]] = {}
     val_by_method: dict[str, dict[str, float]] = {}
     own_by_method: dict[str, dict[str, dict[str, float | None]]] = {}
     for kind in ["none", *opts.adapters]:
-        shared = train_shared(sd.train, sd.train_stats, spec.model, kind, spec.training, seed,
+        shared = train_shared(sd.train, sd.train_stats, shape, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay,
                               adapter_dropout=opts.adapter_dropout)
         first: tuple[dict[Budget, float], dict[Budget, float]] | None = None
@@ -418,8 +426,8 @@ def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
         keep = sorted(order[:k])
         sub = sd.train.subset(keep)
         stats = sd.train_stats.take(keep)
-        shared = train_shared(sub, stats, ctx.spec.model, opts.sweep_adapter, ctx.spec.training, seed,
-                              ctx.device, ctx.progress, opts.adapter_decay)
+        shared = train_shared(sub, stats, shared_shape(ctx, opts), opts.sweep_adapter, ctx.spec.training,
+                              seed, ctx.device, ctx.progress, opts.adapter_decay)
         fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b.amount > 0}
         kind_rows, _, _ = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed)
         rows += [dict(r, seed=seed, split="patches", n_train_units=k) for r in kind_rows]

@@ -11,6 +11,7 @@ from anytip.config import DataConfig
 from anytip.data.plans import Budget, BudgetUnit, RigTiming, Strategy
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
+from anytip.models.mlp import MLPConfig
 from anytip.pipelines.common import Context, validate_options
 from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
 from anytip.train.adapter_prior import PriorFamily
@@ -117,6 +118,10 @@ class Options(BaseModel):
     # the chance a training unit's adapter is left out of a step of shared training
     adapter_dropout: float = Field(default=0.0, ge=0, lt=1)
     extra_units: ExtraUnits | None = None
+    shared_model: MLPConfig | None = Field(
+        default=None, description="the shape of the shared (and pooled) models, as a model block: "
+        "`{hidden: [32, 128, 128]}`; adapters fold into it. The per-unit reference and the budget-only "
+        "MLP keep the spec's `model` (default: the spec's model for all)")
     scratch: TrainRecipe = SCRATCH
     unlabeled_s: float | None = Field(
         default=None, ge=0, le=1e7, description="seconds of a new unit's stream whose pressures (no "
@@ -127,6 +132,14 @@ class Options(BaseModel):
     sweep_adapter: str = "input_affine+film"
     sweep_budget: float = Field(default=1000, ge=0, le=10_000_000)
     sweep_seeds: int = Field(default=1, ge=0, le=1000)  # the first k seeds also run the unit-count sweep
+
+    def shared_shape(self, model: MLPConfig, source: str, sensor_model: str) -> MLPConfig:
+        """The shared models' shape, given the spec's `model` already fitted to the sensor model's
+        channels and targets: `shared_model` with the same ends, or `model` itself."""
+        if self.shared_model is None:
+            return model
+        return self.shared_model.for_sensor(model.sizes[0], model.sizes[-1],
+                                            f"{source}: options.shared_model", sensor_model)
 
 
 def parse_options(ctx: Context) -> Options:

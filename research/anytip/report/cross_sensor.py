@@ -268,8 +268,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
 Every method is scored on the same held-out {held}
 ({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's {held}) that no method saw in
 any run. {_budget_text(opts, seconds)}
-`adapted:*` models are scored after folding into the plain
-{' -> '.join(map(str, ctx.spec.model.sizes))} MLP; the adapter prior is chosen per budget on the
+{_shape_text(ctx, opts)} The adapter prior is chosen per budget on the
 validation units. Label-free rows (budget 0) use the unit's unlabeled stream for input statistics.
 
 ## Targets (ratios to the held-out units' own per-unit models)
@@ -293,6 +292,18 @@ interval over units].
 
 ![error against training units](rmse_vs_train_units.png)
 """)).write()
+
+
+def _shape_text(ctx: Any, opts: Any) -> str:
+    """Which MLP each method's figures come from: the shared models' shape, where
+    `options.shared_model` sets one, differs from the reference's."""
+    ref = " -> ".join(map(str, ctx.spec.model.sizes))
+    shape = opts.shared_shape(ctx.spec.model, ctx.spec.name, str(ctx.provenance.get("sensor_model")))
+    if shape.sizes == ctx.spec.model.sizes:
+        return f"`adapted:*` models are scored after folding into the plain {ref} MLP."
+    return (f"`adapted:*` and `pooled` models are a {' -> '.join(map(str, shape.sizes))} MLP "
+            f"(`options.shared_model`), scored after folding their adapters into it; the per-unit "
+            f"reference and `scratch` are the {ref} MLP.")
 
 
 def own_check_section(cross_sensor: dict[str, Any]) -> str:
