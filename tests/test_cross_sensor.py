@@ -449,11 +449,17 @@ def test_calibrate_flags_a_unit_with_wrong_labels(seconds_run, two_protocol_regi
 
 def test_a_shared_model_of_another_shape_folds_into_that_shape(two_protocol_registry, tmp_path, capsys):
     """`options.shared_model` sets the shape of the shared models (and what `anytip calibrate`
-    writes); the per-unit reference keeps the spec's model."""
+    writes); the per-unit reference keeps the spec's model, and `options.reference_shapes` adds
+    per-unit models of other shapes beside it, scored against it."""
     overrides = [*TINY, "options.sweep_seeds=0", "options.adapters=[input_affine+film]",
-                 "options.shared_model={hidden: [16, 24]}"]
+                 "options.shared_model={hidden: [16, 24]}", "options.reference_shapes=[{hidden: [16, 24]}]"]
     run = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "run", overrides=overrides,
                          progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    refs = {m: sorted(r["unit"] for r in rows if r["method"] == m) for m in ("per_unit", "per_unit:8-16-24-5")}
+    assert refs["per_unit"] == refs["per_unit:8-16-24-5"] and len(refs["per_unit"]) == 2
+    assert load_models(run / "models" / "per_unit_8-16-24-5_seed0").model.config.sizes == (8, 16, 24, 5)
+    assert "| per_unit:8-16-24-5 | full |" in (run / "report.md").read_text()
     shared = load_shared(find_shared(run, "input_affine+film")[0])
     assert shared.model.config.sizes == (8, 16, 24, 5)
     x = torch.randn(shared.model.n_units, 50, 8)

@@ -69,8 +69,12 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
 
 def shared_shape(ctx: Context, opts: Options) -> MLPConfig:
     """The shape the shared and pooled models train (and adapters fold into)."""
-    return opts.shared_shape(ctx.spec.model, str(ctx.provenance.get("spec_file", ctx.spec.name)),
-                             str(ctx.provenance.get("sensor_model")))
+    return opts.shared_shape(ctx.spec.model, *_names(ctx))
+
+
+def _names(ctx: Context) -> tuple[str, str]:
+    """(the spec's source, the sensor model): what a shape's error names."""
+    return str(ctx.provenance.get("spec_file", ctx.spec.name)), str(ctx.provenance.get("sensor_model"))
 
 
 def min_units(ctx: Context) -> int:
@@ -230,7 +234,18 @@ def _slug(kind: str) -> str:
 
 def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                   seed: int) -> list[dict[str, Any]]:
-    """The reference: each held-out unit's MLP on its full calibration minus its test patches,
+    """The reference (`per_unit`, the spec's model), and the same recipe in each of
+    `reference_shapes` (`per_unit:<sizes>`)."""
+    rows = reference_rows(ctx, arrays, sd, opts, seed, ctx.spec.model, "per_unit")
+    for shape in opts.reference_shapes_for(ctx.spec.model, *_names(ctx)):
+        name = "-".join(map(str, shape.sizes))
+        rows += reference_rows(ctx, arrays, sd, opts, seed, shape, f"per_unit:{name}", f"_{name}")
+    return rows
+
+
+def reference_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
+                   shape: MLPConfig, method: str, tag: str = "") -> list[dict[str, Any]]:
+    """Each held-out unit's MLP of `shape` on its full calibration minus its test patches,
     fitted with each of `reference_lrs` (or the recipe's lr); each unit keeps the fit with the
     lowest loss on its own validation rows (random rows or whole patches: `reference_val`)."""
     units, members = list(sd.split.test), []
@@ -249,16 +264,17 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                                     unit))
     data = FleetBatchData.from_units(members, ctx.device, arrays.output_names)
     recipes = [recipe.model_copy(update={"lr": lr}) for lr in opts.reference_lrs] or [recipe]
-    fits = [train_fleet(data, ctx.spec.model, r, seed=seed, device=ctx.device, progress=ctx.progress)
+    fits = [train_fleet(data, shape, r, seed=seed, device=ctx.device, progress=ctx.progress)
             for r in recipes]
     best = np.argmin(np.stack([best_val_loss(f) for f in fits]), axis=0)  # (units,) the fit each keeps
     for k, fit in enumerate(fits):
-        fit.save(ctx.run_dir / "models" / (f"per_unit_seed{seed}" + ("" if len(fits) == 1 else f"_lr{k}")))
+        lr_tag = "" if len(fits) == 1 else f"_lr{k}"
+        fit.save(ctx.run_dir / "models" / f"per_unit{tag}_seed{seed}{lr_tag}")
     preds = [predict_rows(f.model, f.in_scaler, f.out_scaler, arrays, [sd.evals[u].test_rows for u in units])
              for f in fits]
     rows = []
     for k, u in enumerate(units):
-        row = {"method": "per_unit", "unit": u, "calib_samples": int(data.n_train[k] + data.n_val[k]),
+        row = {"method": method, "unit": u, "calib_samples": int(data.n_train[k] + data.n_val[k]),
                "calib_seconds": None, **scores(preds[best[k]][k], arrays.targets[sd.evals[u].test_rows],
                                                         arrays.layout)}
         if opts.reference_lrs:

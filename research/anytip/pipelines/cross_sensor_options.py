@@ -118,6 +118,9 @@ class Options(BaseModel):
     # the chance a training unit's adapter is left out of a step of shared training
     adapter_dropout: float = Field(default=0.0, ge=0, lt=1)
     extra_units: ExtraUnits | None = None
+    reference_shapes: list[MLPConfig] = Field(
+        default=[], description="more per-unit models of other shapes (model blocks), each trained and "
+        "selected exactly like the reference: a method `per_unit:<sizes>` with its ratio to the reference")
     shared_model: MLPConfig | None = Field(
         default=None, description="the shape of the shared (and pooled) models, as a model block: "
         "`{hidden: [32, 128, 128]}`; adapters fold into it. The per-unit reference and the budget-only "
@@ -140,6 +143,11 @@ class Options(BaseModel):
             return model
         return self.shared_model.for_sensor(model.sizes[0], model.sizes[-1],
                                             f"{source}: options.shared_model", sensor_model)
+
+    def reference_shapes_for(self, model: MLPConfig, source: str, sensor_model: str) -> list[MLPConfig]:
+        """`reference_shapes` with the ends of the spec's `model` (fitted to the sensor model)."""
+        return [shape.for_sensor(model.sizes[0], model.sizes[-1], f"{source}: options.reference_shapes[{k}]",
+                                 sensor_model) for k, shape in enumerate(self.reference_shapes)]
 
 
 def parse_options(ctx: Context) -> Options:

@@ -28,8 +28,17 @@ def full_set_rows(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return [r for r in rows if r["n_train_units"] == full]
 
 
+def is_reference(method: str) -> bool:
+    """Per-unit models on the unit's full calibration: the reference `per_unit` and the same
+    recipe in other shapes (`per_unit:8-48-48-48-5`, `options.reference_shapes`)."""
+    return method == "per_unit" or method.startswith("per_unit:")
+
+
 def budget_of(r: dict[str, Any]) -> float:
-    """A row's budget: robot seconds where the spec budgets in seconds, else labeled samples."""
+    """A row's budget: robot seconds where the spec budgets in seconds, else labeled samples;
+    -1 (the full calibration) for per-unit models."""
+    if is_reference(r["method"]):
+        return -1.0
     return r["budget_s"] if "budget_s" in r else r["calib_samples"]
 
 
@@ -85,7 +94,7 @@ def summary(rows: list[dict[str, Any]], metrics: Sequence[Metric] = METRICS) -> 
     per_unit = {m.name: unit_ratios(rows, m.key) for m in metrics}
     groups: dict[tuple[str, int], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
-        groups[(r["method"], budget_of(r) if r["method"] != "per_unit" else -1)].append(r)
+        groups[(r["method"], budget_of(r))].append(r)
     out = []
     for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
         secs = [r["calib_seconds"] for r in rs if r.get("calib_seconds") is not None]
@@ -174,10 +183,11 @@ def budget_figure(rows: list[dict[str, Any]], path: Path, metrics: Sequence[Metr
     from the 10th to the 90th percentile; per_unit as a horizontal band."""
     fig, axes = subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
     axes = axes[0]
-    methods = sorted({r["method"] for r in rows} - {"per_unit"})
-    budgets = sorted({budget_of(r) for r in rows if r["method"] != "per_unit"})
+    methods = sorted({r["method"] for r in rows if not is_reference(r["method"])})
+    budgets = sorted({budget_of(r) for r in rows if not is_reference(r["method"])})
     pos = {b: (i if b > 0 else 0) for i, b in enumerate(budgets)}
-    secs = {b: np.mean([r["calib_seconds"] for r in rows if budget_of(r) == b and r["method"] != "per_unit"
+    fleet = [r for r in rows if not is_reference(r["method"])]
+    secs = {b: np.mean([r["calib_seconds"] for r in fleet if budget_of(r) == b
                         and r.get("calib_seconds") is not None] or [0.0]) for b in budgets}
     for ax, (key, _, label) in zip(axes, metrics, strict=True):
         ref = [r[key] for r in rows if r["method"] == "per_unit"]
@@ -299,11 +309,13 @@ def _shape_text(ctx: Any, opts: Any) -> str:
     `options.shared_model` sets one, differs from the reference's."""
     ref = " -> ".join(map(str, ctx.spec.model.sizes))
     shape = opts.shared_shape(ctx.spec.model, ctx.spec.name, str(ctx.provenance.get("sensor_model")))
+    others = ("" if not opts.reference_shapes else " Rows `per_unit:<sizes>` are per-unit models of other "
+              "shapes (`options.reference_shapes`), trained and selected exactly like the reference.")
     if shape.sizes == ctx.spec.model.sizes:
-        return f"`adapted:*` models are scored after folding into the plain {ref} MLP."
+        return f"`adapted:*` models are scored after folding into the plain {ref} MLP.{others}"
     return (f"`adapted:*` and `pooled` models are a {' -> '.join(map(str, shape.sizes))} MLP "
             f"(`options.shared_model`), scored after folding their adapters into it; the per-unit "
-            f"reference and `scratch` are the {ref} MLP.")
+            f"reference and `scratch` are the {ref} MLP.{others}")
 
 
 def own_check_section(cross_sensor: dict[str, Any]) -> str:
