@@ -456,7 +456,8 @@ def test_a_shared_model_of_another_shape_folds_into_that_shape(two_protocol_regi
     run = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "run", overrides=overrides,
                          progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
-    refs = {m: sorted(r["unit"] for r in rows if r["method"] == m) for m in ("per_unit", "per_unit:8-16-24-5")}
+    refs = {m: sorted(r["unit"] for r in rows if r["method"] == m)
+            for m in ("per_unit", "per_unit:8-16-24-5")}
     assert refs["per_unit"] == refs["per_unit:8-16-24-5"] and len(refs["per_unit"]) == 2
     assert load_models(run / "models" / "per_unit_8-16-24-5_seed0").model.config.sizes == (8, 16, 24, 5)
     assert "| per_unit:8-16-24-5 | full |" in (run / "report.md").read_text()
@@ -473,7 +474,8 @@ def test_a_shared_model_of_another_shape_folds_into_that_shape(two_protocol_regi
 
 
 def test_a_shared_model_whose_ends_disagree_is_refused(two_protocol_registry, tmp_path, capsys):
-    code = main(["run", str(SPEC), "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "r"),
-                 *[a for o in [*TINY, "options.shared_model={sizes: [8, 16, 3]}"] for a in ("--set", o)]])
+    overrides = [*TINY, "options.shared_model={sizes: [8, 16, 3]}"]
+    code = main(["run", str(SPEC), "--registry", str(two_protocol_registry.root),
+                 "--out", str(tmp_path / "r"), *[a for o in overrides for a in ("--set", o)]])
     err = capsys.readouterr().err
     assert code != 0 and "options.shared_model" in err and "output width" in err

@@ -1,0 +1,133 @@
+"""Where a calibrated unit errs: on the presses it was calibrated on, or elsewhere.
+
+For a finished cross_sensor run (budgets in robot seconds), each held-out unit of a seed is
+calibrated again exactly as the benchmark did it (same shared model, plan, prior and fit), and
+its force RMSE is split three ways, each over the unit's own per-unit reference on the same
+rows:
+
+- the plan's own rows (what the adapter was fitted on; the reference trained on them too);
+- test patches in orientations the plan visited;
+- test patches in orientations it did not visit (a re-mount the budget could not pay for).
+
+A low ratio on the plan's rows and a high one on the test patches means the calibration does
+not generalise from its presses; a high ratio only in unvisited orientations means coverage.
+
+    python scripts/where_calibration_errs.py RUN_DIR --registry data/fleet24 --budget 120 \
+        [--seeds 0 1] [--adapter input_affine+film] [--out FILE.md]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from anytip.config import load_spec
+from anytip.data.plans import Budget
+from anytip.data.registry import Registry
+from anytip.models.io import load_models, load_shared
+from anytip.pipelines.common import Context, load
+from anytip.pipelines.cross_sensor import plan_of, prepare
+from anytip.pipelines.cross_sensor_options import parse_options
+from anytip.report.cross_sensor import mean_interval
+from anytip.train.adapt import AdapterRecipe
+from anytip.train.metrics import scores
+from anytip.train.shared_split import calibrate_many, predict_rows
+
+KEY = "force_rmse_n"  # the benchmark's force RMSE [N] (anytip.train.metrics.scores)
+
+
+def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str) -> list[dict]:
+    """Per held-out unit of `seed`: force-RMSE ratios to the reference on plan rows and on the
+    test patches of visited and unvisited orientations."""
+    spec = load_spec(run / "config.yaml")
+    prov = json.loads((run / "provenance.json").read_text())
+    ctx = Context(spec, Registry(Path(registry), create=False), run, torch.device("cpu"), False)
+    opts = parse_options(ctx)
+    arrays = load(ctx, 8)
+    sd = prepare(ctx, arrays, opts, seed)
+    units = list(sd.split.test)
+    if units != prov["cross_sensor"][f"seed{seed}"]["units"]["test"]:
+        raise SystemExit(f"{run}: seed {seed}'s held-out units differ from the run's record")
+    fit = opts.fits[0]
+    method = f"{adapter}{fit.suffix()}"
+    prior = prov["cross_sensor"][f"seed{seed}"]["priors_chosen"][method][f"{amount:g} s spread"]
+    shared = load_shared(run / "models" / f"shared_{adapter.replace('+', '-')}_seed{seed}.safetensors")
+    plans = [plan_of(sd, u, Budget(amount, "seconds", "spread"), opts, seed) for u in units]
+    recipe = AdapterRecipe(fit.steps or opts.adapter_steps, opts.adapter_lr)
+    unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u in units]
+    folded, stats = calibrate_many(shared, arrays, unlabeled, plans, [prior] * len(units), recipe, seed)
+    rows = {"plan": [p.rows for p in plans], "test": [sd.evals[u].test_rows for u in units]}
+    adapted = {k: predict_rows(folded, stats, shared.out_scaler, arrays, r) for k, r in rows.items()}
+    results = json.loads((run / "metrics.json").read_text())["results"]
+    lr_of = {r["unit"]: r.get("reference_lr") for r in results
+             if r["seed"] == seed and r["method"] == "per_unit"}
+    refs = {}
+    for k, lr in enumerate(opts.reference_lrs or [None]):
+        name = f"per_unit_seed{seed}" + (f"_lr{k}" if opts.reference_lrs else "")
+        m = load_models(run / "models" / name)
+        refs[lr] = {key: predict_rows(m.model, m.in_scaler, m.out_scaler, arrays, r)
+                    for key, r in rows.items()}
+    orientation = np.array([r.orientation_deg for r in arrays.runs])
+
+    def ratio(pred: np.ndarray, ref_pred: np.ndarray, at: np.ndarray) -> float:
+        y = arrays.targets[at]
+        return scores(pred, y, arrays.layout)[KEY] / scores(ref_pred, y, arrays.layout)[KEY]
+
+    out = []
+    for i, u in enumerate(units):
+        ref = refs[lr_of[u]]
+        line = {"unit": u, "seed": seed, "orientations": list(plans[i].orientations),
+                "plan": ratio(adapted["plan"][i], ref["plan"][i], rows["plan"][i])}
+        test = rows["test"][i]
+        visited = np.isin(orientation[arrays.run[test]], plans[i].orientations)
+        for key, sel in (("visited", visited), ("unvisited", ~visited)):
+            if sel.any():
+                line[key] = ratio(adapted["test"][i][sel], ref["test"][i][sel], test[sel])
+        out.append(line)
+    return out
+
+
+def table(lines: list[dict]) -> str:
+    """Markdown: one row per (unit, seed), then the mean over rows with a 95% bootstrap interval."""
+    head = ("| unit | seed | orientations visited | plan rows | test, visited | test, unvisited |\n"
+            "|---|---|---|---|---|---|")
+
+    def cell(v: float | None) -> str:
+        return "" if v is None else f"{v:.2f}x"
+
+    body = [f"| {r['unit']} | {r['seed']} | {', '.join(f'{o:g}' for o in r['orientations'])} | "
+            f"{cell(r['plan'])} | {cell(r.get('visited'))} | {cell(r.get('unvisited'))} |" for r in lines]
+    summary = []
+    for key in ("plan", "visited", "unvisited"):
+        v = [r[key] for r in lines if key in r]
+        if v:
+            m, lo, hi = mean_interval(v)
+            summary.append(f"{key}: {m:.2f}x [{lo:.2f}, {hi:.2f}] over {len(v)} unit-seeds")
+    return "\n".join([head, *body, "", "Mean force-RMSE ratio to the reference: " + "; ".join(summary)])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("run", type=Path)
+    ap.add_argument("--registry", required=True)
+    ap.add_argument("--budget", type=float, default=120.0, help="robot seconds (a budget of the run)")
+    ap.add_argument("--seeds", type=int, nargs="+", default=None)
+    ap.add_argument("--adapter", default="input_affine+film")
+    ap.add_argument("--out", type=Path, default=None)
+    a = ap.parse_args()
+    torch.set_num_threads(1)
+    seeds = a.seeds or load_spec(a.run / "config.yaml").all_seeds
+    lines = [line for s in seeds for line in seed_ratios(a.run, a.registry, s, a.budget, a.adapter)]
+    text = (f"# Where a {a.budget:g} s calibration errs: `{a.run.name}`, {a.adapter} "
+            f"(first fit of the run)\n\n{table(lines)}\n")
+    print(text)
+    if a.out:
+        a.out.write_text(text)
+
+
+if __name__ == "__main__":
+    main()
