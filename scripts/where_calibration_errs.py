@@ -12,8 +12,12 @@ rows:
 A low ratio on the plan's rows and a high one on the test patches means the calibration does
 not generalise from its presses; a high ratio only in unvisited orientations means coverage.
 
+With `--priors`, the same calibration is also refitted at each prior strength and scored on the
+test patches: the best strength per unit (chosen on held-out units, so never a method) bounds
+what tuning the prior's strength could gain over the validation units' choice.
+
     python scripts/where_calibration_errs.py RUN_DIR --registry data/fleet24 --budget 120 \
-        [--seeds 0 1] [--adapter input_affine+film] [--out FILE.md]
+        [--seeds 0 1] [--adapter input_affine+film] [--priors 0.1 1 10 100 1000] [--out FILE.md]
 """
 
 from __future__ import annotations
@@ -40,9 +44,11 @@ from anytip.train.shared_split import calibrate_many, predict_rows
 KEY = "force_rmse_n"  # the benchmark's force RMSE [N] (anytip.train.metrics.scores)
 
 
-def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str) -> list[dict]:
+def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str,
+                priors: list[float]) -> list[dict]:
     """Per held-out unit of `seed`: force-RMSE ratios to the reference on plan rows and on the
-    test patches of visited and unvisited orientations."""
+    test patches of visited and unvisited orientations (at the prior the run chose), and on all
+    test patches at each of `priors` (`by_prior`)."""
     spec = load_spec(run / "config.yaml")
     prov = json.loads((run / "provenance.json").read_text())
     ctx = Context(spec, Registry(Path(registry), create=False), run, torch.device("cpu"), False)
@@ -59,9 +65,13 @@ def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str
     plans = [plan_of(sd, u, Budget(amount, "seconds", "spread"), opts, seed) for u in units]
     recipe = AdapterRecipe(fit.steps or opts.adapter_steps, opts.adapter_lr)
     unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u in units]
-    folded, stats = calibrate_many(shared, arrays, unlabeled, plans, [prior] * len(units), recipe, seed)
+    jobs = [(k, p) for p in [prior, *priors] for k in range(len(units))]
+    folded, stats = calibrate_many(shared, arrays, [unlabeled[k] for k, _ in jobs],
+                                   [plans[k] for k, _ in jobs], [p for _, p in jobs], recipe, seed)
     rows = {"plan": [p.rows for p in plans], "test": [sd.evals[u].test_rows for u in units]}
-    adapted = {k: predict_rows(folded, stats, shared.out_scaler, arrays, r) for k, r in rows.items()}
+    every = {key: predict_rows(folded, stats, shared.out_scaler, arrays, [r[k] for k, _ in jobs])
+             for key, r in rows.items()}
+    adapted = {key: pred[: len(units)] for key, pred in every.items()}
     results = json.loads((run / "metrics.json").read_text())["results"]
     lr_of = {r["unit"]: r.get("reference_lr") for r in results
              if r["seed"] == seed and r["method"] == "per_unit"}
@@ -87,6 +97,8 @@ def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str
         for key, sel in (("visited", visited), ("unvisited", ~visited)):
             if sel.any():
                 line[key] = ratio(adapted["test"][i][sel], ref["test"][i][sel], test[sel])
+        line["by_prior"] = {p: ratio(every["test"][j], ref["test"][i], test)
+                            for j, (k, p) in enumerate(jobs) if k == i and j >= len(units)}
         out.append(line)
     return out
 
@@ -107,7 +119,16 @@ def table(lines: list[dict]) -> str:
         if v:
             m, lo, hi = mean_interval(v)
             summary.append(f"{key}: {m:.2f}x [{lo:.2f}, {hi:.2f}] over {len(v)} unit-seeds")
-    return "\n".join([head, *body, "", "Mean force-RMSE ratio to the reference: " + "; ".join(summary)])
+    text = "\n".join([head, *body, "", "Mean force-RMSE ratio to the reference: " + "; ".join(summary)])
+    priors = sorted({p for r in lines for p in r["by_prior"]})
+    if not priors:
+        return text
+    grid = np.array([[r["by_prior"][p] for p in priors] for r in lines])  # (unit-seeds, priors)
+    cells = [f"{p:g}: {mean_interval(list(grid[:, j]))[0]:.2f}x" for j, p in enumerate(priors)]
+    best, lo, hi = mean_interval(list(grid.min(1)))
+    return (f"{text}\n\nAll test patches, by prior strength (mean over unit-seeds): {'; '.join(cells)}. "
+            f"The best strength of each unit, chosen on its own test patches (a bound, not a method): "
+            f"{best:.2f}x [{lo:.2f}, {hi:.2f}].\n")
 
 
 def main() -> None:
@@ -117,11 +138,12 @@ def main() -> None:
     ap.add_argument("--budget", type=float, default=120.0, help="robot seconds (a budget of the run)")
     ap.add_argument("--seeds", type=int, nargs="+", default=None)
     ap.add_argument("--adapter", default="input_affine+film")
+    ap.add_argument("--priors", type=float, nargs="*", default=[], help="prior strengths to refit at")
     ap.add_argument("--out", type=Path, default=None)
     a = ap.parse_args()
     torch.set_num_threads(1)
     seeds = a.seeds or load_spec(a.run / "config.yaml").all_seeds
-    lines = [line for s in seeds for line in seed_ratios(a.run, a.registry, s, a.budget, a.adapter)]
+    lines = [line for s in seeds for line in seed_ratios(a.run, a.registry, s, a.budget, a.adapter, a.priors)]
     text = (f"# Where a {a.budget:g} s calibration errs: `{a.run.name}`, {a.adapter} "
             f"(first fit of the run)\n\n{table(lines)}\n")
     print(text)
