@@ -2,6 +2,7 @@
 folded models, the deployment workflow end to end."""
 
 import dataclasses
+import importlib.util
 import json
 import shutil
 from pathlib import Path
@@ -479,3 +480,25 @@ def test_a_shared_model_whose_ends_disagree_is_refused(two_protocol_registry, tm
                  "--out", str(tmp_path / "r"), *[a for o in overrides for a in ("--set", o)]])
     err = capsys.readouterr().err
     assert code != 0 and "options.shared_model" in err and "output width" in err
+
+
+def test_where_a_calibration_errs_recalibrates_like_the_benchmark(seconds_run, two_protocol_registry):
+    """scripts/where_calibration_errs.py refits each held-out unit as the run did: its ratio on
+    the test patches at the run's prior is the run's own row, and every unit gets a ratio on
+    its plan's rows and at each prior asked for."""
+    spec = importlib.util.spec_from_file_location("where", REPO / "scripts" / "where_calibration_errs.py")
+    where = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(where)
+    lines = where.seed_ratios(seconds_run, str(two_protocol_registry.root), 0, 40.0, "input_affine+film",
+                              [1.0, 100.0])
+    rows = json.loads((seconds_run / "metrics.json").read_text())["results"]
+    ref = {r["unit"]: r["force_rmse_n"] for r in rows if r["method"] == "per_unit"}
+    ran = {r["unit"]: (r["force_rmse_n"] / ref[r["unit"]], r["prior"]) for r in rows
+           if r["method"] == "adapted:input_affine+film@spread" and r["budget_s"] == 40}
+    assert sorted(line["unit"] for line in lines) == sorted(ran)
+    for line in lines:
+        assert line["plan"] > 0 and ("visited" in line or "unvisited" in line)
+        assert set(line["by_prior"]) == {1.0, 100.0}
+        ratio, prior = ran[line["unit"]]
+        assert line["by_prior"][prior] == pytest.approx(ratio, rel=0.05)
+    assert "best strength of each unit" in where.table(lines)
