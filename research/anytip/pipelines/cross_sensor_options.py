@@ -141,13 +141,18 @@ class Options(BaseModel):
         channels and targets: `shared_model` with the same ends, or `model` itself."""
         if self.shared_model is None:
             return model
-        return self.shared_model.for_sensor(model.sizes[0], model.sizes[-1],
-                                            f"{source}: options.shared_model", sensor_model)
+        return _with_ends(self.shared_model, model, f"{source}: options.shared_model", sensor_model)
 
     def reference_shapes_for(self, model: MLPConfig, source: str, sensor_model: str) -> list[MLPConfig]:
         """`reference_shapes` with the ends of the spec's `model` (fitted to the sensor model)."""
-        return [shape.for_sensor(model.sizes[0], model.sizes[-1], f"{source}: options.reference_shapes[{k}]",
-                                 sensor_model) for k, shape in enumerate(self.reference_shapes)]
+        return [_with_ends(shape, model, f"{source}: options.reference_shapes[{k}]", sensor_model)
+                for k, shape in enumerate(self.reference_shapes)]
+
+
+def _with_ends(shape: MLPConfig, model: MLPConfig, where: str, sensor_model: str) -> MLPConfig:
+    """`shape` with the input and output widths of `model` (the spec's, fitted to the sensor);
+    explicit sizes that disagree are refused naming `where`."""
+    return shape.for_sensor(model.sizes[0], model.sizes[-1], where, sensor_model)
 
 
 def parse_options(ctx: Context) -> Options:
