@@ -1,7 +1,8 @@
 """Where a calibrated unit errs: on the presses it was calibrated on, or elsewhere.
 
 For a finished cross_sensor run (budgets in robot seconds), each held-out unit of a seed is
-calibrated again exactly as the benchmark did it (same shared model, plan, prior and fit), and
+calibrated again exactly as the benchmark did it (same shared model, plan, prior, prior family
+and fit: the run's first method of that shared model), and
 its force RMSE is split three ways, each over the unit's own per-unit reference on the same
 rows:
 
@@ -34,10 +35,11 @@ from anytip.data.plans import Budget
 from anytip.data.registry import Registry
 from anytip.models.io import load_models, load_shared
 from anytip.pipelines.common import Context, load
-from anytip.pipelines.cross_sensor import plan_of, prepare
+from anytip.pipelines.cross_sensor import adapted_method, fit_methods, min_units, plan_of, prepare
 from anytip.pipelines.cross_sensor_options import parse_options
 from anytip.report.cross_sensor import mean_interval
 from anytip.train.adapt import AdapterRecipe
+from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import scores
 from anytip.train.shared_split import calibrate_many, predict_rows
 
@@ -53,21 +55,25 @@ def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str
     prov = json.loads((run / "provenance.json").read_text())
     ctx = Context(spec, Registry(Path(registry), create=False), run, torch.device("cpu"), False)
     opts = parse_options(ctx)
-    arrays = load(ctx, 8)
+    arrays = load(ctx, min_units(ctx))
     sd = prepare(ctx, arrays, opts, seed)
     units = list(sd.split.test)
     if units != prov["cross_sensor"][f"seed{seed}"]["units"]["test"]:
         raise SystemExit(f"{run}: seed {seed}'s held-out units differ from the run's record")
-    fit = opts.fits[0]
-    method = f"{adapter}{fit.suffix()}"
-    prior = prov["cross_sensor"][f"seed{seed}"]["priors_chosen"][method][f"{amount:g} s spread"]
+    family, fit = fit_methods(adapter, opts)[0]  # the run's first method of this shared model
+    kind = fit.kind(adapter)
+    method = (adapted_method(kind, family) + fit.suffix()).removeprefix("adapted:")
+    budget = Budget(amount, "seconds", "spread")
+    prior = prov["cross_sensor"][f"seed{seed}"]["priors_chosen"][method][budget.label]
     shared = load_shared(run / "models" / f"shared_{adapter.replace('+', '-')}_seed{seed}.safetensors")
-    plans = [plan_of(sd, u, Budget(amount, "seconds", "spread"), opts, seed) for u in units]
+    learnt = make_prior(family, shared.model, opts.prior_rank) if kind == adapter else None
+    plans = [plan_of(sd, u, budget, opts, seed) for u in units]
     recipe = AdapterRecipe(fit.steps or opts.adapter_steps, opts.adapter_lr)
     unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u in units]
     jobs = [(k, p) for p in [prior, *priors] for k in range(len(units))]
     folded, stats = calibrate_many(shared, arrays, [unlabeled[k] for k, _ in jobs],
-                                   [plans[k] for k, _ in jobs], [p for _, p in jobs], recipe, seed)
+                                   [plans[k] for k, _ in jobs], [p for _, p in jobs], recipe, seed,
+                                   kind, learnt)
     rows = {"plan": [p.rows for p in plans], "test": [sd.evals[u].test_rows for u in units]}
     every = {key: predict_rows(folded, stats, shared.out_scaler, arrays, [r[k] for k, _ in jobs])
              for key, r in rows.items()}
