@@ -225,3 +225,24 @@ def test_uncertainty_runs_on_the_edge_sensor_with_coverage_per_target(two_design
     assert not any("fscale" in r["method"] for r in rows)  # a + b |F| needs a force target
     report = (run_dir / "report.md").read_text()
     assert "foreign-unit faults skipped" in report and "coverage_map" not in report
+
+
+def test_another_shared_shape_takes_the_edge_sensors_ends(two_designs, tmp_path):
+    """`options.shared_model` and `options.reference_shapes` name hidden widths only: on the
+    4-barometer edge sensor the shapes take its 4 channels and its outputs, and fold there."""
+    from anytip.calibrate import find_shared
+    from anytip.models.io import load_models, load_shared
+
+    overrides = ["data.sensor_model=edge-4baro", "data.protocol=[quick, short]", "seeds=[0]",
+                 "training.epochs=1", "options.budgets=[0, 200]", "options.adapters=[input_affine+film]",
+                 "options.priors=[10]", "options.sweep_seeds=0", "splits.n_val_units=1",
+                 "splits.n_test_units=2", "options.shared_model={hidden: [16, 24]}",
+                 "options.reference_shapes=[{hidden: [16, 24]}]"]
+    run = run_experiment(REPO / "experiments" / "cross_sensor.yaml", two_designs, out=tmp_path / "run",
+                         progress=False, overrides=overrides)
+    shared = load_shared(find_shared(run, "input_affine+film")[0]).model
+    assert shared.config.sizes[:3] == (4, 16, 24) and shared.config.sizes[-1] == 2
+    assert load_models(run / "models" / "per_unit_4-16-24-2_seed0").model.config.sizes == (4, 16, 24, 2)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    assert {r["unit"] for r in rows if r["method"] == "per_unit:4-16-24-2"} == {
+        r["unit"] for r in rows if r["method"] == "per_unit"}
