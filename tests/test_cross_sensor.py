@@ -502,3 +502,24 @@ def test_where_a_calibration_errs_recalibrates_like_the_benchmark(seconds_run, t
         ratio, prior = ran[line["unit"]]
         assert line["by_prior"][prior] == pytest.approx(ratio, rel=0.05)
     assert "best strength of each unit" in where.table(lines)
+
+
+def test_episodic_training_is_its_own_method_and_calibrates(two_protocol_registry, tmp_path):
+    """`options.shared_training: [joint, episodic]` trains each adapter kind both ways, side by
+    side in one run: rows `adapted:<kind>~episodic`, their own validation losses and model file,
+    the learnt inner step sizes in its history; `anytip calibrate` may pick either."""
+    overrides = [*TINY, "options.sweep_seeds=0", "options.adapters=[input_affine+film]",
+                 "options.shared_training=[joint,episodic]",
+                 "options.episodic={presses: 2, rows_per_press: 8, inner_steps: 2}"]
+    run = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "run", overrides=overrides,
+                         progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    methods = {r["method"] for r in rows}
+    assert {"adapted:input_affine+film", "adapted:input_affine+film~episodic"} <= methods
+    val = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["val_loss"]
+    assert set(val["adapted:input_affine+film~episodic"]) == {"0", "50", "400"}
+    path, _ = find_shared(run, "input_affine+film_episodic")
+    shared = load_shared(path)
+    x = torch.randn(shared.model.n_units, 50, 8)
+    torch.testing.assert_close(shared.model.fold()(x), shared.model(x), atol=1e-5, rtol=1e-5)
+    assert "adapted:input_affine+film~episodic" in (run / "report.md").read_text()

@@ -151,8 +151,12 @@ class AdaptedMLP(nn.Module):
     def forward(self, x: Tensor, keep: Tensor | None = None) -> Tensor:
         """x (U, B, d_in) -> (U, B, d_out); `keep` (U,) bool drops the adapters of the units
         where it is False for this pass (see `_active`)."""
+        return self.forward_with(x, self._active(keep))
+
+    def forward_with(self, x: Tensor, a: dict[str, Tensor]) -> Tensor:
+        """x (U, B, d_in) -> (U, B, d_out) with adapter tensors `a` (this model's keys, each
+        (U, ...)) in place of its own: an adapter being fitted inside a training step."""
         act = ACTIVATIONS[self.config.activation]
-        a = self._active(keep)
         x = self._input(x, a)
         last = len(self.weights) - 1
         for k, (W, b) in enumerate(zip(self.weights, self.biases, strict=True)):
@@ -180,6 +184,11 @@ class AdaptedMLP(nn.Module):
         for k, p in self.adapter.items():
             out = out + ((p - identity[k]) ** 2).flatten(1).sum(1)
         return out
+
+    def identity_like(self, n_units: int) -> dict[str, Tensor]:
+        """`n_units` identity adapters as plain tensors on the model's device (no parameters)."""
+        identity = self._identity_on(self.weights[0].device)
+        return {k: v.expand(n_units, *v.shape[1:]).clone() for k, v in identity.items()}
 
     def _identity_on(self, device: torch.device) -> dict[str, Tensor]:
         """One unit's identity adapter on `device`, built once (deviation() runs every step)."""

@@ -32,7 +32,14 @@ from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.mlp import MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, load_extra, report_metrics, unit_of
-from anytip.pipelines.cross_sensor_options import FitVariant, Options, budget_list, parse_options
+from anytip.pipelines.cross_sensor_options import (
+    FitVariant,
+    Options,
+    Training,
+    budget_list,
+    parse_options,
+    training_tag,
+)
 from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
@@ -110,14 +117,14 @@ def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
 def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, dict[str, float]]:
     """{method: {budget: loss}} from the metadata of a seed's saved shared models."""
     out: dict[str, dict[str, float]] = {}
-    for kind in ["none", *opts.adapters]:
-        path = models / f"shared_{_slug(kind)}_{seed_key}.json"
+    for kind, training in shared_models(opts):
+        path = models / f"shared_{_slug(kind)}{_file_tag(training)}_{seed_key}.json"
         if path.is_file():
             meta = read_header(path, SHARED_FORMAT).get("meta", {})
             meta = meta if isinstance(meta, dict) else {}
             suffix = f"@{meta.get('plan_strategy')}" if meta.get("budget_unit") == "seconds" else ""
             for b, v in meta.get("val_loss_by_budget", {}).items():
-                method = adapted_method(kind) + (suffix if float(b) > 0 else "")
+                method = adapted_method(kind) + training_tag(training) + (suffix if float(b) > 0 else "")
                 out.setdefault(method, {})[str(b)] = float(v)
     return out
 
@@ -151,17 +158,20 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     priors_chosen: dict[str, dict[Budget, float]] = {}
     val_by_method: dict[str, dict[str, float]] = {}
     own_by_method: dict[str, dict[str, dict[str, float | None]]] = {}
-    for kind in ["none", *opts.adapters]:
+    for kind, training in shared_models(opts):
+        tag = training_tag(training)
+        episodes = (opts.episodic.recipe(), sd.press_index()) if training == "episodic" else None
         shared = train_shared(sd.train, sd.train_stats, shape, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay,
-                              adapter_dropout=opts.adapter_dropout)
+                              adapter_dropout=opts.adapter_dropout, episodes=episodes)
         first: tuple[dict[Budget, float], dict[Budget, float]] | None = None
         for family, fit in fit_methods(kind, opts):
             fit_kind = fit.kind(kind)
             kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts),
-                                                       fit_kind=fit_kind, family=family, steps=fit.steps)
+                                                       fit_kind=fit_kind, family=family, steps=fit.steps,
+                                                       tag=tag)
             rows += [dict(base, **r) for r in kind_rows]
-            method = adapted_method(fit_kind, family) + fit.suffix()
+            method = adapted_method(fit_kind, family) + tag + fit.suffix()
             priors_chosen[method.removeprefix("adapted:")] = chosen
             val_by_method.update(validation_by_method(method, val_loss))
             first = first or (chosen, val_loss, family, fit)
@@ -174,8 +184,8 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             val = {b: [v for u, v in c.items() if u in sd.split.val and v is not None]
                    for b, c in checks.items()}
             meta["own_check_by_budget"] = by_budget(val, opts)
-            own_by_method[_slug(kind)] = {b.label: c for b, c in checks.items()}
-        path = ctx.run_dir / "models" / f"shared_{_slug(kind)}_seed{seed}.safetensors"
+            own_by_method[_slug(kind) + tag] = {b.label: c for b, c in checks.items()}
+        path = ctx.run_dir / "models" / f"shared_{_slug(kind)}{_file_tag(training)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
         "units": sd.split.to_json(), "val_loss": val_by_method,
@@ -188,6 +198,16 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     if sweep:
         rows += unit_count_rows(ctx, arrays, sd, opts, seed, priors_chosen.get(opts.sweep_adapter, {}))
     return rows
+
+
+def shared_models(opts: Options) -> list[tuple[str, Training]]:
+    """(adapter kind, training) of every shared model a seed trains: the bare model (`none`,
+    joint only) and each adapter kind with each of `shared_training`."""
+    return [("none", "joint"), *((kind, t) for kind in opts.adapters for t in opts.shared_training)]
+
+
+def _file_tag(training: Training) -> str:
+    return "" if training == "joint" else f"_{training}"
 
 
 def fit_methods(kind: str, opts: Options) -> list[tuple[PriorFamily, FitVariant]]:
@@ -339,15 +359,15 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
                  seed: int, budgets: list[Budget], fixed_priors: dict[Budget, float] | None = None,
-                 fit_kind: str | None = None, family: PriorFamily = "identity", steps: int | None = None
-                 ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
+                 fit_kind: str | None = None, family: PriorFamily = "identity", steps: int | None = None,
+                 tag: str = "") -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
     """Rows of one shared model on the held-out units at every budget, the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead), and
     the validation units' mean standardised MSE per budget at that prior (empty when fixed).
     Adapters of `fit_kind` (default the shared model's) are fitted in `steps` Adam steps
-    (default `adapter_steps`)."""
+    (default `adapter_steps`); `tag` names the shared model's training in the method."""
     kind = fit_kind or shared.model.kind
-    method = adapted_method(kind, family) + FitVariant(steps=steps).suffix()
+    method = adapted_method(kind, family) + tag + FitVariant(steps=steps).suffix()
     fits = kind != "none"
     if fixed_priors is not None:
         priors_of = {b: [fixed_priors[b]] for b in budgets if b.amount > 0}

@@ -15,6 +15,7 @@ from anytip.models.mlp import MLPConfig
 from anytip.pipelines.common import Context, validate_options
 from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
 from anytip.train.adapter_prior import PriorFamily
+from anytip.train.episodic import EpisodeRecipe
 from anytip.train.recipe import TrainRecipe
 
 SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1e-4, batch_size=256,
@@ -72,6 +73,25 @@ class ExtraUnits(BaseModel):
         return DataConfig(protocol=self.protocol, max_units=self.max_units)
 
 
+class EpisodicOptions(BaseModel):
+    """`options.episodic`: how episodic shared training draws and fits its episodes
+    (train/episodic.py); used by the shared models whose `shared_training` is `episodic`."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    presses: int = Field(default=EpisodeRecipe.presses, ge=1, le=10_000)
+    rows_per_press: int = Field(default=EpisodeRecipe.rows_per_press, ge=1, le=100_000)
+    inner_steps: int = Field(default=EpisodeRecipe.inner_steps, ge=1, le=1000)
+    inner_lr: float = Field(default=EpisodeRecipe.inner_lr, gt=0, le=100)
+    weight: float = Field(default=EpisodeRecipe.weight, gt=0, le=1e6)
+
+    def recipe(self) -> EpisodeRecipe:
+        return EpisodeRecipe(**self.model_dump())
+
+
+Training = Literal["joint", "episodic"]
+
+
 class Options(BaseModel):
     """`options:` of a cross_sensor spec."""
 
@@ -117,6 +137,12 @@ class Options(BaseModel):
     adapter_decay: float = Field(default=ADAPTER_DECAY, ge=0, le=1e9)
     # the chance a training unit's adapter is left out of a step of shared training
     adapter_dropout: float = Field(default=0.0, ge=0, lt=1)
+    shared_training: list[Training] = Field(
+        default=["joint"], min_length=1,
+        description="how each shared model with adapters is trained, each a method: joint (every "
+        "training unit's adapter fitted with the shared weights) or episodic (also adapters fitted on "
+        "a few presses and scored on the unit's other rows; method suffix ~episodic)")
+    episodic: EpisodicOptions = EpisodicOptions()
     extra_units: ExtraUnits | None = None
     reference_shapes: list[MLPConfig] = Field(
         default=[], description="more per-unit models of other shapes (model blocks), each trained and "
@@ -169,6 +195,11 @@ def parse_options(ctx: Context) -> Options:
         raise AnytipError(f"options.budgets: with budget_unit samples, budgets are whole sample counts, "
                           f"got {opts.budgets}")
     return opts
+
+
+def training_tag(training: Training) -> str:
+    """What a method name says of its shared model's training: nothing for joint."""
+    return "" if training == "joint" else f"~{training}"
 
 
 def budget_list(opts: Options, amounts: list[float] | None = None) -> list[Budget]:

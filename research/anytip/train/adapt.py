@@ -30,6 +30,7 @@ from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, UnitSampler, pad_rows
+from anytip.train.episodic import EpisodeRecipe, PressIndex, episode_loss, inner_rates
 from anytip.train.fleet import ProgressBar, _lap
 from anytip.train.metrics import evaluate, history_fields, progress_text
 from anytip.train.recipe import FAST, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
@@ -80,7 +81,8 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
                  kind: str = "none", recipe: TrainRecipe = FAST, seed: int = 0,
                  device: torch.device | str | None = None, progress: bool = False,
                  adapter_decay: float = 0.0, hetero_beta: float | None = None,
-                 adapter_dropout: float = 0.0) -> SharedFit:
+                 adapter_dropout: float = 0.0,
+                 episodes: tuple[EpisodeRecipe, PressIndex] | None = None) -> SharedFit:
     """Fit the shared weights and each training unit's adapter together.
 
     data: the training units' rows (physical units); in_scaler: their input statistics,
@@ -91,7 +93,9 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     means, also for heteroscedastic heads). `hetero_beta` trains heteroscedastic heads
     with that beta-NLL (module docstring). `adapter_dropout` is the chance that a unit's
     adapter is left out (the identity used) in a step, so the shared weights also serve a
-    unit whose adapter is not known yet (zero-shot) or poorly fitted.
+    unit whose adapter is not known yet (zero-shot) or poorly fitted. `episodes` adds each
+    step's episodic loss (train/episodic.py: an adapter fitted on a few of each unit's presses,
+    scored on its other rows of the batch), with the press of every fitting row.
     """
     start = time.perf_counter()
     device = torch.device(device) if device is not None else data.device
@@ -110,6 +114,7 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     drop = None
     if adapter_dropout > 0:
         drop = torch.Generator(device).manual_seed(unit_seed(seed, 0, "adapter dropout"))
+    episodic = _episodic(model, episodes, recipe, seed, hetero_beta, device)
     best, best_loss, history, train_s = None, float("inf"), [], 0.0
     bar = ProgressBar(progress, total, f"shared over {U} units ({kind})")
     tick = time.perf_counter()
@@ -119,9 +124,16 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
         loss = unit_loss(model(X[rows_of, idx], keep), Y[rows_of, idx], hetero_beta).mean()
         if adapter_decay > 0:
             loss = loss + adapter_decay * model.deviation().mean()
+        if episodic is not None:
+            set_lr(episodic.opt, lr_at(step, total, recipe))
+            loss = loss + episodic.recipe.weight * episode_loss(
+                model, X, Y, episodic.index, idx, episodic.log_lr, episodic.recipe, episodic.generator)
+            episodic.opt.zero_grad(set_to_none=True)
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()
+        if episodic is not None:
+            episodic.opt.step()
         bar.update(step + 1)
         if step % sampler.steps_per_epoch + 1 not in eval_at and step + 1 < total:
             continue
@@ -130,7 +142,8 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
                        data.n_val)
         model.train()
         history.append({"epoch": (step + 1) / sampler.steps_per_epoch, "step": step + 1,
-                        "elapsed_s": train_s, "val_loss": val["loss"].tolist(), **history_fields(val)})
+                        "elapsed_s": train_s, "val_loss": val["loss"].tolist(), **history_fields(val),
+                        **({} if episodic is None else {"inner_lr": episodic.rates()})})
         bar.update(step + 1, f"shared ({kind}): {progress_text(val)}")
         if float(val["loss"].mean()) < best_loss:
             best_loss, best = float(val["loss"].mean()), copy.deepcopy(model.state_dict())
@@ -140,6 +153,33 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
         model.load_state_dict(best)
     return SharedFit(model, in_scaler, out_scaler, list(data.unit_ids), recipe, seed, history,
                      time.perf_counter() - start, hetero_beta)
+
+
+@dataclass
+class _Episodic:
+    """Episodic training's state in `train_shared`: the drawn episodes and the learnt step sizes."""
+
+    recipe: EpisodeRecipe
+    index: PressIndex
+    log_lr: dict[str, Tensor]
+    opt: torch.optim.Optimizer
+    generator: torch.Generator
+
+    def rates(self) -> dict[str, float]:
+        return {k: float(v.detach().exp()) for k, v in self.log_lr.items()}
+
+
+def _episodic(model: AdaptedMLP, episodes: tuple[EpisodeRecipe, PressIndex] | None, recipe: TrainRecipe,
+              seed: int, hetero_beta: float | None, device: torch.device) -> _Episodic | None:
+    if episodes is None:
+        return None
+    if hetero_beta is not None or not model.adapter_parameters():
+        raise AnytipError("episodic training needs a shared model with adapters and plain (not "
+                          "heteroscedastic) outputs")
+    rates = inner_rates(model, episodes[0])
+    opt = torch.optim.Adam(rates.values(), lr=recipe.lr)
+    return _Episodic(episodes[0], episodes[1].to(device), rates, opt,
+                     torch.Generator(device).manual_seed(unit_seed(seed, 0, "episodes")))
 
 
 # Pull of the training units' adapters toward the identity in `train_shared` (adapter_decay):

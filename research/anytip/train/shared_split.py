@@ -23,12 +23,14 @@ from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan, Presses, find_presses
 from anytip.data.seeds import TEST_PATCHES, VALIDATION_ROWS, stream_seed
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
+from anytip.errors import AnytipError
 from anytip.models.io import LoadedShared
 from anytip.models.mlp import BatchedMLP
 from anytip.models.scaler import Scaler
 from anytip.train.adapt import AdapterRecipe, SharedFit, calibrate_and_fold, input_stats
 from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, UnitTensors, pad_rows, split_validation, unit_tensors
+from anytip.train.episodic import PressIndex
 from anytip.train.metrics import predict
 
 
@@ -50,6 +52,13 @@ class SeedData:
     train_stats: Scaler  # (U_train, 1, C) label-free input statistics
     evals: dict[str, EvalUnit]  # validation and held-out units
     n_extra: int = 0  # training units from another registry, after the split's own in `train`
+    train_presses: list[np.ndarray] | None = None  # each training unit's press of every fitting row
+
+    def press_index(self) -> PressIndex:
+        """The training units' fitting rows grouped by press (episodic training)."""
+        if self.train_presses is None:
+            raise AnytipError("these training tensors were prepared without their presses")
+        return PressIndex.from_ids(self.train_presses, self.train.X_train.shape[1], self.train.device)
 
 
 @dataclass(frozen=True)
@@ -87,23 +96,26 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
         evals[unit] = EvalUnit(unit, own[exclude[own]], stream,
                                find_presses(arrays, unit, exclude | stream.outside(arrays)))
-    members, stats = training_units(arrays, split.train, roles, calibration_protocol, interleave, seed)
+    members, stats, presses = training_units(arrays, split.train, roles, calibration_protocol, interleave,
+                                             seed)
     if extra is not None:
         more = training_units(extra, extra.units, roles, calibration_protocol, interleave, seed,
                               first_index=len(split.train))
-        members, stats = members + more[0], stats + more[1]
+        members, stats, presses = members + more[0], stats + more[1], presses + more[2]
     train = FleetBatchData.from_units(members, device, arrays.output_names)
-    return SeedData(split, train, input_stats(stats, device), evals,
-                    0 if extra is None else len(extra.units))
+    return SeedData(split, train, input_stats(stats, device), evals, 0 if extra is None else len(extra.units),
+                    presses if len(presses) == len(members) else None)
 
 
 def training_units(arrays: FleetArrays, units: Sequence[str], roles: Roles, calibration_protocol: str | None,
                    interleave: bool, seed: int, first_index: int = 0
-                   ) -> tuple[list[UnitTensors], list[torch.Tensor]]:
-    """Each training unit's tensors (main rows, a random `val_fraction` for model selection)
-    and its unlabeled pressures for input statistics, (n, C) each."""
+                   ) -> tuple[list[UnitTensors], list[torch.Tensor], list[np.ndarray]]:
+    """Each training unit's tensors (main rows, a random `val_fraction` for model selection),
+    its unlabeled pressures for input statistics, (n, C), and the press of each fitting row
+    (n_fit,) (an index into its `find_presses`; none where the rows have no times)."""
     main = main_rows(arrays, calibration_protocol)
-    members, stats = [], []
+    members, stats, presses = [], [], []
+    press_of = np.full(arrays.n_rows, -1, np.int64)
     for u, unit in enumerate(units, start=first_index):
         mine = unit_main_rows(arrays, unit, main)
         rng = np.random.default_rng(stream_seed(VALIDATION_ROWS, seed, u))
@@ -111,7 +123,11 @@ def training_units(arrays: FleetArrays, units: Sequence[str], roles: Roles, cali
         members.append(unit_tensors(arrays, fit, val, unit))
         stream = calibration_stream(arrays, unit, calibration_protocol, interleave=interleave)
         stats.append(torch.from_numpy(arrays.pressure[stream.unlabeled(roles.unlabeled_s)]))
-    return members, stats
+        if arrays.time is not None:  # rows without times have no presses (and no episodes)
+            found = find_presses(arrays, unit)
+            press_of[found.rows] = np.repeat(np.arange(len(found)), np.diff(found.start))
+            presses.append(press_of[fit].copy())
+    return members, stats, presses
 
 
 def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarray:
