@@ -38,7 +38,6 @@ from anytip.pipelines.common import Context, load
 from anytip.pipelines.cross_sensor import adapted_method, fit_methods, min_units, plan_of, prepare
 from anytip.pipelines.cross_sensor_options import parse_options
 from anytip.report.cross_sensor import mean_interval
-from anytip.train.adapt import AdapterRecipe
 from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import scores
 from anytip.train.shared_split import calibrate_many, predict_rows
@@ -68,7 +67,7 @@ def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str
     shared = load_shared(run / "models" / f"shared_{adapter.replace('+', '-')}_seed{seed}.safetensors")
     learnt = make_prior(family, shared.model, opts.prior_rank) if kind == adapter else None
     plans = [plan_of(sd, u, budget, opts, seed) for u in units]
-    recipe = AdapterRecipe(fit.steps or opts.adapter_steps, opts.adapter_lr)
+    recipe = fit.recipe(opts, None)  # joint shared models: no inner fit
     unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u in units]
     jobs = [(k, p) for p in [prior, *priors] for k in range(len(units))]
     folded, stats = calibrate_many(shared, arrays, [unlabeled[k] for k, _ in jobs],

@@ -509,17 +509,41 @@ def test_episodic_training_is_its_own_method_and_calibrates(two_protocol_registr
     side in one run: rows `adapted:<kind>~episodic`, their own validation losses and model file,
     the learnt inner step sizes in its history; `anytip calibrate` may pick either."""
     overrides = [*TINY, "options.sweep_seeds=0", "options.adapters=[input_affine+film]",
-                 "options.shared_training=[joint,episodic]",
+                 "options.shared_training=[joint,episodic]", "options.fits=[{}, {inner: true}]",
                  "options.episodic={presses: 2, rows_per_press: 8, inner_steps: 2}"]
     run = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "run", overrides=overrides,
                          progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
     methods = {r["method"] for r in rows}
-    assert {"adapted:input_affine+film", "adapted:input_affine+film~episodic"} <= methods
+    assert {"adapted:input_affine+film", "adapted:input_affine+film~episodic",
+            "adapted:input_affine+film~episodic[inner fit]"} <= methods
+    assert "adapted:input_affine+film[inner fit]" not in methods  # a joint model learnt no inner fit
+    inner = [r for r in rows if r["method"] == "adapted:input_affine+film~episodic[inner fit]"]
+    assert inner and all(r["prior"] in (None, 0.0) for r in inner)
     val = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["val_loss"]
     assert set(val["adapted:input_affine+film~episodic"]) == {"0", "50", "400"}
     path, _ = find_shared(run, "input_affine+film_episodic")
     shared = load_shared(path)
+    assert "rates" not in shared.meta["adapter_recipe"]  # calibrate fits like the first fit: Adam
     x = torch.randn(shared.model.n_units, 50, 8)
     torch.testing.assert_close(shared.model.fold()(x), shared.model(x), atol=1e-5, rtol=1e-5)
     assert "adapted:input_affine+film~episodic" in (run / "report.md").read_text()
+
+
+def test_calibrate_uses_the_inner_fit_an_episodic_model_learnt(two_protocol_registry, tmp_path):
+    """With the inner fit first, the episodic model's file carries its learnt step sizes and
+    `anytip calibrate` fits a new unit with them (full-batch steps, no prior)."""
+    overrides = [*TINY, "options.sweep_seeds=0", "options.adapters=[input_affine+film]",
+                 "options.shared_training=[episodic]", "options.fits=[{inner: true}]",
+                 "options.budgets=[0,400]",
+                 "options.episodic={presses: 2, rows_per_press: 8, inner_steps: 3}"]
+    run = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "run", overrides=overrides,
+                         progress=False)
+    path, _ = find_shared(run, "input_affine+film_episodic")
+    meta = load_shared(path).meta
+    assert meta["adapter_recipe"]["steps"] == 3 and set(meta["adapter_recipe"]["rates"]) >= {"in_A", "gamma0"}
+    assert meta["priors_by_budget"] == {"400": 0.0}
+    unit = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]["test"][0]
+    code = main(["calibrate", "--model", str(path), "--unit", unit, "--budget-samples", "300",
+                 "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cal")])
+    assert code == 0 and load_models(tmp_path / "cal").model.config.sizes == (8, 12, 64, 64, 5)

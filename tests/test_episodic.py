@@ -10,7 +10,7 @@ from anytip.models.adapted import AdaptedMLP
 from anytip.models.mlp import MLPConfig
 from anytip.train.adapt import input_stats, train_shared
 from anytip.train.data import FleetBatchData, UnitTensors
-from anytip.train.episodic import EpisodeRecipe, PressIndex, episode_loss, inner_rates
+from anytip.train.episodic import EpisodeRecipe, PressIndex, episode_loss, inner_fit, inner_rates
 from anytip.train.recipe import TrainRecipe
 
 
@@ -76,3 +76,17 @@ def test_train_shared_with_episodes_learns_step_sizes_and_refuses_heteroscedasti
     with pytest.raises(AnytipError, match="episodic training needs"):
         train_shared(data, stats, MLPConfig(sizes=(8, 8, 5)), "film", TrainRecipe(name="t", epochs=1),
                      seed=0, hetero_beta=0.5, episodes=(EpisodeRecipe(), index))
+
+
+def test_the_inner_fit_lowers_each_models_loss_and_needs_every_step_size():
+    torch.manual_seed(0)
+    model = AdaptedMLP(2, MLPConfig(sizes=(8, 16, 5)), "input_affine+film")
+    X, Y = torch.randn(2, 40, 8), torch.randn(2, 40, 5)
+    n = torch.tensor([40, 0])
+    before = ((model(X) - Y) ** 2).mean(dim=(1, 2))
+    inner_fit(model, X, Y, n, {k: 0.05 for k in model.adapter.keys()}, steps=20)
+    after = ((model(X) - Y) ** 2).mean(dim=(1, 2))
+    assert after[0] < before[0]
+    assert torch.equal(model.adapter["in_A"][1], torch.eye(8))  # no rows: the identity stays
+    with pytest.raises(AnytipError, match="no step size"):
+        inner_fit(model, X, Y, n, {"in_A": 0.1}, steps=1)

@@ -42,7 +42,6 @@ from anytip.pipelines.cross_sensor_options import (
 )
 from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
 from anytip.train.adapt import (
-    AdapterRecipe,
     SharedFit,
     pooled_scaler,
     train_shared,
@@ -61,6 +60,8 @@ from anytip.train.shared_split import (
     prepare_seed,
     unit_main_rows,
 )
+
+PLAIN_FIT = FitVariant()  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
 
 def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
@@ -165,11 +166,10 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
                               ctx.device, ctx.progress, opts.adapter_decay,
                               adapter_dropout=opts.adapter_dropout, episodes=episodes)
         first: tuple[dict[Budget, float], dict[Budget, float]] | None = None
-        for family, fit in fit_methods(kind, opts):
+        for family, fit in fit_methods(kind, opts, training):
             fit_kind = fit.kind(kind)
             kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts),
-                                                       fit_kind=fit_kind, family=family, steps=fit.steps,
-                                                       tag=tag)
+                                                       family=family, fit=fit, tag=tag)
             rows += [dict(base, **r) for r in kind_rows]
             method = adapted_method(fit_kind, family) + tag + fit.suffix()
             priors_chosen[method.removeprefix("adapted:")] = chosen
@@ -177,7 +177,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             first = first or (chosen, val_loss, family, fit)
         chosen, val_loss, family, fit = first
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"),
-                           arrays.output_names)
+                           arrays.output_names, fit)
         meta["val_loss_by_budget"] = by_budget(val_loss, opts)
         checks = own_checks(arrays, sd, opts, shared, seed, chosen, family, fit)
         if checks:
@@ -210,14 +210,17 @@ def _file_tag(training: Training) -> str:
     return "" if training == "joint" else f"_{training}"
 
 
-def fit_methods(kind: str, opts: Options) -> list[tuple[PriorFamily, FitVariant]]:
+def fit_methods(kind: str, opts: Options,
+                training: Training = "joint") -> list[tuple[PriorFamily, FitVariant]]:
     """The (prior family, fit) pairs a shared model of `kind` is calibrated with: every family
-    with every fit, the empirical prior only where the fitted kind is the shared one; the bare
-    shared model (`none`) only as it is (input statistics, nothing fitted)."""
+    with every fit, the empirical prior only where the fitted kind is the shared one, inner fits
+    only on episodic models (with no prior family of their own); the bare shared model
+    (`none`) only as it is (input statistics, nothing fitted)."""
     if kind == "none":
         return [("identity", FitVariant())]
-    return [(family, fit) for family in opts.adapter_priors for fit in opts.fits
-            if family == "identity" or not fit.add]
+    fits = [f for f in opts.fits if training == "episodic" or not f.inner]
+    return [(family, fit) for family in opts.adapter_priors for fit in fits
+            if family == "identity" or not (fit.add or fit.inner)]
 
 
 def adapted_method(kind: str, family: PriorFamily = "identity") -> str:
@@ -359,17 +362,20 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
 
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
                  seed: int, budgets: list[Budget], fixed_priors: dict[Budget, float] | None = None,
-                 fit_kind: str | None = None, family: PriorFamily = "identity", steps: int | None = None,
+                 family: PriorFamily = "identity", fit: FitVariant = PLAIN_FIT,
                  tag: str = "") -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
     """Rows of one shared model on the held-out units at every budget, the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead), and
     the validation units' mean standardised MSE per budget at that prior (empty when fixed).
-    Adapters of `fit_kind` (default the shared model's) are fitted in `steps` Adam steps
-    (default `adapter_steps`); `tag` names the shared model's training in the method."""
-    kind = fit_kind or shared.model.kind
-    method = adapted_method(kind, family) + tag + FitVariant(steps=steps).suffix()
+    Adapters are fitted as `fit` says (`FitVariant`; an inner fit takes no prior); `tag` names
+    the shared model's training in the method."""
+    fit_kind = fit.kind(shared.model.kind)
+    kind = fit_kind
+    method = adapted_method(kind, family) + tag + fit.suffix()
     fits = kind != "none"
-    if fixed_priors is not None:
+    if fit.inner:
+        priors_of = {b: [0.0] for b in budgets if b.amount > 0}
+    elif fixed_priors is not None:
         priors_of = {b: [fixed_priors[b]] for b in budgets if b.amount > 0}
     else:
         priors_of = {b: list(opts.priors) for b in budgets if b.amount > 0}
@@ -379,7 +385,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     plans = {(u, b): plan_of(sd, u, b, opts, seed) for u, b, _ in jobs}
     # a budget that buys no press (too short, or no designed run of the unit) has no row
     jobs = [(u, b, p) for u, b, p in jobs if b.amount == 0 or len(plans[(u, b)].rows)]
-    recipe = AdapterRecipe(steps or opts.adapter_steps, opts.adapter_lr)
+    recipe = fit.recipe(opts, shared.inner_lr)
     prior = make_prior(family, shared.model, opts.prior_rank) if fits and kind == shared.model.kind else None
     folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.unlabeled(opts.unlabeled_s)
                                                     for u, _, _ in jobs],
@@ -430,7 +436,7 @@ def own_checks(arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedF
     jobs = [(u, b) for b in budgets for u in [*sd.split.val, *sd.split.test]]
     prior = make_prior(family, shared.model, opts.prior_rank) if kind == shared.model.kind else None
     unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u, _ in jobs]
-    recipe = AdapterRecipe(fit.steps or opts.adapter_steps, opts.adapter_lr)
+    recipe = fit.recipe(opts, shared.inner_lr)
     losses = own_check_losses(shared, arrays, unlabeled, [plan_of(sd, u, b, opts, seed) for u, b in jobs],
                               [chosen[b] for _, b in jobs], recipe, seed, kind, prior)
     out: dict[Budget, dict[str, float | None]] = {}
@@ -490,8 +496,11 @@ def by_budget(values: dict[Budget, Any], opts: Options) -> dict[str, Any]:
 
 
 def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], seed: int,
-                sensor_model: str | None, output_names: tuple[str, ...]) -> dict[str, Any]:
-    """What `anytip calibrate` needs to fit a new unit's adapter like the benchmark did."""
+                sensor_model: str | None, output_names: tuple[str, ...],
+                fit: FitVariant = PLAIN_FIT) -> dict[str, Any]:
+    """What `anytip calibrate` needs to fit a new unit's adapter like the benchmark's `fit` did
+    (its steps, or the inner fit's step sizes; an `add` fit is calibrated without the part)."""
+    recipe = fit.recipe(opts, shared.inner_lr)
     return {"unit_ids": shared.unit_ids, "seed": seed, "sensor_model": sensor_model,
             "recipe": shared.recipe.model_dump(mode="json"),
             "priors_by_budget": by_budget(chosen, opts), "budget_unit": opts.budget_unit,
@@ -499,7 +508,8 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], s
             "adapter_prior": opts.adapter_priors[0], "prior_rank": opts.prior_rank,
             "unlabeled_s": opts.unlabeled_s,
             "default_prior": default_prior(opts),
-            "adapter_recipe": {"steps": opts.adapter_steps, "lr": opts.adapter_lr},
+            "adapter_recipe": {"steps": recipe.steps, "lr": recipe.lr,
+                               **({} if recipe.rates is None else {"rates": recipe.rates})},
             "calibration_protocol": opts.calibration_protocol,
             "calibration_interleave": opts.calibration_interleave,
             "output_names": list(output_names)}

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from anytip.config import DataConfig
 from anytip.data.plans import Budget, BudgetUnit, RigTiming, Strategy
@@ -38,12 +38,21 @@ class RigOptions(BaseModel):
 class FitVariant(BaseModel):
     """One way of fitting a new unit's adapter on a shared model: `add` parts to the shared
     model's adapter kind at calibration (e.g. `lowrank4`: a foldable low-rank change of every
-    layer, fitted on the unit alone), with `steps` Adam steps (default `adapter_steps`)."""
+    layer, fitted on the unit alone), with `steps` Adam steps (default `adapter_steps`); or
+    `inner`: the inner fit an episodic shared model learnt (`episodic.inner_steps` full-batch
+    steps with its learnt step sizes, no prior; episodic shared models only)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     add: str = ""
     steps: int | None = Field(default=None, ge=1, le=1_000_000)
+    inner: bool = False
+
+    @model_validator(mode="after")
+    def _inner_alone(self) -> FitVariant:
+        if self.inner and (self.add or self.steps is not None):
+            raise ValueError("an inner fit takes the episodic model's own kind and steps: no add, no steps")
+        return self
 
     def kind(self, shared_kind: str) -> str:
         """The adapter kind fitted on a shared model of `shared_kind`."""
@@ -53,7 +62,18 @@ class FitVariant(BaseModel):
 
     def suffix(self) -> str:
         """What a method name says of the fit besides its kind: its steps where set."""
+        if self.inner:
+            return "[inner fit]"
         return "" if self.steps is None else f"[{self.steps} steps]"
+
+    def recipe(self, opts: Options, inner_lr: dict[str, float] | None) -> AdapterRecipe:
+        """How this fit fits a new unit's adapter: Adam (`steps` or `adapter_steps`), or the inner
+        fit with a shared model's learnt step sizes `inner_lr`."""
+        if not self.inner:
+            return AdapterRecipe(self.steps or opts.adapter_steps, opts.adapter_lr)
+        if inner_lr is None:
+            raise AnytipError("an inner fit needs a shared model trained episodically")
+        return AdapterRecipe(opts.episodic.inner_steps, opts.adapter_lr, rates=dict(inner_lr))
 
 
 class ExtraUnits(BaseModel):

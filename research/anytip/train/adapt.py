@@ -30,7 +30,7 @@ from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.train.adapter_prior import AdapterPrior
 from anytip.train.data import FleetBatchData, UnitSampler, pad_rows
-from anytip.train.episodic import EpisodeRecipe, PressIndex, episode_loss, inner_rates
+from anytip.train.episodic import EpisodeRecipe, PressIndex, episode_loss, inner_fit, inner_rates
 from anytip.train.fleet import ProgressBar, _lap
 from anytip.train.metrics import evaluate, history_fields, progress_text
 from anytip.train.recipe import FAST, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
@@ -53,6 +53,7 @@ class SharedFit:
     history: list[dict[str, Any]] = field(default_factory=list)
     wall_s: float = 0.0
     hetero_beta: float | None = None  # heteroscedastic heads trained with this beta-NLL
+    inner_lr: dict[str, float] | None = None  # episodic training's learnt step sizes (kept model's)
 
 
 def mean_head(model: AdaptedMLP, d_out: int):
@@ -115,7 +116,7 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     if adapter_dropout > 0:
         drop = torch.Generator(device).manual_seed(unit_seed(seed, 0, "adapter dropout"))
     episodic = _episodic(model, episodes, recipe, seed, hetero_beta, device)
-    best, best_loss, history, train_s = None, float("inf"), [], 0.0
+    best, best_loss, history, train_s, best_rates = None, float("inf"), [], 0.0, None
     bar = ProgressBar(progress, total, f"shared over {U} units ({kind})")
     tick = time.perf_counter()
     for step, idx in sampler.steps(total):
@@ -147,12 +148,15 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
         bar.update(step + 1, f"shared ({kind}): {progress_text(val)}")
         if float(val["loss"].mean()) < best_loss:
             best_loss, best = float(val["loss"].mean()), copy.deepcopy(model.state_dict())
+            best_rates = None if episodic is None else episodic.rates()
         tick = time.perf_counter()
     bar.close()
+    rates = None if episodic is None else episodic.rates()
     if recipe.keep_best and best is not None:
         model.load_state_dict(best)
+        rates = best_rates
     return SharedFit(model, in_scaler, out_scaler, list(data.unit_ids), recipe, seed, history,
-                     time.perf_counter() - start, hetero_beta)
+                     time.perf_counter() - start, hetero_beta, rates)
 
 
 @dataclass
@@ -189,11 +193,14 @@ ADAPTER_DECAY = 0.01
 
 @dataclass(frozen=True)
 class AdapterRecipe:
-    """How a new unit's adapter is fitted: Adam steps on its calibration rows."""
+    """How a new unit's adapter is fitted: Adam steps on its calibration rows; or, with `rates`
+    (adapter tensor -> step size, learnt by episodic training), `steps` full-batch gradient
+    steps with those step sizes: the inner fit the shared model was trained for."""
 
     steps: int = 400
     lr: float = 1e-2
     batch_size: int = 256
+    rates: dict[str, float] | None = None
 
 
 def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tensor, in_scaler: Scaler,
@@ -233,8 +240,13 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
         p.requires_grad_(False)
     fit = n > 0
     if not model.adapter_parameters() or not bool(fit.any()):
-        return model
+        return _thaw(model)
     Xs, Ys = in_scaler.to(device).transform(X.to(device)), shared.out_scaler.transform(Y.to(device))
+    if recipe.rates is not None:
+        count = n.clamp_min(1).to(device).float() if n_effective is None else n_effective.to(device).float()
+        weight = prior.to(device).float() / count.clamp_min(1.0)
+        inner_fit(model, Xs, Ys, n.to(device), recipe.rates, recipe.steps, lambda: weight * penalty())
+        return _thaw(model)
     n_safe = n.clamp_min(1).to(device)
     sampler = UnitSampler(n_safe, min(recipe.batch_size, int(n.max())), seed, device)
     rows_of = torch.arange(X.shape[0], device=device)[:, None]
@@ -250,6 +262,10 @@ def fit_adapters(shared: SharedFit | LoadedShared, X: Tensor, Y: Tensor, n: Tens
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()
+    return _thaw(model)
+
+
+def _thaw(model: AdaptedMLP) -> AdaptedMLP:
     for p in model.shared_parameters():
         p.requires_grad_(True)
     return model

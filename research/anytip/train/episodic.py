@@ -20,6 +20,7 @@ empirical prior and model selection use them).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -137,3 +138,26 @@ def episode_loss(model: AdaptedMLP, X: Tensor, Y: Tensor, index: PressIndex, bat
     keep = index.outside(batch, chosen)
     err = ((model.forward_with(X[rows_of, batch], adapter) - Y[rows_of, batch]) ** 2).mean(-1)
     return ((err * keep).sum(1) / keep.sum(1).clamp_min(1.0)).mean()
+
+
+def inner_fit(model: AdaptedMLP, X: Tensor, Y: Tensor, n: Tensor, rates: dict[str, float], steps: int,
+              penalty: Callable[[], Tensor] | None = None) -> None:
+    """Fit model's M adapters in place by the inner loop episodic training learnt: `steps`
+    full-batch gradient steps on each model's first n[m] rows of X (M, N, d_in), Y (M, N, d_out)
+    (standardised), each adapter tensor with its step size in `rates`; `penalty()` (M,) is
+    added to each model's loss where given. Models with n[m] == 0 keep their adapter."""
+    missing = sorted(set(model.adapter.keys()) - set(rates))
+    if missing:
+        raise AnytipError(f"the inner fit has no step size for adapter tensor(s) {missing}; it fits the "
+                          "adapter kind the shared model was trained with")
+    mask = (torch.arange(X.shape[1], device=X.device)[None] < n[:, None]).float()
+    count = mask.sum(1).clamp_min(1.0)
+    params = model.adapter_parameters()
+    for _ in range(steps):
+        loss = (((model(X) - Y) ** 2).mean(-1) * mask).sum(1) / count
+        if penalty is not None:
+            loss = loss + penalty()
+        grads = torch.autograd.grad((loss * (n > 0).float()).sum(), params)
+        with torch.no_grad():
+            for (k, p), g in zip(model.adapter.items(), grads, strict=True):
+                p.sub_(rates[k] * g)
