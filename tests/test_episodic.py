@@ -90,3 +90,16 @@ def test_the_inner_fit_lowers_each_models_loss_and_needs_every_step_size():
     assert torch.equal(model.adapter["in_A"][1], torch.eye(8))  # no rows: the identity stays
     with pytest.raises(AnytipError, match="no step size"):
         inner_fit(model, X, Y, n, {"in_A": 0.1}, steps=1)
+
+
+def test_episodes_of_some_units_per_step_reach_only_their_query():
+    torch.manual_seed(0)
+    model = AdaptedMLP(3, MLPConfig(sizes=(8, 16, 5)), "film")
+    index, _ = _index(np.random.default_rng(2))
+    X, Y = torch.randn(3, 70, 8), torch.randn(3, 70, 5)
+    recipe = EpisodeRecipe(presses=2, rows_per_press=4, inner_steps=2, units_per_step=1)
+    X.requires_grad_(True)
+    loss = episode_loss(model, X, Y, index, torch.randint(0, 30, (3, 32)), inner_rates(model, recipe), recipe,
+                        torch.Generator().manual_seed(0))
+    (grad,) = torch.autograd.grad(loss, X)
+    assert int((grad.abs().sum(dim=(1, 2)) > 0).sum()) == 1  # one unit's rows took part

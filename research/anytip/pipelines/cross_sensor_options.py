@@ -104,6 +104,7 @@ class EpisodicOptions(BaseModel):
     inner_steps: int = Field(default=EpisodeRecipe.inner_steps, ge=1, le=1000)
     inner_lr: float = Field(default=EpisodeRecipe.inner_lr, gt=0, le=100)
     weight: float = Field(default=EpisodeRecipe.weight, gt=0, le=1e6)
+    units_per_step: int | None = Field(default=None, ge=1, le=1_000_000)
 
     def recipe(self) -> EpisodeRecipe:
         return EpisodeRecipe(**self.model_dump())

@@ -41,10 +41,11 @@ class EpisodeRecipe:
     inner_steps: int = 5
     inner_lr: float = 0.1  # every tensor's step size at the start; learnt from there
     weight: float = 1.0  # of the query loss beside the joint loss
+    units_per_step: int | None = None  # episodes of this many training units per step (None: all)
 
     def __post_init__(self) -> None:
-        for name in ("presses", "rows_per_press", "inner_steps"):
-            if getattr(self, name) < 1:
+        for name in ("presses", "rows_per_press", "inner_steps", "units_per_step"):
+            if getattr(self, name) is not None and getattr(self, name) < 1:
                 raise AnytipError(f"episodic training: {name} must be >= 1, got {getattr(self, name)}")
         for name in ("inner_lr", "weight"):
             value = getattr(self, name)
@@ -109,9 +110,11 @@ class PressIndex:
         where = self.start.gather(1, chosen)[:, :, None] + (pick * count).long().clamp_max(count - 1)
         return self.order.gather(1, where.reshape(U, -1)), chosen
 
-    def outside(self, rows: Tensor, chosen: Tensor) -> Tensor:
-        """(U, B) float: 1 where row position rows[u, b] is not in one of unit u's chosen presses."""
-        of = self.press.gather(1, rows)
+    def outside(self, rows: Tensor, chosen: Tensor, units: Tensor | None = None) -> Tensor:
+        """(U', B) float: 1 where row position rows[i, b] of unit units[i] (default: every unit in
+        order) is not in one of its chosen presses chosen[i]."""
+        press = self.press if units is None else self.press[units]
+        of = press.gather(1, rows)
         return (of[:, :, None] != chosen[:, None, :]).all(-1).float()
 
 
@@ -126,16 +129,20 @@ def episode_loss(model: AdaptedMLP, X: Tensor, Y: Tensor, index: PressIndex, bat
                  log_lr: dict[str, Tensor], recipe: EpisodeRecipe, generator: torch.Generator) -> Tensor:
     """The mean over units of the query loss after an inner fit on a drawn support (module
     docstring). X (U, N, d_in), Y (U, N, d_out) standardised fitting rows; batch (U, B) row
-    positions of this step's joint batch (the query, outside the support presses)."""
-    rows_of = torch.arange(X.shape[0], device=X.device)[:, None]
+    positions of this step's joint batch (the query, outside the support presses). With
+    `units_per_step`, only that many units, drawn at random, have an episode this step."""
     support, chosen = index.draw(recipe, generator)
+    who = torch.arange(X.shape[0], device=X.device)
+    if recipe.units_per_step is not None and recipe.units_per_step < X.shape[0]:
+        who = torch.randperm(X.shape[0], generator=generator, device=X.device)[: recipe.units_per_step]
+    rows_of, support, chosen, batch = who[:, None], support[who], chosen[who], batch[who]
     Xs, Ys = X[rows_of, support], Y[rows_of, support]
-    adapter = {k: v.requires_grad_(True) for k, v in model.identity_like(X.shape[0]).items()}
+    adapter = {k: v.requires_grad_(True) for k, v in model.identity_like(len(who)).items()}
     for _ in range(recipe.inner_steps):
         loss = ((model.forward_with(Xs, adapter) - Ys) ** 2).mean(dim=(1, 2)).sum()
         grads = torch.autograd.grad(loss, list(adapter.values()), create_graph=True)
         adapter = {k: v - log_lr[k].exp() * g for (k, v), g in zip(adapter.items(), grads, strict=True)}
-    keep = index.outside(batch, chosen)
+    keep = index.outside(batch, chosen, who)
     err = ((model.forward_with(X[rows_of, batch], adapter) - Y[rows_of, batch]) ** 2).mean(-1)
     return ((err * keep).sum(1) / keep.sum(1).clamp_min(1.0)).mean()
 
