@@ -322,7 +322,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="robot-seconds of calibration: whole presses chosen as the shared "
                              "model's benchmark chose them, or, for a model benchmarked in samples, "
                              "the rows within this many robot-seconds of the stream")
-    cal.add_argument("--adapter", default=None, help="adapter kind of the run's shared models")
+    cal.add_argument("--adapter", default=None,
+                     help="adapter kind of the run's shared models (<kind>_episodic: trained episodically)")
     cal.add_argument("--seed", type=int, default=None,
                      help="which seed's shared model of the run (with --plan: the press points' draw)")
     cal.add_argument("--out", required=True,

@@ -512,4 +512,5 @@ def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], s
                                **({} if recipe.rates is None else {"rates": recipe.rates})},
             "calibration_protocol": opts.calibration_protocol,
             "calibration_interleave": opts.calibration_interleave,
-            "output_names": list(output_names)}
+            "output_names": list(output_names),
+            **({} if shared.inner_lr is None else {"inner_lr": shared.inner_lr})}
