@@ -25,7 +25,6 @@ itself was not met.
 
 from __future__ import annotations
 
-import argparse
 import copy
 import json
 from pathlib import Path
@@ -43,6 +42,7 @@ from anytip.models.io import load_shared
 from anytip.pipelines.common import Context, load
 from anytip.pipelines.cross_sensor import adapted_method, fit_methods, min_units, plan_of, prepare
 from anytip.pipelines.cross_sensor_options import parse_options, training_tag
+from anytip.pipelines.run_diagnostic import diagnose, diagnostic_parser
 from anytip.report.cross_sensor import mean_interval
 from anytip.train.adapter_prior import flat_adapters
 from anytip.train.shared_split import calibrate_many, predict_rows
@@ -154,24 +154,14 @@ def table(lines: list[dict]) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("run", type=Path)
-    ap.add_argument("--registry", required=True)
-    ap.add_argument("--budget", type=float, default=120.0, help="robot seconds (a budget of the run)")
-    ap.add_argument("--seeds", type=int, nargs="+", default=None)
-    ap.add_argument("--adapter", default="input_affine+film")
-    ap.add_argument("--out", type=Path, default=None)
-    a = ap.parse_args()
-    torch.set_num_threads(1)
-    seeds = a.seeds or load_spec(a.run / "config.yaml").all_seeds
-    lines = [line for s in seeds for line in seed_losses(a.run, a.registry, s, a.budget, a.adapter)]
-    text = (f"# Episodic training on training and held-out units: `{a.run.name}`, {a.adapter}, "
-            f"{a.budget:g} s\n\nStandardised MSE after calibration, mean over units "
-            f"[95% interval]; seeds {seeds}.\n\n{table(lines)}\n")
-    print(text)
-    if a.out:
-        a.out.write_text(text)
+    a = diagnostic_parser(__doc__).parse_args()
 
+    def render(seeds: list[int], lines: list[dict]) -> str:
+        return (f"# Episodic training on training and held-out units: `{a.run.name}`, {a.adapter}, "
+                f"{a.budget:g} s\n\nStandardised MSE after calibration, mean over units "
+                f"[95% interval]; seeds {seeds}.\n\n{table(lines)}\n")
+
+    diagnose(a, lambda s: seed_losses(a.run, a.registry, s, a.budget, a.adapter), render)
 
 if __name__ == "__main__":
     main()

@@ -23,7 +23,6 @@ what tuning the prior's strength could gain over the validation units' choice.
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
@@ -37,6 +36,7 @@ from anytip.models.io import load_models, load_shared
 from anytip.pipelines.common import Context, load
 from anytip.pipelines.cross_sensor import adapted_method, fit_methods, min_units, plan_of, prepare
 from anytip.pipelines.cross_sensor_options import parse_options
+from anytip.pipelines.run_diagnostic import diagnose, diagnostic_parser
 from anytip.report.cross_sensor import mean_interval
 from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import scores
@@ -137,24 +137,15 @@ def table(lines: list[dict]) -> str:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("run", type=Path)
-    ap.add_argument("--registry", required=True)
-    ap.add_argument("--budget", type=float, default=120.0, help="robot seconds (a budget of the run)")
-    ap.add_argument("--seeds", type=int, nargs="+", default=None)
-    ap.add_argument("--adapter", default="input_affine+film")
+    ap = diagnostic_parser(__doc__)
     ap.add_argument("--priors", type=float, nargs="*", default=[], help="prior strengths to refit at")
-    ap.add_argument("--out", type=Path, default=None)
     a = ap.parse_args()
-    torch.set_num_threads(1)
-    seeds = a.seeds or load_spec(a.run / "config.yaml").all_seeds
-    lines = [line for s in seeds for line in seed_ratios(a.run, a.registry, s, a.budget, a.adapter, a.priors)]
-    text = (f"# Where a {a.budget:g} s calibration errs: `{a.run.name}`, {a.adapter} "
-            f"(first fit of the run)\n\n{table(lines)}\n")
-    print(text)
-    if a.out:
-        a.out.write_text(text)
 
+    def render(seeds: list[int], lines: list) -> str:
+        return (f"# Where a {a.budget:g} s calibration errs: `{a.run.name}`, {a.adapter} "
+                f"(first fit of the run)\n\n{table(lines)}\n")
+
+    diagnose(a, lambda s: seed_ratios(a.run, a.registry, s, a.budget, a.adapter, a.priors), render)
 
 if __name__ == "__main__":
     main()

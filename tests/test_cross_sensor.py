@@ -547,3 +547,17 @@ def test_calibrate_uses_the_inner_fit_an_episodic_model_learnt(two_protocol_regi
     code = main(["calibrate", "--model", str(path), "--unit", unit, "--budget-samples", "300",
                  "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cal")])
     assert code == 0 and load_models(tmp_path / "cal").model.config.sizes == (8, 12, 64, 64, 5)
+
+
+def test_run_diagnostic_frame_collects_every_seed_and_writes_its_text(seconds_run, tmp_path, capsys):
+    """The scripts' shared frame: the run's own seeds unless asked, one text printed and written."""
+    from anytip.pipelines.run_diagnostic import diagnose, diagnostic_parser
+
+    out = tmp_path / "d.md"
+    a = diagnostic_parser("A diagnostic.\n\nmore").parse_args([str(seconds_run), "--registry", "r",
+                                                              "--out", str(out)])
+    assert a.budget == 120.0 and a.adapter == "input_affine+film"
+    text = diagnose(a, lambda s: [f"seed {s}"], lambda seeds, lines: f"{seeds}: {', '.join(lines)}")
+    assert text == "[0]: seed 0" and out.read_text() == text and text in capsys.readouterr().out
+    a = diagnostic_parser("d").parse_args([str(seconds_run), "--registry", "r", "--seeds", "3", "4"])
+    assert diagnose(a, lambda s: [s], lambda seeds, lines: str(sum(lines))) == "7"
