@@ -238,7 +238,8 @@ SECONDS = [*TINY[:3], "options.budget_unit=seconds", "options.budgets=[0,8,40]",
            "options.adapter_priors=[identity,empirical]", "options.reference_lrs=[0.003,0.01]",
            "options.reference_val=patches", "options.unlabeled_s=20",
            "options.scratch.epochs=5", "options.sweep_seeds=0", "splits.n_val_units=1",
-           "splits.n_test_units=2", "options.fits=[{}, {add: lowrank2, steps: 30}]"]
+           "splits.n_test_units=2", "options.fits=[{}, {add: lowrank2, steps: 30}]",
+           "options.intervals={folds: 3, level: 0.8}"]
 
 
 @pytest.fixture(scope="module")
@@ -561,3 +562,39 @@ def test_run_diagnostic_frame_collects_every_seed_and_writes_its_text(seconds_ru
     assert text == "[0]: seed 0" and out.read_text() == text and text in capsys.readouterr().out
     a = diagnostic_parser("d").parse_args([str(seconds_run), "--registry", "r", "--seeds", "3", "4"])
     assert diagnose(a, lambda s: [s], lambda seeds, lines: str(sum(lines))) == "7"
+
+
+def test_each_held_out_unit_gets_intervals_from_its_own_plan(seconds_run):
+    """`options.intervals`: the first fit of each shared model gets, per held-out unit and
+    labeled budget, a half-width per output cross-fitted over every row of its plan (a plan
+    with fewer presses than folds gets none) and its coverage on the unit's test rows; the
+    report tabulates them."""
+    rows = json.loads((seconds_run / "metrics.json").read_text())["results"]
+    banded = [r for r in rows if "interval_level" in r]
+    assert banded and {r["method"].split("@")[0] for r in banded} == {"adapted:input_affine+film"}
+    names = ["fx", "fy", "fz", "theta", "phi"]
+    for r in banded:
+        assert r["interval_level"] == 0.8 and r["budget_s"] > 0 and r["presses"] >= 3
+        assert r["interval_rows"] == r["calib_samples"]
+        for n in names:
+            assert 0.0 <= r[f"{n}_coverage"] <= 1.0 and r[f"{n}_halfwidth"] > 0
+    short = [r for r in rows if r["method"].startswith("adapted:input_affine+film@") and r.get("budget_s", 0) > 0
+             and r["presses"] < 3]
+    assert all("interval_level" not in r for r in short)
+    report = (seconds_run / "report.md").read_text()
+    assert "## Intervals from each unit's own plan" in report and "in [0.75, 0.85]" in report
+
+
+def test_interval_fields_cover_as_the_residuals_promise():
+    """Residuals and test errors from one distribution: the 90% half-width is the normal
+    quantile and about 90% of test rows fall inside; no residuals, no fields."""
+    from anytip.pipelines.cross_sensor import interval_fields
+
+    rng = np.random.default_rng(0)
+    resid = rng.normal(0, [1.0, 2.0], (20_000, 2))
+    target = rng.normal(0, [1.0, 2.0], (20_000, 2))
+    f = interval_fields(resid, np.zeros_like(target), target, ["a", "b"], 0.9)
+    assert f["a_halfwidth"] == pytest.approx(1.645, rel=0.03) and f["b_halfwidth"] == pytest.approx(3.29, rel=0.03)
+    assert f["a_coverage"] == pytest.approx(0.9, abs=0.01) and f["b_coverage"] == pytest.approx(0.9, abs=0.01)
+    assert f["interval_rows"] == 20_000 and f["interval_test_rows"] == 20_000
+    assert interval_fields(None, np.zeros((3, 2)), np.zeros((3, 2)), ["a", "b"], 0.9) == {}

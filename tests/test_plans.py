@@ -168,3 +168,21 @@ def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_pa
     assert len(presses) == 12 and all(len(presses.rows_of(k)) == 30 for k in range(12))
     plan = select_presses(presses, 20.0, RigTiming(move_s=2.0, remount_s=30.0))
     assert plan.calib_seconds <= 20.0 and plan.presses >= 2 and len(plan.orientations) == 1
+
+
+def test_press_folds_hold_out_every_press_exactly_once():
+    """split_presses(k, fold) for fold 0..k-1: each fold's check rows are whole presses, fitting
+    and check rows partition the plan, and together the folds hold out every row once."""
+    arrays = fleet()
+    plan = select_presses(find_presses(arrays, "U1"), 90.0, RigTiming(move_s=2.0, remount_s=30.0), "spread", 1)
+    assert plan.presses >= 4
+    checks = []
+    for fold in range(3):
+        fit, check = plan.split_presses(3, fold)
+        assert sorted(np.concatenate([fit, check])) == sorted(plan.rows)
+        assert len(check) % PRESS_ROWS == 0 and len(check) > 0
+        checks.append(check)
+    assert sorted(np.concatenate(checks)) == sorted(plan.rows)
+    assert np.array_equal(plan.split_presses(3)[1], checks[0])  # fold 0 is the own check's split
+    fit, check = plan.split_presses(plan.presses + 1, plan.presses)  # a fold past the last press
+    assert len(check) == 0 and np.array_equal(fit, plan.rows)

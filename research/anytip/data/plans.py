@@ -108,13 +108,15 @@ class Plan:
     def empty(cls) -> Plan:
         return cls(np.zeros(0, np.int64), 0, 0.0, 0.0, (), 0.0, np.zeros(1, np.int64))
 
-    def split_presses(self, every: int) -> tuple[np.ndarray, np.ndarray]:
-        """(fitting rows, check rows): every `every`-th press (the 1st, (every+1)-th, ...) held
-        out whole, for a calibration's own validation; no check rows for fewer than 2 presses."""
+    def split_presses(self, every: int, fold: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """(fitting rows, check rows): every `every`-th press from press `fold` on (0-based: the
+        (fold+1)-th, (fold+every+1)-th, ...) held out whole, for a calibration's own validation;
+        folds 0..every-1 hold out each press once. No check rows for fewer than 2 presses, or
+        where the fold starts past the last press."""
         pieces = [self.rows[a:b] for a, b in zip(self.bounds[:-1], self.bounds[1:], strict=True)]
-        if len(pieces) < 2:
+        check = [k for k in range(len(pieces)) if k % every == fold]
+        if len(pieces) < 2 or not check:
             return self.rows, self.rows[:0]
-        check = [k for k in range(len(pieces)) if k % every == 0]
         fit = [p for k, p in enumerate(pieces) if k not in check]
         return np.concatenate(fit), np.concatenate([pieces[k] for k in check])
 

@@ -56,10 +56,12 @@ from anytip.train.shared_split import (
     calibrate_many,
     main_rows,
     own_check_losses,
+    plan_residuals,
     predict_rows,
     prepare_seed,
     unit_main_rows,
 )
+from anytip.uncertainty.conformal import conformal_quantile, coverage, interval
 
 PLAIN_FIT = FitVariant()  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
@@ -169,7 +171,8 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         for family, fit in fit_methods(kind, opts, training):
             fit_kind = fit.kind(kind)
             kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts),
-                                                       family=family, fit=fit, tag=tag)
+                                                       family=family, fit=fit, tag=tag,
+                                                       intervals=first is None)
             rows += [dict(base, **r) for r in kind_rows]
             method = adapted_method(fit_kind, family) + tag + fit.suffix()
             priors_chosen[method.removeprefix("adapted:")] = chosen
@@ -363,12 +366,14 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
 def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit,
                  seed: int, budgets: list[Budget], fixed_priors: dict[Budget, float] | None = None,
                  family: PriorFamily = "identity", fit: FitVariant = PLAIN_FIT,
-                 tag: str = "") -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
+                 tag: str = "", intervals: bool = False
+                 ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
     """Rows of one shared model on the held-out units at every budget, the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead), and
     the validation units' mean standardised MSE per budget at that prior (empty when fixed).
     Adapters are fitted as `fit` says (`FitVariant`; an inner fit takes no prior); `tag` names
-    the shared model's training in the method."""
+    the shared model's training in the method. With `intervals` (and `options.intervals`), each
+    row with labels also holds its unit's interval coverage (`interval_fields`)."""
     fit_kind = fit.kind(shared.model.kind)
     kind = fit_kind
     method = adapted_method(kind, family) + tag + fit.suffix()
@@ -398,15 +403,43 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         loss = validation_losses(jobs, preds, sd, arrays, set(sd.split.val), shared.out_scaler)
         chosen = choose_priors(loss)
         val_loss = {b: float(np.mean(v)) for (b, p), v in loss.items() if p == chosen.get(b, p)}
+    kept = [(job, pred) for job, pred in zip(jobs, preds, strict=True)
+            if job[0] in sd.split.test and (job[1].amount == 0 or job[2] == chosen.get(job[1], job[2]))]
+    bands: list[dict[str, Any]] = [{} for _ in kept]
+    if intervals and opts.intervals is not None:
+        labeled = [k for k, ((_, b, _), _) in enumerate(kept) if b.amount > 0]
+        resid = plan_residuals(shared, arrays, [sd.evals[u].stream.unlabeled(opts.unlabeled_s)
+                                                for (u, _, _), _ in (kept[k] for k in labeled)],
+                               [plans[kept[k][0][:2]] for k in labeled], [kept[k][0][2] for k in labeled],
+                               recipe, seed, fit_kind, prior, opts.intervals.folds)
+        for k, r in zip(labeled, resid, strict=True):
+            u = kept[k][0][0]
+            bands[k] = interval_fields(r, kept[k][1], arrays.targets[sd.evals[u].test_rows],
+                                       arrays.output_names, opts.intervals.level)
     rows = []
-    for (u, b, p), pred in zip(jobs, preds, strict=True):
-        if u not in sd.split.test or (b.amount > 0 and p != chosen.get(b, p)):
-            continue
+    for ((u, b, p), pred), band in zip(kept, bands, strict=True):
         rows.append({"method": method + _suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
                      **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
-                     **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)})
+                     **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout), **band})
     return rows, chosen, val_loss
+
+
+def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.ndarray,
+                    names: list[str], level: float) -> dict[str, Any]:
+    """A held-out unit's intervals from its own plan, scored on its test rows: the conformal
+    half-width of each output (its unit: N or rad) from the plan's out-of-fold residuals
+    (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Empty
+    for a plan too short to cross-fit."""
+    if residuals is None:
+        return {}
+    half = conformal_quantile(np.abs(residuals), 1.0 - level)
+    lo, hi = interval(pred, half)
+    cover = coverage(lo, hi, target)
+    return {"interval_level": level, "interval_rows": int(len(residuals)),
+            "interval_test_rows": int(len(target)),
+            **{f"{n}_halfwidth": float(h) for n, h in zip(names, half, strict=True)},
+            **{f"{n}_coverage": float(c) for n, c in zip(names, cover, strict=True)}}
 
 
 def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndarray], sd: SeedData,

@@ -110,6 +110,17 @@ class EpisodicOptions(BaseModel):
         return EpisodeRecipe(**self.model_dump())
 
 
+class IntervalOptions(BaseModel):
+    """`options.intervals`: prediction intervals of each calibrated held-out unit from its own
+    plan (split conformal on out-of-fold residuals: the plan's presses dealt into `folds`
+    folds, each predicted by the adapter refitted without it), scored on its test patches."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    folds: int = Field(default=5, ge=2, le=100)
+    level: float = Field(default=0.9, gt=0, lt=1, description="nominal coverage")
+
+
 Training = Literal["joint", "episodic"]
 
 
@@ -164,6 +175,9 @@ class Options(BaseModel):
         "training unit's adapter fitted with the shared weights) or episodic (also adapters fitted on "
         "a few presses and scored on the unit's other rows; method suffix ~episodic)")
     episodic: EpisodicOptions = EpisodicOptions()
+    intervals: IntervalOptions | None = Field(
+        default=None, description="intervals from each held-out unit's own plan, for the first fit of "
+        "every shared model at the chosen prior (budget_unit seconds)")
     extra_units: ExtraUnits | None = None
     reference_shapes: list[MLPConfig] = Field(
         default=[], description="more per-unit models of other shapes (model blocks), each trained and "
@@ -212,6 +226,9 @@ def parse_options(ctx: Context) -> Options:
     for kind in [*opts.adapters, opts.sweep_adapter]:
         for fit in opts.fits:
             parse_kind(fit.kind(kind))
+    if opts.intervals is not None and opts.budget_unit != "seconds":
+        raise AnytipError("options.intervals: intervals are cross-fitted over a plan's presses; they "
+                          "need budget_unit seconds")
     if opts.budget_unit == "samples" and any(b != int(b) for b in opts.budgets):
         raise AnytipError(f"options.budgets: with budget_unit samples, budgets are whole sample counts, "
                           f"got {opts.budgets}")

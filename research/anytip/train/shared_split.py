@@ -181,8 +181,41 @@ def own_check_losses(shared: SharedFit | LoadedShared, arrays: FleetArrays, unla
     plan of fewer than 2 presses. The same statistic on the benchmark's validation units is
     what a new unit's check is compared with (`anytip calibrate`)."""
     splits = [p.split_presses(every) for p in plans]
+    preds = refit_without(shared, arrays, unlabeled_rows, plans, splits, priors, recipe, seed, fit_kind,
+                          adapter_prior)
+    std = shared.out_scaler.std.reshape(-1).cpu().numpy()
+    return [None if pred is None else float((((pred - arrays.targets[check]) / std) ** 2).mean())
+            for pred, (_, check) in zip(preds, splits, strict=True)]
+
+
+def plan_residuals(shared: SharedFit | LoadedShared, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
+                   plans: list[Plan], priors: list[float], recipe: AdapterRecipe, seed: int,
+                   fit_kind: str | None = None, adapter_prior: AdapterPrior | None = None,
+                   folds: int = OWN_CHECK_EVERY) -> list[np.ndarray | None]:
+    """Out-of-fold residuals of each job's plan, cross-fitted by whole presses: the presses are
+    dealt into `folds` folds (press k to fold k mod folds), each fold predicted by the adapter
+    refitted without it (all folds of all jobs fitted as one batch). (n_j, D) target minus
+    prediction in physical units over the plan's rows; None for a plan with fewer presses than
+    folds (some fold would be empty)."""
+    jobs = [(j, f) for j, p in enumerate(plans) if p.presses >= folds for f in range(folds)]
+    splits = [plans[j].split_presses(folds, f) for j, f in jobs]
+    preds = refit_without(shared, arrays, [unlabeled_rows[j] for j, _ in jobs], [plans[j] for j, _ in jobs],
+                          splits, [priors[j] for j, _ in jobs], recipe, seed, fit_kind, adapter_prior)
+    parts: dict[int, list[np.ndarray]] = {}
+    for (j, _), pred, (_, check) in zip(jobs, preds, splits, strict=True):
+        parts.setdefault(j, []).append(arrays.targets[check] - pred)
+    return [np.concatenate(parts[j]) if j in parts else None for j in range(len(plans))]
+
+
+def refit_without(shared: SharedFit | LoadedShared, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
+                  plans: list[Plan], splits: list[tuple[np.ndarray, np.ndarray]], priors: list[float],
+                  recipe: AdapterRecipe, seed: int, fit_kind: str | None = None,
+                  adapter_prior: AdapterPrior | None = None) -> list[np.ndarray | None]:
+    """Each job's adapter fitted on its split's fitting rows only (the prior scaled by the
+    share of the plan's rows kept), its physical predictions (n_check, D) on the check rows;
+    None where a split has no check rows. One batch for all jobs."""
     live = [k for k, (_, check) in enumerate(splits) if len(check)]
-    out: list[float | None] = [None] * len(plans)
+    out: list[np.ndarray | None] = [None] * len(plans)
     if not live:
         return out
     X = [torch.from_numpy(arrays.pressure[splits[k][0]]) for k in live]
@@ -192,7 +225,6 @@ def own_check_losses(shared: SharedFit | LoadedShared, arrays: FleetArrays, unla
         [len(x) for x in X], [priors[k] for k in live], recipe, seed, fit_kind,
         [plans[k].n_effective * len(splits[k][0]) / len(plans[k].rows) for k in live], adapter_prior)
     preds = predict_rows(folded, stats, shared.out_scaler, arrays, [splits[k][1] for k in live])
-    std = shared.out_scaler.std.reshape(-1).cpu().numpy()
     for k, pred in zip(live, preds, strict=True):
-        out[k] = float((((pred - arrays.targets[splits[k][1]]) / std) ** 2).mean())
+        out[k] = pred
     return out
