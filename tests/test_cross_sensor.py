@@ -311,6 +311,44 @@ def test_calibrate_by_seconds_selects_presses_like_the_benchmark(seconds_run, tw
                  "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cli")]) == 0
     out = capsys.readouterr().out
     assert "own check" in out and "not the same rows" in out and "fitted and folded in" in out
+    assert "90% intervals from the plan (5 press folds" in out
+
+
+def test_calibrate_gives_intervals_from_the_units_own_plan(seconds_run, two_protocol_registry, tmp_path):
+    """Every plan row predicted out of fold once; a half-width per output, wider at a higher
+    level; their coverage of the unit's other runs; none when asked for none; a bad level refused."""
+    prov = json.loads((seconds_run / "provenance.json").read_text())
+    unit = prov["cross_sensor"]["seed0"]["units"]["test"][0]
+    r = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "a", budget_seconds=40.0,
+                       interval_level=0.8)
+    assert r.intervals["rows"] == r.calib_samples and r.intervals["level"] == 0.8
+    names = ["fx", "fy", "fz", "theta", "phi"]
+    assert list(r.intervals["halfwidth"]) == names and all(v > 0 for v in r.intervals["halfwidth"].values())
+    assert "coverage_on_other_runs" not in r.intervals  # its plan may take presses of every run
+    assert load_models(tmp_path / "a").meta["intervals"] == r.intervals
+    wide = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "b", budget_seconds=40.0,
+                          interval_level=0.95)
+    assert all(wide.intervals["halfwidth"][n] >= r.intervals["halfwidth"][n] for n in names)
+    none = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "c", budget_seconds=40.0,
+                          interval_level=None)
+    assert none.intervals is None and load_models(tmp_path / "c").meta["intervals"] is None
+    with pytest.raises(AnytipError, match="--interval-level"):
+        calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "d", budget_seconds=40.0,
+                       interval_level=1.5)
+
+
+def test_plan_intervals_score_the_units_other_runs():
+    """Half-widths from residuals; the other runs' rows inside them, per output; no residuals,
+    no intervals."""
+    from anytip.calibrate import plan_intervals
+
+    resid = np.tile(np.arange(1.0, 11.0)[:, None], (1, 2))  # |r| = 1..10 in both outputs
+    pred, target = np.zeros((4, 2)), np.array([[0.5, 9.5], [8.5, 10.5], [-9.5, 0.0], [20.0, 1.0]])
+    bands = plan_intervals(resid, 0.8, ("a", "b"), (pred, target))
+    assert bands["halfwidth"] == {"a": 9.0, "b": 9.0}  # the ceil(11 * 0.8) = 9th smallest
+    assert bands["coverage_on_other_runs"] == {"a": 0.5, "b": 0.5} and bands["rows"] == 10
+    assert "coverage_on_other_runs" not in plan_intervals(resid, 0.8, ("a", "b"), None)
+    assert plan_intervals(None, 0.8, ("a", "b"), (pred, target)) is None
 
 
 def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):

@@ -34,7 +34,8 @@ from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import predict, scores, target_key
-from anytip.train.shared_split import OWN_CHECK_EVERY, own_check_losses
+from anytip.train.shared_split import OWN_CHECK_EVERY, own_check_losses, plan_residuals
+from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 from anytip.validation import read_yaml
 
 # A new unit whose own check exceeds the worst validation unit's by more than this is flagged.
@@ -56,6 +57,8 @@ class Calibrated:
     notes: list[str]  # which shared model and why, clipped budgets, warnings
     own_check: dict[str, float] | None = None  # the plan's held-out presses against the fleet's
     wall_s: float = 0.0  # fitting and folding, both fits included
+    intervals: dict[str, Any] | None = None  # from the plan's out-of-fold residuals (`plan_intervals`)
+    interval_s: float = 0.0  # the interval fits
 
 
 def find_shared(model: str | Path, adapter: str | None = None, seed: int | None = None,
@@ -234,12 +237,23 @@ def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationSt
 Fit = Callable[[np.ndarray, float], tuple[BatchedMLP, Scaler]]
 
 
+@dataclass
+class Fitter:
+    """How a new unit's adapter is fitted, as the shared model's benchmark fitted adapters.
+
+    fit(rows, n_effective) -> (folded MLP, input scaler): fitted on `rows`; check(plan): the
+    calibration's own check as the benchmark measured it on its validation units
+    (`train.shared_split.own_check_losses`); residuals(plan, folds): the plan's out-of-fold
+    residuals (`train.shared_split.plan_residuals`)."""
+
+    fit: Fit
+    check: Callable[[Plan], float | None]
+    residuals: Callable[[Plan, int], np.ndarray | None]
+
+
 def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unlabeled_rows: np.ndarray,
-            prior: float) -> tuple[Fit, Callable[[Plan], float | None]]:
-    """fit(rows, n_effective) -> (folded MLP, input scaler): the unit's adapter fitted on `rows`
-    as the shared model's benchmark fitted adapters (recipe, prior family and strength); and
-    check(plan): the calibration's own check as the benchmark measured it on its validation
-    units (`train.shared_split.own_check_losses`)."""
+            prior: float) -> Fitter:
+    """The unit's `Fitter`: the benchmark's recipe, prior family and strength."""
     recipe = AdapterRecipe(**meta.get("adapter_recipe", {}))
     seed = int(meta.get("seed", 0))
     family = None
@@ -256,7 +270,31 @@ def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unl
     def check(plan: Plan) -> float | None:
         return own_check_losses(shared, arrays, [unlabeled_rows], [plan], [prior], recipe, seed,
                                 adapter_prior=family)[0]
-    return fit, check
+
+    def residuals(plan: Plan, folds: int) -> np.ndarray | None:
+        return plan_residuals(shared, arrays, [unlabeled_rows], [plan], [prior], recipe, seed,
+                              adapter_prior=family, folds=folds)[0]
+    return Fitter(fit, check, residuals)
+
+
+INTERVAL_FOLDS = 5  # press folds of a new unit's interval residuals (as the benchmark's default)
+
+
+def plan_intervals(residuals: np.ndarray | None, level: float, names: tuple[str, ...],
+                   other: tuple[np.ndarray, np.ndarray] | None) -> dict[str, Any] | None:
+    """A new unit's intervals: the half-width per output (names; the output's unit) at nominal
+    `level` from its plan's out-of-fold residuals (n, D), and, given the unit's other runs as
+    (prediction, target) (m, D), the share of their rows inside. None without residuals (a
+    plan of fewer than INTERVAL_FOLDS presses)."""
+    if residuals is None:
+        return None
+    half = residual_halfwidth(residuals, level)
+    out: dict[str, Any] = {"level": level, "folds": INTERVAL_FOLDS, "rows": int(len(residuals)),
+                           "halfwidth": dict(zip(names, map(float, half), strict=True))}
+    if other is not None:
+        lo, hi = interval(other[0], half)
+        out["coverage_on_other_runs"] = dict(zip(names, map(float, coverage(lo, hi, other[1])), strict=True))
+    return out
 
 
 def own_check(loss: float | None, plan: Plan, fleet_loss: float | None,
@@ -282,8 +320,12 @@ def own_check(loss: float | None, plan: Plan, fleet_loss: float | None,
 
 def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | Path,
                    budget_samples: int | None = None, budget_seconds: float | None = None,
-                   adapter: str | None = None, seed: int | None = None) -> Calibrated:
-    """Fit, fold and save one unit's model; see the module docstring."""
+                   adapter: str | None = None, seed: int | None = None,
+                   interval_level: float | None = 0.9) -> Calibrated:
+    """Fit, fold and save one unit's model; see the module docstring. `interval_level`: the
+    nominal coverage of the intervals from the plan (None: none)."""
+    if interval_level is not None and not 0 < interval_level < 1:
+        raise AnytipError(f"--interval-level must lie strictly between 0 and 1, got {interval_level}")
     if budget_samples is not None and budget_seconds is not None:
         raise AnytipError("give --budget-samples or --budget-seconds, not both")
     if benchmarked_in(model) == "seconds":
@@ -313,9 +355,9 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
     tick = time.perf_counter()
-    fit, check_plan = _fitter(shared, meta, arrays, unlabeled_rows, prior)
-    folded, stats = fit(plan.rows, plan.n_effective)
-    own = own_check(check_plan(plan), plan, _val_loss_table(meta, budget), _own_check_table(meta, budget))
+    fitter = _fitter(shared, meta, arrays, unlabeled_rows, prior)
+    folded, stats = fitter.fit(plan.rows, plan.n_effective)
+    own = own_check(fitter.check(plan), plan, _val_loss_table(meta, budget), _own_check_table(meta, budget))
     if own is not None and own.get("alarm"):
         notes.append(f"warning: the calibration's own check is {own['over_validation']:.1f}x the worst of "
                      "the shared model's validation units checked the same way (alarm above "
@@ -324,19 +366,26 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     wall_s = time.perf_counter() - tick
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = stream.outside(arrays)
-    check = None
+    check, on_other = None, None
     if other.any():
         pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
+        on_other = (pred.numpy(), arrays.targets[other])
         check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout),
                  "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
+    tick = time.perf_counter()
+    bands = None
+    if interval_level is not None and plan.presses >= INTERVAL_FOLDS:
+        bands = plan_intervals(fitter.residuals(plan, INTERVAL_FOLDS), interval_level, arrays.output_names,
+                               on_other)
     result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes,
-                        own, wall_s)
+                        own, wall_s, bands, time.perf_counter() - tick)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
         "adapter": shared.model.kind, "calib_samples": n, "calib_seconds": result.calib_seconds,
         "calib_presses": plan.presses, "n_effective": plan.n_effective,
         "unlabeled_samples": result.unlabeled_samples, "prior": prior,
         "calibration_runs": list(stream.runs), "check_on_other_runs": check, "own_check": own,
+        "intervals": bands,
     })
     write_json(Path(out) / "calibration.json",
                {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()})

@@ -8,6 +8,7 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 from anytip.errors import AnytipError
 from anytip.rundir import dumps_json, write_text
@@ -173,7 +174,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     if (out / "model.safetensors").exists() and not args.force:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
     r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
-                       args.budget_seconds, args.adapter, args.seed)
+                       args.budget_seconds, args.adapter, args.seed, args.interval_level or None)
     for note in r.notes:
         print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
     print(f"calibrated {r.unit}: {r.calib_samples} labeled samples ({r.calib_seconds:.1f} robot-s), "
@@ -195,8 +196,23 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
             val = ", ".join(f"{v:.3g}" for v in own["validation_units_mse"])
             print(f"  the shared model's validation units, checked the same way: {val}; this unit is "
                   f"{own['over_validation']:.2f}x the worst of them{' (ALARM)' if own['alarm'] else ''}")
-    print(f"fitted and folded in {r.wall_s:.1f} s")
+    if r.intervals is not None:
+        _print_intervals(r.intervals)
+    elif args.interval_level and r.calib_samples:
+        print("no intervals: the plan holds fewer than 5 presses to cross-fit them")
+    took = f"; intervals in {r.interval_s:.1f} s" if r.intervals else ""
+    print(f"fitted and folded in {r.wall_s:.1f} s{took}")
     return 0
+
+
+def _print_intervals(bands: dict[str, Any]) -> None:
+    """A calibrated unit's intervals (`calibrate.plan_intervals`) on the console."""
+    half = ", ".join(f"{k} +-{v:.3g}" for k, v in bands["halfwidth"].items())
+    print(f"{bands['level']:.0%} intervals from the plan ({bands['folds']} press folds, {bands['rows']} "
+          f"out-of-fold rows; N or rad as the target): {half}")
+    if "coverage_on_other_runs" in bands:
+        cover = ", ".join(f"{k} {v:.3f}" for k, v in bands["coverage_on_other_runs"].items())
+        print(f"  share of the unit's other runs inside them: {cover}")
 
 
 def write_plan(args: argparse.Namespace) -> int:
@@ -328,6 +344,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="which seed's shared model of the run (with --plan: the press points' draw)")
     cal.add_argument("--out", required=True,
                      help="directory for the folded per-unit model (with --plan: the CSV file)")
+    cal.add_argument("--interval-level", type=float, default=0.9,
+                     help="nominal coverage of the unit's intervals from its own plan (default 0.9; "
+                          "0: none); needs a plan of at least 5 presses")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",

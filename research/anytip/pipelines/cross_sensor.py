@@ -61,7 +61,7 @@ from anytip.train.shared_split import (
     prepare_seed,
     unit_main_rows,
 )
-from anytip.uncertainty.conformal import conformal_quantile, coverage, interval
+from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 
 PLAIN_FIT = FitVariant()  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
@@ -433,7 +433,7 @@ def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.n
     for a plan too short to cross-fit."""
     if residuals is None:
         return {}
-    half = conformal_quantile(np.abs(residuals), 1.0 - level)
+    half = residual_halfwidth(residuals, level)
     lo, hi = interval(pred, half)
     cover = coverage(lo, hi, target)
     return {"interval_level": level, "interval_rows": int(len(residuals)),

@@ -26,6 +26,12 @@ def conformal_quantile(scores: np.ndarray, alpha: float) -> np.ndarray:
     return np.sort(scores, axis=0)[rank - 1]
 
 
+def residual_halfwidth(residuals: np.ndarray, level: float) -> np.ndarray:
+    """Half-width per output (d,) of intervals at nominal `level` from out-of-sample residuals
+    (n, d): the conformal quantile of their absolute values."""
+    return conformal_quantile(np.abs(residuals), 1.0 - level)
+
+
 def scores_of(mu: np.ndarray, y: np.ndarray, scale: np.ndarray | None = None) -> np.ndarray:
     """Nonconformity |y - mu| / scale, all (n, d); scale None is the absolute residual."""
     r = np.abs(y - mu)
