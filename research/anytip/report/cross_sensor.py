@@ -381,7 +381,7 @@ Each held-out unit's {level:.0%} interval is its calibrated prediction +- a half
 the split-conformal quantile of its plan's out-of-fold residuals (the plan's presses dealt into
 folds, each predicted by the adapter refitted without it; `options.intervals`). Coverage is the
 share of the unit's test rows inside, per output; a unit-seed-output is on target within
-[{lo:.2f}, {hi:.2f}].
+[{lo:.2f}, {hi:.2f}]. Half-widths: mean over unit-seeds, in each output's unit (N, rad).
 
 {table(['method', 'budget [robot-s]', 'unit-seed-outputs', f'in [{lo:.2f}, {hi:.2f}]', 'lowest',
         'median', 'fewest test rows', *(f'{n} half-width' for n in names)], body)}
