@@ -94,6 +94,7 @@ def test_run_rows_follow_the_contract(cross_run):
     assert {r["n_train_units"] for r in rows} == {2, 5}  # the unit-count sweep and the full set
     report = (cross_run / "report.md").read_text()
     assert "Targets" in report and (cross_run / "rmse_vs_budget.png").is_file()
+    assert (cross_run / "ratio_vs_budget.png").is_file() and "ratio_vs_budget.png" in report
 
 
 def test_saved_shared_model_folds_like_it_predicts(cross_run):

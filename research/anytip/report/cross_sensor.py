@@ -215,6 +215,34 @@ def budget_figure(rows: list[dict[str, Any]], path: Path, metrics: Sequence[Metr
     return save_figure(fig, path)
 
 
+def ratio_figure(lines: list[dict[str, Any]], path: Path, seconds: bool,
+                 metrics: Sequence[Metric] = METRICS) -> Path:
+    """Each metric's ratio to per_unit against the budget, per method (`summary` lines): the
+    mean over distinct held-out units with its 95% bootstrap interval; 1.0 and 1.1 marked."""
+    fig, axes = subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+    fleet = [ln for ln in lines if not is_reference(ln["method"])]
+    budgets = sorted({ln["budget"] for ln in fleet})
+    pos = {b: i for i, b in enumerate(budgets)}
+    methods = sorted({ln["method"] for ln in fleet})
+    for ax, m in zip(axes[0], metrics, strict=True):
+        for k, method in enumerate(methods):
+            mine = sorted((ln for ln in fleet if ln["method"] == method), key=lambda ln: ln["budget"])
+            mean, lo, hi = (np.array([ln[f"{m.name}_unit"][i] for ln in mine]) for i in range(3))
+            shift = 0.6 * (k / max(len(methods) - 1, 1) - 0.5)  # side by side within a budget
+            x = np.array([pos[ln["budget"]] for ln in mine]) + shift
+            ax.errorbar(x, mean, yerr=[mean - lo, hi - mean], marker="os^Dv"[k // 10 % 5], capsize=3,
+                        label=method)
+        ax.axhline(1.0, color="k", ls="--", lw=1.2, label="per_unit")
+        ax.axhline(1.1, color="k", ls=":", lw=1, label="1.1x")
+        unit = "robot-seconds" if seconds else "labeled samples"
+        ax.set_xticks(list(pos.values()), [f"{b:g}" if b >= 0 else "full" for b in budgets])
+        ax.set(xlabel=f"calibration budget [{unit}]", ylabel=f"{m.name} RMSE / per_unit", yscale="log")
+        ax.grid(alpha=0.3, which="both")
+    axes[0][0].legend(fontsize=7)
+    fig.suptitle("held-out units: ratio to their own per-unit models (mean over units, 95% interval)")
+    return save_figure(fig, path)
+
+
 def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path,
                       metric: Metric = METRICS[0]) -> Path | None:
     """The first metric's RMSE ratio to per_unit against the number of training units, one line
@@ -255,6 +283,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
     units_fig = unit_count_figure(rows, f"adapted:{opts.sweep_adapter}",
                                   ctx.run_dir / "rmse_vs_train_units.png", metrics[0])
     seconds = in_seconds(main)
+    ratio_figure(lines, ctx.run_dir / "ratio_vs_budget.png", seconds, metrics)
     body = [[s["method"], "full" if s["budget"] < 0 else f"{s['budget']:g}",
              "" if s["seconds"] is None else f"{s['seconds']:.1f}",
              *(v for m in metrics for v in (rmse_text(s[m.name]), ratio_text(s[f"{m.name}_unit"]))),
@@ -297,6 +326,8 @@ interval over units].
         'units', 'rows'], body)}
 
 ![error against calibration budget](rmse_vs_budget.png)
+
+![ratio to the per-unit models against calibration budget](ratio_vs_budget.png)
 {own_check_section(cs)}{interval_section(rows)}""" + ("" if units_fig is None else """
 ## How many units to calibrate fully
 
