@@ -301,7 +301,8 @@ def test_calibrate_by_seconds_selects_presses_like_the_benchmark(seconds_run, tw
     result = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "s", budget_seconds=40.0)
     assert 0 < result.calib_seconds <= 40.0
     own = result.own_check
-    assert own["held_out_presses"] >= 1 and own["standardised_mse"] > 0
+    assert own["presses"] == result.own_check["presses"] >= 2 and own["standardised_mse"] > 0
+    assert own["rows"] == result.calib_samples and own["folds"] == min(5, own["presses"])
     assert own["over_fleet"] == pytest.approx(own["standardised_mse"] / own["fleet_validation_mse"])
     loaded = load_models(tmp_path / "s")
     assert loaded.meta["calib_presses"] > 1 and loaded.meta["n_effective"] <= loaded.meta["calib_samples"]
@@ -617,8 +618,8 @@ def test_each_held_out_unit_gets_intervals_from_its_own_plan(seconds_run):
         assert r["interval_rows"] == r["calib_samples"]
         for n in names:
             assert 0.0 <= r[f"{n}_coverage"] <= 1.0 and r[f"{n}_halfwidth"] > 0
-    short = [r for r in rows if r["method"].startswith("adapted:input_affine+film@") and r.get("budget_s", 0) > 0
-             and r["presses"] < 3]
+    short = [r for r in rows if r["method"].startswith("adapted:input_affine+film@")
+             and r.get("budget_s", 0) > 0 and r["presses"] < 3]
     assert all("interval_level" not in r for r in short)
     report = (seconds_run / "report.md").read_text()
     assert "## Intervals from each unit's own plan" in report and "in [0.75, 0.85]" in report
@@ -633,7 +634,8 @@ def test_interval_fields_cover_as_the_residuals_promise():
     resid = rng.normal(0, [1.0, 2.0], (20_000, 2))
     target = rng.normal(0, [1.0, 2.0], (20_000, 2))
     f = interval_fields(resid, np.zeros_like(target), target, ["a", "b"], 0.9)
-    assert f["a_halfwidth"] == pytest.approx(1.645, rel=0.03) and f["b_halfwidth"] == pytest.approx(3.29, rel=0.03)
+    assert f["a_halfwidth"] == pytest.approx(1.645, rel=0.03)
+    assert f["b_halfwidth"] == pytest.approx(3.29, rel=0.03)
     assert f["a_coverage"] == pytest.approx(0.9, abs=0.01) and f["b_coverage"] == pytest.approx(0.9, abs=0.01)
     assert f["interval_rows"] == 20_000 and f["interval_test_rows"] == 20_000
     assert interval_fields(None, np.zeros((3, 2)), np.zeros((3, 2)), ["a", "b"], 0.9) == {}

@@ -174,7 +174,8 @@ def test_press_folds_hold_out_every_press_exactly_once():
     """split_presses(k, fold) for fold 0..k-1: each fold's check rows are whole presses, fitting
     and check rows partition the plan, and together the folds hold out every row once."""
     arrays = fleet()
-    plan = select_presses(find_presses(arrays, "U1"), 90.0, RigTiming(move_s=2.0, remount_s=30.0), "spread", 1)
+    rig = RigTiming(move_s=2.0, remount_s=30.0)
+    plan = select_presses(find_presses(arrays, "U1"), 90.0, rig, "spread", 1)
     assert plan.presses >= 4
     checks = []
     for fold in range(3):

@@ -34,7 +34,7 @@ from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import predict, scores, target_key
-from anytip.train.shared_split import OWN_CHECK_EVERY, own_check_losses, plan_residuals
+from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_losses, plan_residuals
 from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 from anytip.validation import read_yaml
 
@@ -277,7 +277,7 @@ def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unl
     return Fitter(fit, check, residuals)
 
 
-INTERVAL_FOLDS = 5  # press folds of a new unit's interval residuals (as the benchmark's default)
+INTERVAL_FOLDS = OWN_CHECK_FOLDS  # press folds of a new unit's interval residuals (the benchmark's default)
 
 
 def plan_intervals(residuals: np.ndarray | None, level: float, names: tuple[str, ...],
@@ -299,17 +299,17 @@ def plan_intervals(residuals: np.ndarray | None, level: float, names: tuple[str,
 
 def own_check(loss: float | None, plan: Plan, fleet_loss: float | None,
               validation: list[float] | None) -> dict[str, Any] | None:
-    """The calibration's own check (every 5th press of the plan held out, the adapter refitted
-    without them, standardised MSE on them) beside what the shared model's benchmark measured:
+    """The calibration's own check (the plan's presses in OWN_CHECK_FOLDS folds, each predicted
+    by the adapter refitted without it, standardised MSE over all of them) beside what the
+    shared model's benchmark measured:
     the same statistic on its validation units at this budget (`validation`; `over_validation`
     is the ratio to the worst of them, and `alarm` is set above OWN_CHECK_ALARM), and the
     validation units' loss on their test patches (`over_fleet`: other rows, a guide only).
     None for a plan of fewer than 2 presses."""
     if loss is None:
         return None
-    _, check_rows = plan.split_presses(OWN_CHECK_EVERY)
-    out: dict[str, Any] = {"held_out_presses": int(np.ceil(plan.presses / OWN_CHECK_EVERY)),
-                           "rows": int(len(check_rows)), "standardised_mse": loss}
+    out: dict[str, Any] = {"presses": plan.presses, "folds": min(OWN_CHECK_FOLDS, plan.presses),
+                           "rows": int(len(plan.rows)), "standardised_mse": loss}
     if fleet_loss is not None:
         out |= {"fleet_validation_mse": fleet_loss, "over_fleet": loss / fleet_loss}
     if validation:

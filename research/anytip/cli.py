@@ -190,8 +190,9 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         if "over_fleet" in own:
             fleet = (f" (the fleet's validation units: {own['fleet_validation_mse']:.3g} on their test "
                      f"patches at this budget, {own['over_fleet']:.2f}x; not the same rows)")
-        print(f"own check: standardised MSE {own['standardised_mse']:.3g} on {own['held_out_presses']} "
-              f"presses of the plan, held out and refitted without{fleet}")
+        print(f"own check: standardised MSE {own['standardised_mse']:.3g} on the plan's {own['presses']} "
+              f"presses, each predicted by the adapter refitted without its fold ({own['folds']} "
+              f"folds){fleet}")
         if "over_validation" in own:
             val = ", ".join(f"{v:.3g}" for v in own["validation_units_mse"])
             print(f"  the shared model's validation units, checked the same way: {val}; this unit is "

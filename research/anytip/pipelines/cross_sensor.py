@@ -459,8 +459,8 @@ def own_checks(arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedF
                chosen: dict[Budget, float], family: PriorFamily, fit: FitVariant
                ) -> dict[Budget, dict[str, float | None]]:
     """Budget -> validation or held-out unit -> its calibration's own check at the chosen
-    prior (`train.shared_split.own_check_losses`: every 5th press held out and refitted
-    without). Budgets in robot seconds only (a stream prefix has no presses to hold out);
+    prior (`train.shared_split.own_check_losses`: every press predicted by the adapter refitted
+    without its fold). Budgets in robot seconds only (a stream prefix has no presses to hold out);
     empty for a shared model without adapters."""
     kind = fit.kind(shared.model.kind)
     budgets = [b for b in chosen if b.amount > 0 and b.unit == "seconds"]

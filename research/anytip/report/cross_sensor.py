@@ -372,9 +372,10 @@ def own_check_section(cross_sensor: dict[str, Any]) -> str:
     return f"""
 ## The calibration's own check on ordinary units
 
-`anytip calibrate` refits a new unit's adapter without every 5th press of its plan, scores
-those presses, and warns when the result is more than {alarm:g}x the worst of the shared model's
-validation units checked the same way. The held-out units here are ordinary units: how often
+`anytip calibrate` deals a new unit's plan into 5 folds of whole presses, predicts each fold
+with the adapter refitted without it, scores all the plan's rows so predicted, and warns when
+the result is more than {alarm:g}x the worst of the shared model's validation units checked
+the same way. The held-out units here are ordinary units: how often
 would the alarm have fired on them (unit-seeds pooled)?
 
 {table(['shared model', 'budget', 'held-out unit-seeds', 'median check / worst validation',

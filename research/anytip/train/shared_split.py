@@ -168,37 +168,38 @@ def calibrate_many(shared: SharedFit, arrays: FleetArrays, unlabeled_rows: list[
                               fit_kind, [p.n_effective for p in plans], adapter_prior)
 
 
-OWN_CHECK_EVERY = 5  # every 5th press of a plan is held out for the calibration's own check
+OWN_CHECK_FOLDS = 5  # a plan's presses are dealt into 5 folds for the calibration's own check
 
 
 def own_check_losses(shared: SharedFit | LoadedShared, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
                      plans: list[Plan], priors: list[float], recipe: AdapterRecipe, seed: int,
                      fit_kind: str | None = None, adapter_prior: AdapterPrior | None = None,
-                     every: int = OWN_CHECK_EVERY) -> list[float | None]:
-    """Each job's calibration checked on its own data: the adapter refitted without every
-    `every`-th press of the plan (the prior scaled by the presses kept), scored on those
-    presses as standardised MSE over all outputs (the benchmark's validation loss). None for a
-    plan of fewer than 2 presses. The same statistic on the benchmark's validation units is
-    what a new unit's check is compared with (`anytip calibrate`)."""
-    splits = [p.split_presses(every) for p in plans]
-    preds = refit_without(shared, arrays, unlabeled_rows, plans, splits, priors, recipe, seed, fit_kind,
-                          adapter_prior)
+                     folds: int = OWN_CHECK_FOLDS) -> list[float | None]:
+    """Each job's calibration checked on its own data: every press of the plan predicted by the
+    adapter refitted without its fold (`plan_residuals`; min(folds, presses) folds), scored as
+    standardised MSE over all the plan's rows and outputs (the benchmark's validation loss).
+    None for a plan of fewer than 2 presses. The same statistic on the benchmark's validation
+    units is what a new unit's check is compared with (`anytip calibrate`)."""
+    resid = plan_residuals(shared, arrays, unlabeled_rows, plans, priors, recipe, seed, fit_kind,
+                           adapter_prior, folds, fewer=True)
     std = shared.out_scaler.std.reshape(-1).cpu().numpy()
-    return [None if pred is None else float((((pred - arrays.targets[check]) / std) ** 2).mean())
-            for pred, (_, check) in zip(preds, splits, strict=True)]
+    return [None if r is None else float(((r / std) ** 2).mean()) for r in resid]
 
 
 def plan_residuals(shared: SharedFit | LoadedShared, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
                    plans: list[Plan], priors: list[float], recipe: AdapterRecipe, seed: int,
                    fit_kind: str | None = None, adapter_prior: AdapterPrior | None = None,
-                   folds: int = OWN_CHECK_EVERY) -> list[np.ndarray | None]:
+                   folds: int = OWN_CHECK_FOLDS, fewer: bool = False) -> list[np.ndarray | None]:
     """Out-of-fold residuals of each job's plan, cross-fitted by whole presses: the presses are
     dealt into `folds` folds (press k to fold k mod folds), each fold predicted by the adapter
     refitted without it (all folds of all jobs fitted as one batch). (n_j, D) target minus
-    prediction in physical units over the plan's rows; None for a plan with fewer presses than
-    folds (some fold would be empty)."""
-    jobs = [(j, f) for j, p in enumerate(plans) if p.presses >= folds for f in range(folds)]
-    splits = [plans[j].split_presses(folds, f) for j, f in jobs]
+    prediction in physical units over the plan's rows. A plan with fewer presses than `folds`
+    gets None, or with `fewer` one fold per press (None below 2 presses)."""
+    def n_folds(p: Plan) -> int:
+        k = min(folds, p.presses) if fewer else folds
+        return k if p.presses >= max(k, 2) else 0
+    jobs = [(j, f) for j, p in enumerate(plans) for f in range(n_folds(p))]
+    splits = [plans[j].split_presses(n_folds(plans[j]), f) for j, f in jobs]
     preds = refit_without(shared, arrays, [unlabeled_rows[j] for j, _ in jobs], [plans[j] for j, _ in jobs],
                           splits, [priors[j] for j, _ in jobs], recipe, seed, fit_kind, adapter_prior)
     parts: dict[int, list[np.ndarray]] = {}
