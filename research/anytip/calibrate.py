@@ -39,7 +39,8 @@ from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 from anytip.validation import read_yaml
 
 # A new unit whose own check exceeds the worst validation unit's by more than this is flagged.
-# The benchmark reports how the held-out units' checks compare (reports/cross_sensor_alarm/).
+# Every cross_sensor report shows how often it fires on held-out units, which are ordinary units
+# (section "The calibration's own check on ordinary units").
 OWN_CHECK_ALARM = 2.0
 
 
