@@ -51,6 +51,7 @@ from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import scores
 from anytip.train.shared_split import (
+    OWN_CHECK_FOLDS,
     Roles,
     SeedData,
     calibrate_many,
@@ -196,7 +197,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         "test_patches": {u: np.unique(arrays.patch[e.test_rows]).tolist() for u, e in sd.evals.items()},
         "calibration_runs": {u: list(e.stream.runs) for u, e in sd.evals.items()},
         "own_check": {"validation_units": list(sd.split.val), "alarm_above": OWN_CHECK_ALARM,
-                      "by_shared_model": own_by_method},
+                      "folds": OWN_CHECK_FOLDS, "by_shared_model": own_by_method},
     }
     if sweep:
         rows += unit_count_rows(ctx, arrays, sd, opts, seed, priors_chosen.get(opts.sweep_adapter, {}))

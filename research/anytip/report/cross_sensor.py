@@ -354,10 +354,11 @@ def own_check_section(cross_sensor: dict[str, Any]) -> str:
     held-out units, which are ordinary units: each one's check over the worst validation
     unit's, per shared model and budget, pooled over seeds. Empty when no run recorded one."""
     ratios: dict[tuple[str, str], list[float]] = {}
-    alarm = None
+    alarm, folds = None, None
     for record in cross_sensor.values():
         own = record.get("own_check") or {}
         alarm = own.get("alarm_above", alarm)
+        folds = own.get("folds", folds)
         val = set(own.get("validation_units", []))
         for model, by_budget in (own.get("by_shared_model") or {}).items():
             for budget, losses in by_budget.items():
@@ -372,11 +373,9 @@ def own_check_section(cross_sensor: dict[str, Any]) -> str:
     return f"""
 ## The calibration's own check on ordinary units
 
-`anytip calibrate` deals a new unit's plan into 5 folds of whole presses, predicts each fold
-with the adapter refitted without it, scores all the plan's rows so predicted, and warns when
-the result is more than {alarm:g}x the worst of the shared model's validation units checked
-the same way. The held-out units here are ordinary units: how often
-would the alarm have fired on them (unit-seeds pooled)?
+`anytip calibrate` {_check_text(folds)}, and warns when the result is more than {alarm:g}x
+the worst of the shared model's validation units checked the same way. The held-out units
+here are ordinary units: how often would the alarm have fired on them (unit-seeds pooled)?
 
 {table(['shared model', 'budget', 'held-out unit-seeds', 'median check / worst validation',
         'largest', f'alarms (> {alarm:g}x)'], body)}
@@ -418,6 +417,15 @@ share of the unit's test rows inside, per output; a unit-seed-output is on targe
 {table(['method', 'budget [robot-s]', 'unit-seed-outputs', f'in [{lo:.2f}, {hi:.2f}]', 'lowest',
         'median', 'fewest test rows', *(f'{n} half-width' for n in names)], body)}
 """
+
+
+def _check_text(folds: int | None) -> str:
+    """How the recorded own check was computed: press folds, or (runs that recorded no folds)
+    the earlier check on every 5th press alone."""
+    if folds is None:
+        return "refits a new unit's adapter without every 5th press of its plan and scores those presses"
+    return (f"deals a new unit's plan into {folds} folds of whole presses, predicts each fold with the "
+            "adapter refitted without it and scores all the plan's rows so predicted")
 
 
 def _extra_text(provenance: dict[str, Any]) -> str:
