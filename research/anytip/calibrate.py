@@ -34,7 +34,7 @@ from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
 from anytip.train.metrics import predict, scores, target_key
-from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_losses, plan_residuals
+from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_loss, plan_residuals
 from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 from anytip.validation import read_yaml
 
@@ -57,9 +57,9 @@ class Calibrated:
     check: dict[str, float] | None  # RMSE on the unit's other runs, when it has any
     notes: list[str]  # which shared model and why, clipped budgets, warnings
     own_check: dict[str, float] | None = None  # the plan's held-out presses against the fleet's
-    wall_s: float = 0.0  # fitting and folding, both fits included
+    wall_s: float = 0.0  # fitting and folding the adapter on the whole plan
     intervals: dict[str, Any] | None = None  # from the plan's out-of-fold residuals (`plan_intervals`)
-    interval_s: float = 0.0  # the interval fits
+    check_s: float = 0.0  # the fold fits behind the own check and the intervals
 
 
 def find_shared(model: str | Path, adapter: str | None = None, seed: int | None = None,
@@ -242,14 +242,13 @@ Fit = Callable[[np.ndarray, float], tuple[BatchedMLP, Scaler]]
 class Fitter:
     """How a new unit's adapter is fitted, as the shared model's benchmark fitted adapters.
 
-    fit(rows, n_effective) -> (folded MLP, input scaler): fitted on `rows`; check(plan): the
-    calibration's own check as the benchmark measured it on its validation units
-    (`train.shared_split.own_check_losses`); residuals(plan, folds): the plan's out-of-fold
-    residuals (`train.shared_split.plan_residuals`)."""
+    fit(rows, n_effective) -> (folded MLP, input scaler): fitted on `rows`; residuals(plan):
+    the plan's out-of-fold residuals over OWN_CHECK_FOLDS press folds (one per press for a
+    shorter plan; `train.shared_split.plan_residuals`), which give both the calibration's own
+    check, as the benchmark measured it on its validation units, and the unit's intervals."""
 
     fit: Fit
-    check: Callable[[Plan], float | None]
-    residuals: Callable[[Plan, int], np.ndarray | None]
+    residuals: Callable[[Plan], np.ndarray | None]
 
 
 def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unlabeled_rows: np.ndarray,
@@ -268,14 +267,10 @@ def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unl
         return calibrate_and_fold(shared, unlabeled, X, Y, [len(rows)], [prior], recipe,
                                   seed=seed, n_effective=[n_effective], adapter_prior=family)
 
-    def check(plan: Plan) -> float | None:
-        return own_check_losses(shared, arrays, [unlabeled_rows], [plan], [prior], recipe, seed,
-                                adapter_prior=family)[0]
-
-    def residuals(plan: Plan, folds: int) -> np.ndarray | None:
+    def residuals(plan: Plan) -> np.ndarray | None:
         return plan_residuals(shared, arrays, [unlabeled_rows], [plan], [prior], recipe, seed,
-                              adapter_prior=family, folds=folds)[0]
-    return Fitter(fit, check, residuals)
+                              adapter_prior=family, folds=OWN_CHECK_FOLDS, fewer=True)[0]
+    return Fitter(fit, residuals)
 
 
 INTERVAL_FOLDS = OWN_CHECK_FOLDS  # press folds of a new unit's interval residuals (the benchmark's default)
@@ -358,13 +353,17 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     tick = time.perf_counter()
     fitter = _fitter(shared, meta, arrays, unlabeled_rows, prior)
     folded, stats = fitter.fit(plan.rows, plan.n_effective)
-    own = own_check(fitter.check(plan), plan, _val_loss_table(meta, budget), _own_check_table(meta, budget))
+    wall_s = time.perf_counter() - tick
+    tick = time.perf_counter()
+    resid = fitter.residuals(plan) if n else None
+    own = own_check(own_check_loss(resid, shared.out_scaler), plan, _val_loss_table(meta, budget),
+                    _own_check_table(meta, budget))
+    check_s = time.perf_counter() - tick
     if own is not None and own.get("alarm"):
         notes.append(f"warning: the calibration's own check is {own['over_validation']:.1f}x the worst of "
                      "the shared model's validation units checked the same way (alarm above "
                      f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels before "
                      "deploying it")
-    wall_s = time.perf_counter() - tick
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
     other = stream.outside(arrays)
     check, on_other = None, None
@@ -373,13 +372,11 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         on_other = (pred.numpy(), arrays.targets[other])
         check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout),
                  "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
-    tick = time.perf_counter()
     bands = None
     if interval_level is not None and plan.presses >= INTERVAL_FOLDS:
-        bands = plan_intervals(fitter.residuals(plan, INTERVAL_FOLDS), interval_level, arrays.output_names,
-                               on_other)
+        bands = plan_intervals(resid, interval_level, arrays.output_names, on_other)
     result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes,
-                        own, wall_s, bands, time.perf_counter() - tick)
+                        own, wall_s, bands, check_s)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {
         "unit_ids": [unit], "output_names": meta.get("output_names"), "shared_model": str(shared_path),
         "adapter": shared.model.kind, "calib_samples": n, "calib_seconds": result.calib_seconds,

@@ -201,7 +201,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         _print_intervals(r.intervals)
     elif args.interval_level and r.calib_samples:
         print("no intervals: the plan holds fewer than 5 presses to cross-fit them")
-    took = f"; intervals in {r.interval_s:.1f} s" if r.intervals else ""
+    took = f"; its own check and intervals (fold fits) in {r.check_s:.1f} s" if r.own_check else ""
     print(f"fitted and folded in {r.wall_s:.1f} s{took}")
     return 0
 

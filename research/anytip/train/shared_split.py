@@ -182,8 +182,14 @@ def own_check_losses(shared: SharedFit | LoadedShared, arrays: FleetArrays, unla
     units is what a new unit's check is compared with (`anytip calibrate`)."""
     resid = plan_residuals(shared, arrays, unlabeled_rows, plans, priors, recipe, seed, fit_kind,
                            adapter_prior, folds, fewer=True)
-    std = shared.out_scaler.std.reshape(-1).cpu().numpy()
-    return [None if r is None else float(((r / std) ** 2).mean()) for r in resid]
+    return [own_check_loss(r, shared.out_scaler) for r in resid]
+
+
+def own_check_loss(residuals: np.ndarray | None, out_scaler: Scaler) -> float | None:
+    """The own check of out-of-fold residuals (n, D): their standardised MSE (None for None)."""
+    if residuals is None:
+        return None
+    return float(((residuals / out_scaler.std.reshape(-1).cpu().numpy()) ** 2).mean())
 
 
 def plan_residuals(shared: SharedFit | LoadedShared, arrays: FleetArrays, unlabeled_rows: list[np.ndarray],
