@@ -452,6 +452,7 @@ def test_the_benchmark_records_each_units_own_check(seconds_run):
     assert all(v > 0 for v in checks["40 s spread"].values())
     meta = load_shared(seconds_run / "models" / "shared_input_affine-film_seed0.safetensors").meta
     assert meta["own_check_by_budget"]["40"] == [checks["40 s spread"][u] for u in units["val"]]
+    assert meta["own_check_folds"] == 5 and own["folds"] == 5
     report = (seconds_run / "report.md").read_text()
     assert "## The calibration's own check on ordinary units" in report
     assert "| `input_affine-film` | 40 s spread | 2 |" in report  # 2 held-out units, one seed

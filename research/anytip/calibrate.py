@@ -359,6 +359,10 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     own = own_check(own_check_loss(resid, shared.out_scaler), plan, _val_loss_table(meta, budget),
                     _own_check_table(meta, budget))
     check_s = time.perf_counter() - tick
+    if own is not None and "validation_units_mse" in own and "own_check_folds" not in meta:
+        notes.append("the shared model's validation units were checked on one held-out fold of every 5th "
+                     "press (a benchmark from before the press-fold check): the same expected value, "
+                     "noisier, so the comparison below is rougher")
     if own is not None and own.get("alarm"):
         notes.append(f"warning: the calibration's own check is {own['over_validation']:.1f}x the worst of "
                      "the shared model's validation units checked the same way (alarm above "

@@ -188,6 +188,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             val = {b: [v for u, v in c.items() if u in sd.split.val and v is not None]
                    for b, c in checks.items()}
             meta["own_check_by_budget"] = by_budget(val, opts)
+            meta["own_check_folds"] = OWN_CHECK_FOLDS
             own_by_method[_slug(kind) + tag] = {b.label: c for b, c in checks.items()}
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}{_file_tag(training)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
