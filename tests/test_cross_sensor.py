@@ -4,6 +4,7 @@ folded models, the deployment workflow end to end."""
 import dataclasses
 import importlib.util
 import json
+import math
 import shutil
 from pathlib import Path
 
@@ -18,7 +19,7 @@ from anytip.data.arrays import load_arrays
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_flat_into, simulate_into
 from anytip.errors import AnytipError
-from anytip.models.io import load_models, load_shared
+from anytip.models.io import SHARED_FORMAT, load_models, load_shared, read_header
 from anytip.pipelines.common import Context, load_extra
 from anytip.pipelines.cross_sensor import main_rows, prepare
 from anytip.pipelines.cross_sensor_options import parse_options
@@ -313,7 +314,7 @@ def test_calibrate_by_seconds_selects_presses_like_the_benchmark(seconds_run, tw
                  "--registry", str(two_protocol_registry.root), "--out", str(tmp_path / "cli")]) == 0
     out = capsys.readouterr().out
     assert "own check" in out and "not the same rows" in out and "fitted and folded in" in out
-    assert "90% intervals from the plan (5 press folds" in out
+    assert "90% intervals from the plan (3 press folds" in out  # the folds its benchmark used
 
 
 def test_calibrate_gives_intervals_from_the_units_own_plan(seconds_run, two_protocol_registry, tmp_path):
@@ -337,6 +338,33 @@ def test_calibrate_gives_intervals_from_the_units_own_plan(seconds_run, two_prot
     with pytest.raises(AnytipError, match="--interval-level"):
         calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "d", budget_seconds=40.0,
                        interval_level=1.5)
+
+
+def test_calibrate_applies_the_fleet_factor_its_benchmark_learnt(seconds_run, two_protocol_registry,
+                                                                 tmp_path):
+    """At the benchmark's level, calibrate cross-fits over the benchmark's interval folds and
+    scales the plan's own half-width by the factor recorded for the largest budget <= its own;
+    at another level it says why it applies none."""
+    from anytip.calibrate import fleet_factor_for
+
+    prov = json.loads((seconds_run / "provenance.json").read_text())
+    unit = prov["cross_sensor"]["seed0"]["units"]["test"][0]
+    meta = read_header(seconds_run / "models" / "shared_input_affine-film_seed0.json", SHARED_FORMAT)["meta"]
+    r = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "a", budget_seconds=40.0,
+                       interval_level=0.8)
+    band = r.intervals
+    factor = meta["intervals"]["fleet_factor_by_budget"]["40"]
+    assert band["folds"] == 3 and band["fleet_factor"] == factor
+    for n, f in factor.items():
+        assert band["halfwidth"][n] == pytest.approx(band["own_halfwidth"][n] * f)
+    other = calibrate_unit(seconds_run, unit, two_protocol_registry, tmp_path / "b", budget_seconds=40.0,
+                           interval_level=0.9)
+    assert "fleet_factor" not in other.intervals and any("learnt at level 0.8" in n for n in other.notes)
+    names = ("fx", "fy", "fz", "theta", "phi")
+    assert fleet_factor_for({}, 40.0, 0.8, names) == (None, "")
+    assert fleet_factor_for(meta, 1.0, 0.8, names)[0] is None  # below every recorded budget
+    bad = {"intervals": {"level": 0.8, "folds": 3, "fleet_factor_by_budget": {"5": {"fx": -1.0}}}}
+    assert "no usable fleet factor" in fleet_factor_for(bad, 40.0, 0.8, names)[1]
 
 
 def test_plan_intervals_score_the_units_other_runs():
@@ -624,6 +652,29 @@ def test_each_held_out_unit_gets_intervals_from_its_own_plan(seconds_run):
     assert all("interval_level" not in r for r in short)
     report = (seconds_run / "report.md").read_text()
     assert "## Intervals from each unit's own plan" in report and "in [0.75, 0.85]" in report
+
+
+def test_the_fleet_factor_of_intervals_is_learnt_on_validation_units(seconds_run):
+    """Each shared model records, per budget of calibrate's strategy, the factor its validation
+    units learnt (level and folds beside it); every held-out row of that budget scales its own
+    half-width by exactly that factor and scores the result; the report shows both."""
+    rows = json.loads((seconds_run / "metrics.json").read_text())["results"]
+    names = ["fx", "fy", "fz", "theta", "phi"]
+    meta = read_header(seconds_run / "models" / "shared_input_affine-film_seed0.json", SHARED_FORMAT)["meta"]
+    rec = meta["intervals"]
+    assert rec["level"] == 0.8 and rec["folds"] == 3 and rec["fleet_factor_by_budget"]
+    checked = 0
+    for budget, factor in rec["fleet_factor_by_budget"].items():
+        assert list(factor) == names and all(0 < f < math.inf for f in factor.values())
+        for r in rows:
+            if r["method"] == "adapted:input_affine+film@spread" and r["budget_s"] == float(budget) \
+                    and "interval_level" in r and r["seed"] == 0:
+                for n in names:
+                    assert r[f"{n}_fleet_halfwidth"] == pytest.approx(r[f"{n}_halfwidth"] * factor[n])
+                    assert 0.0 <= r[f"{n}_fleet_coverage"] <= 1.0
+                checked += 1
+    assert checked
+    assert "own plan x fleet factor" in (seconds_run / "report.md").read_text()
 
 
 def test_interval_fields_cover_as_the_residuals_promise():

@@ -34,6 +34,26 @@ def test_split_conformal_covers_exchangeable_rows(level):
         assert np.all(np.abs(cp.coverage(lo, hi, y[n:]) - level) < 0.025)
 
 
+def test_fleet_factor_corrects_a_biased_half_width():
+    """Units whose own half-widths are all 2x too wide in one output and right in the other:
+    the factor is 0.5 and 1, and own x factor then covers a fresh unit at the level. Exact
+    geometric mean over units; bad shapes and non-positive or infinite widths refused."""
+    rng = np.random.default_rng(3)
+    sigma = np.exp(rng.normal(size=(6, 2)))
+    observed = sigma * 1.645
+    own = observed * np.array([2.0, 1.0])
+    assert cp.fleet_factor(own, observed) == pytest.approx([0.5, 1.0])
+    assert cp.fleet_factor(np.array([[1.0], [1.0]]), np.array([[2.0], [8.0]])) == pytest.approx([4.0])
+    err = rng.normal(0, 0.7, (20_000, 2))
+    half = cp.residual_halfwidth(rng.normal(0, 0.7, (20_000, 2)), 0.9) * np.array([2.0, 1.0])
+    lo, hi = cp.interval(np.zeros_like(err), half * cp.fleet_factor(own, observed))
+    assert np.all(np.abs(cp.coverage(lo, hi, err) - 0.9) < 0.01)
+    for a, b in [(own[:, :1], observed), (own[0], observed[0]), (own[:0], observed[:0]),
+                 (own * 0, observed), (own, observed * np.inf)]:
+        with pytest.raises(ValueError, match="half-widths"):
+            cp.fleet_factor(a, b)
+
+
 def test_mapie_matches_own_split_conformal():
     rng = np.random.default_rng(1)
     mu_cal, mu = rng.normal(size=(301, 3)), rng.normal(size=(40, 3))

@@ -242,13 +242,14 @@ Fit = Callable[[np.ndarray, float], tuple[BatchedMLP, Scaler]]
 class Fitter:
     """How a new unit's adapter is fitted, as the shared model's benchmark fitted adapters.
 
-    fit(rows, n_effective) -> (folded MLP, input scaler): fitted on `rows`; residuals(plan):
-    the plan's out-of-fold residuals over OWN_CHECK_FOLDS press folds (one per press for a
-    shorter plan; `train.shared_split.plan_residuals`), which give both the calibration's own
-    check, as the benchmark measured it on its validation units, and the unit's intervals."""
+    fit(rows, n_effective) -> (folded MLP, input scaler): fitted on `rows`; residuals(plan,
+    folds): the plan's out-of-fold residuals (n, D) over that many press folds (one per press
+    for a shorter plan; `train.shared_split.plan_residuals`), which give the calibration's own
+    check over OWN_CHECK_FOLDS folds, as the benchmark measured it on its validation units, and
+    the unit's intervals over the folds its benchmark used for them."""
 
     fit: Fit
-    residuals: Callable[[Plan], np.ndarray | None]
+    residuals: Callable[[Plan, int], np.ndarray | None]
 
 
 def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unlabeled_rows: np.ndarray,
@@ -267,30 +268,66 @@ def _fitter(shared: LoadedShared, meta: dict[str, Any], arrays: FleetArrays, unl
         return calibrate_and_fold(shared, unlabeled, X, Y, [len(rows)], [prior], recipe,
                                   seed=seed, n_effective=[n_effective], adapter_prior=family)
 
-    def residuals(plan: Plan) -> np.ndarray | None:
+    def residuals(plan: Plan, folds: int) -> np.ndarray | None:
         return plan_residuals(shared, arrays, [unlabeled_rows], [plan], [prior], recipe, seed,
-                              adapter_prior=family, folds=OWN_CHECK_FOLDS, fewer=True)[0]
+                              adapter_prior=family, folds=folds, fewer=True)[0]
     return Fitter(fit, residuals)
 
 
-INTERVAL_FOLDS = OWN_CHECK_FOLDS  # press folds of a new unit's interval residuals (the benchmark's default)
+INTERVAL_FOLDS = OWN_CHECK_FOLDS  # press folds of a new unit's intervals where its benchmark records none
+
+
+def interval_folds(meta: dict[str, Any]) -> int:
+    """Press folds of a new unit's interval residuals: those the shared model's benchmark used
+    for its intervals (`intervals.folds`), else INTERVAL_FOLDS."""
+    rec = meta.get("intervals")
+    folds = rec.get("folds") if isinstance(rec, dict) else None
+    usable = isinstance(folds, int) and not isinstance(folds, bool) and 2 <= folds <= 100
+    return folds if usable else INTERVAL_FOLDS
 
 
 def plan_intervals(residuals: np.ndarray | None, level: float, names: tuple[str, ...],
-                   other: tuple[np.ndarray, np.ndarray] | None) -> dict[str, Any] | None:
+                   other: tuple[np.ndarray, np.ndarray] | None,
+                   factor: dict[str, float] | None = None,
+                   folds: int = INTERVAL_FOLDS) -> dict[str, Any] | None:
     """A new unit's intervals: the half-width per output (names; the output's unit) at nominal
-    `level` from its plan's out-of-fold residuals (n, D), and, given the unit's other runs as
-    (prediction, target) (m, D), the share of their rows inside. None without residuals (a
-    plan of fewer than INTERVAL_FOLDS presses)."""
+    `level` from its plan's out-of-fold residuals (n, D), times the shared model's fleet factor
+    per output where given (`fleet_factor`; `own_halfwidth` keeps the plan's own), and, given
+    the unit's other runs as (prediction, target) (m, D), the share of their rows inside. None
+    without residuals. `folds`: the press folds behind the residuals, as recorded."""
     if residuals is None:
         return None
-    half = residual_halfwidth(residuals, level)
-    out: dict[str, Any] = {"level": level, "folds": INTERVAL_FOLDS, "rows": int(len(residuals)),
+    own = residual_halfwidth(residuals, level)
+    half = own if factor is None else own * np.array([factor[n] for n in names])
+    out: dict[str, Any] = {"level": level, "folds": folds, "rows": int(len(residuals)),
                            "halfwidth": dict(zip(names, map(float, half), strict=True))}
+    if factor is not None:
+        out |= {"own_halfwidth": dict(zip(names, map(float, own), strict=True)), "fleet_factor": dict(factor)}
     if other is not None:
         lo, hi = interval(other[0], half)
         out["coverage_on_other_runs"] = dict(zip(names, map(float, coverage(lo, hi, other[1])), strict=True))
     return out
+
+
+def fleet_factor_for(meta: dict[str, Any], budget: float, level: float,
+                     names: tuple[str, ...]) -> tuple[dict[str, float] | None, str]:
+    """The intervals' fleet factor per output a shared model's benchmark learnt on its validation
+    units (`intervals.fleet_factor_by_budget`) at the largest budget <= `budget`, and a note when
+    there is none to apply: the benchmark recorded none, at another level, or not for every
+    output as a finite positive number."""
+    rec = meta.get("intervals")
+    if not isinstance(rec, dict) or not isinstance(rec.get("fleet_factor_by_budget"), dict):
+        return None, ""
+    if rec.get("level") != level:
+        return None, (f"the shared model's fleet factor for intervals was learnt at level "
+                      f"{rec.get('level')}, not {level:g}: intervals from the plan alone")
+    factor = _at_budget(_budget_table(rec, "fleet_factor_by_budget"), budget)
+    ok = isinstance(factor, dict) and all(isinstance(factor.get(n), (int, float)) and
+                                          math.isfinite(factor[n]) and factor[n] > 0 for n in names)
+    if not ok:
+        return None, (f"the shared model records no usable fleet factor for intervals at {budget:g} robot-s "
+                      "or less: intervals from the plan alone")
+    return {n: float(factor[n]) for n in names}, ""
 
 
 def own_check(loss: float | None, plan: Plan, fleet_loss: float | None,
@@ -355,7 +392,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     folded, stats = fitter.fit(plan.rows, plan.n_effective)
     wall_s = time.perf_counter() - tick
     tick = time.perf_counter()
-    resid = fitter.residuals(plan) if n else None
+    resid = fitter.residuals(plan, OWN_CHECK_FOLDS) if n else None
     own = own_check(own_check_loss(resid, shared.out_scaler), plan, _val_loss_table(meta, budget),
                     _own_check_table(meta, budget))
     check_s = time.perf_counter() - tick
@@ -377,8 +414,14 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout),
                  "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
     bands = None
-    if interval_level is not None and plan.presses >= INTERVAL_FOLDS:
-        bands = plan_intervals(resid, interval_level, arrays.output_names, on_other)
+    folds = interval_folds(meta)
+    if interval_level is not None and plan.presses >= folds:
+        factor, why = fleet_factor_for(meta, budget, interval_level, arrays.output_names)
+        notes += [why] if why else []
+        tick = time.perf_counter()
+        band_resid = resid if folds == OWN_CHECK_FOLDS else fitter.residuals(plan, folds)
+        check_s += time.perf_counter() - tick
+        bands = plan_intervals(band_resid, interval_level, arrays.output_names, on_other, factor, folds)
     result = Calibrated(Path(out), unit, n, plan.calib_seconds, len(unlabeled_rows), prior, check, notes,
                         own, wall_s, bands, check_s)
     save_models(Path(out) / "model.safetensors", folded, stats, out_scaler, {

@@ -200,7 +200,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     if r.intervals is not None:
         _print_intervals(r.intervals)
     elif args.interval_level and r.calib_samples:
-        print("no intervals: the plan holds fewer than 5 presses to cross-fit them")
+        print("no intervals: the plan holds fewer presses than the folds needed to cross-fit them")
     took = f"; its own check and intervals (fold fits) in {r.check_s:.1f} s" if r.own_check else ""
     print(f"fitted and folded in {r.wall_s:.1f} s{took}")
     return 0
@@ -211,6 +211,9 @@ def _print_intervals(bands: dict[str, Any]) -> None:
     half = ", ".join(f"{k} +-{v:.3g}" for k, v in bands["halfwidth"].items())
     print(f"{bands['level']:.0%} intervals from the plan ({bands['folds']} press folds, {bands['rows']} "
           f"out-of-fold rows; N or rad as the target): {half}")
+    if "fleet_factor" in bands:
+        factor = ", ".join(f"{k} x{v:.2f}" for k, v in bands["fleet_factor"].items())
+        print(f"  the plan's own half-widths times the fleet factor its validation units learnt: {factor}")
     if "coverage_on_other_runs" in bands:
         cover = ", ".join(f"{k} {v:.3f}" for k, v in bands["coverage_on_other_runs"].items())
         print(f"  share of the unit's other runs inside them: {cover}")

@@ -17,8 +17,9 @@ stream (data/calibration.py). Methods, all scored on the same held-out patches:
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -42,11 +43,12 @@ from anytip.pipelines.cross_sensor_options import (
 )
 from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
 from anytip.train.adapt import (
+    AdapterRecipe,
     SharedFit,
     pooled_scaler,
     train_shared,
 )
-from anytip.train.adapter_prior import PriorFamily, make_prior
+from anytip.train.adapter_prior import AdapterPrior, PriorFamily, make_prior
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
 from anytip.train.metrics import scores
@@ -62,9 +64,20 @@ from anytip.train.shared_split import (
     prepare_seed,
     unit_main_rows,
 )
-from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
+from anytip.uncertainty.conformal import coverage, fleet_factor, interval, residual_halfwidth
 
-PLAIN_FIT = FitVariant()  # the shared model's own adapter kind, `adapter_steps` Adam steps
+PLAIN_FIT = FitVariant()
+
+
+class Adapted(NamedTuple):
+    """What `adapted_rows` gives: rows, the prior chosen per budget, the validation units' loss
+    per budget at that prior, and the intervals' fleet factor per budget (output order)."""
+
+    rows: list[dict[str, Any]]
+    chosen: dict[Budget, float]
+    val_loss: dict[Budget, float]
+    interval_factors: dict[Budget, np.ndarray]
+  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
 
 def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
@@ -168,21 +181,26 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         shared = train_shared(sd.train, sd.train_stats, shape, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay,
                               adapter_dropout=opts.adapter_dropout, episodes=episodes)
-        first: tuple[dict[Budget, float], dict[Budget, float]] | None = None
+        first: tuple[Adapted, PriorFamily, FitVariant] | None = None
         for family, fit in fit_methods(kind, opts, training):
             fit_kind = fit.kind(kind)
-            kind_rows, chosen, val_loss = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts),
-                                                       family=family, fit=fit, tag=tag,
-                                                       intervals=first is None)
-            rows += [dict(base, **r) for r in kind_rows]
+            got = adapted_rows(ctx, arrays, sd, opts, shared, seed, budget_list(opts), family=family, fit=fit,
+                               tag=tag, intervals=first is None)
+            rows += [dict(base, **r) for r in got.rows]
             method = adapted_method(fit_kind, family) + tag + fit.suffix()
-            priors_chosen[method.removeprefix("adapted:")] = chosen
-            val_by_method.update(validation_by_method(method, val_loss))
-            first = first or (chosen, val_loss, family, fit)
-        chosen, val_loss, family, fit = first
+            priors_chosen[method.removeprefix("adapted:")] = got.chosen
+            val_by_method.update(validation_by_method(method, got.val_loss))
+            first = first or (got, family, fit)
+        got, family, fit = first
+        chosen = got.chosen
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"),
                            arrays.output_names, fit)
-        meta["val_loss_by_budget"] = by_budget(val_loss, opts)
+        meta["val_loss_by_budget"] = by_budget(got.val_loss, opts)
+        if got.interval_factors and opts.intervals is not None:
+            meta["intervals"] = {"level": opts.intervals.level, "folds": opts.intervals.folds,
+                                 "fleet_factor_by_budget": by_budget(
+                                     {b: dict(zip(arrays.output_names, map(float, f), strict=True))
+                                      for b, f in got.interval_factors.items()}, opts)}
         checks = own_checks(arrays, sd, opts, shared, seed, chosen, family, fit)
         if checks:
             val = {b: [v for u, v in c.items() if u in sd.split.val and v is not None]
@@ -369,13 +387,14 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                  seed: int, budgets: list[Budget], fixed_priors: dict[Budget, float] | None = None,
                  family: PriorFamily = "identity", fit: FitVariant = PLAIN_FIT,
                  tag: str = "", intervals: bool = False
-                 ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, float]]:
+                 ) -> Adapted:
     """Rows of one shared model on the held-out units at every budget, the prior chosen
     per budget on the validation units (given `fixed_priors`, those are used instead), and
     the validation units' mean standardised MSE per budget at that prior (empty when fixed).
     Adapters are fitted as `fit` says (`FitVariant`; an inner fit takes no prior); `tag` names
     the shared model's training in the method. With `intervals` (and `options.intervals`), each
-    row with labels also holds its unit's interval coverage (`interval_fields`)."""
+    row with labels also holds its unit's interval coverage (`interval_fields`), and the
+    result the fleet factor of the intervals per budget (`plan_bands`)."""
     fit_kind = fit.kind(shared.model.kind)
     kind = fit_kind
     method = adapted_method(kind, family) + tag + fit.suffix()
@@ -405,43 +424,93 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         loss = validation_losses(jobs, preds, sd, arrays, set(sd.split.val), shared.out_scaler)
         chosen = choose_priors(loss)
         val_loss = {b: float(np.mean(v)) for (b, p), v in loss.items() if p == chosen.get(b, p)}
-    kept = [(job, pred) for job, pred in zip(jobs, preds, strict=True)
-            if job[0] in sd.split.test and (job[1].amount == 0 or job[2] == chosen.get(job[1], job[2]))]
+    at_chosen = [(job, pred) for job, pred in zip(jobs, preds, strict=True)
+                 if job[1].amount == 0 or job[2] == chosen.get(job[1], job[2])]
+    kept = [(job, pred) for job, pred in at_chosen if job[0] in sd.split.test]
     bands: list[dict[str, Any]] = [{} for _ in kept]
+    factors: dict[Budget, np.ndarray] = {}
     if intervals and opts.intervals is not None:
-        labeled = [k for k, ((_, b, _), _) in enumerate(kept) if b.amount > 0]
-        resid = plan_residuals(shared, arrays, [sd.evals[u].stream.unlabeled(opts.unlabeled_s)
-                                                for (u, _, _), _ in (kept[k] for k in labeled)],
-                               [plans[kept[k][0][:2]] for k in labeled], [kept[k][0][2] for k in labeled],
-                               recipe, seed, fit_kind, prior, opts.intervals.folds)
-        for k, r in zip(labeled, resid, strict=True):
-            u = kept[k][0][0]
-            bands[k] = interval_fields(r, kept[k][1], arrays.targets[sd.evals[u].test_rows],
-                                       arrays.output_names, opts.intervals.level)
+        bands, factors = plan_bands(shared, arrays, sd, opts, at_chosen, plans, recipe, seed, fit_kind, prior)
     rows = []
     for ((u, b, p), pred), band in zip(kept, bands, strict=True):
         rows.append({"method": method + _suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
                      **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
                      **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout), **band})
-    return rows, chosen, val_loss
+    return Adapted(rows, chosen, val_loss, factors)
+
+
+Job = tuple[str, Budget, float]  # (unit, budget, prior strength)
+
+
+def plan_bands(shared: SharedFit, arrays: FleetArrays, sd: SeedData, opts: Options,
+               at_chosen: list[tuple[Job, np.ndarray]], plans: dict[tuple[str, Budget], Plan],
+               recipe: AdapterRecipe, seed: int, fit_kind: str, prior: AdapterPrior | None
+               ) -> tuple[list[dict[str, Any]], dict[Budget, np.ndarray]]:
+    """Intervals of the held-out units among `at_chosen` ((unit, budget, prior), test-row
+    prediction) from their own plans (`interval_fields`, one dict per held-out job in order),
+    and the fleet factor per budget (D,) learnt on the validation units among them: how much
+    wider their test rows needed the interval than their plan's out-of-fold residuals said
+    (`uncertainty.conformal.fleet_factor`). All plans' fold fits run as one batch."""
+    assert opts.intervals is not None
+    level, names = opts.intervals.level, arrays.output_names
+    labeled = [k for k, ((_, b, _), _) in enumerate(at_chosen) if b.amount > 0]
+    jobs = [at_chosen[k][0] for k in labeled]
+    unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u, _, _ in jobs]
+    resid = plan_residuals(shared, arrays, unlabeled, [plans[(u, b)] for u, b, _ in jobs],
+                           [p for _, _, p in jobs], recipe, seed, fit_kind, prior, opts.intervals.folds)
+    by_job = dict(zip(labeled, resid, strict=True))
+    factors = validation_factors(at_chosen, by_job, sd, arrays, level)
+    bands = []
+    for k, ((u, b, _), pred) in enumerate(at_chosen):
+        if u in sd.split.test:
+            bands.append(interval_fields(by_job.get(k), pred, arrays.targets[sd.evals[u].test_rows], names,
+                                         level, factors.get(b)))
+    return bands, factors
+
+
+def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
+                       residuals: dict[int, np.ndarray | None], sd: SeedData, arrays: FleetArrays,
+                       level: float) -> dict[Budget, np.ndarray]:
+    """Budget -> fleet factor per output (D,) over the validation units whose plan gave a finite
+    half-width at `level`: the half-width their test rows needed over their plan's own."""
+    own: dict[Budget, list[np.ndarray]] = {}
+    needed: dict[Budget, list[np.ndarray]] = {}
+    for k, r in residuals.items():
+        (u, b, _), pred = at_chosen[k]
+        if u not in sd.split.val or r is None:
+            continue
+        half = residual_halfwidth(r, level)
+        test = residual_halfwidth(pred - arrays.targets[sd.evals[u].test_rows], level)
+        if np.isfinite(half).all() and (half > 0).all() and np.isfinite(test).all() and (test > 0).all():
+            own.setdefault(b, []).append(half)
+            needed.setdefault(b, []).append(test)
+    return {b: fleet_factor(np.stack(own[b]), np.stack(needed[b])) for b in own}
 
 
 def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.ndarray,
-                    names: list[str], level: float) -> dict[str, Any]:
+                    names: Sequence[str], level: float, factor: np.ndarray | None = None) -> dict[str, Any]:
     """A held-out unit's intervals from its own plan, scored on its test rows: the conformal
     half-width of each output (its unit: N or rad) from the plan's out-of-fold residuals
-    (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Empty
-    for a plan too short to cross-fit."""
+    (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Given
+    the fleet `factor` (D,), the same for the half-width times it (`<output>_fleet_halfwidth`,
+    `<output>_fleet_coverage`). Empty for a plan too short to cross-fit."""
     if residuals is None:
         return {}
     half = residual_halfwidth(residuals, level)
+    out = {"interval_level": level, "interval_rows": int(len(residuals)),
+           "interval_test_rows": int(len(target)), **_band(pred, target, names, half, "")}
+    if factor is not None:
+        out |= _band(pred, target, names, half * factor, "fleet_")
+    return out
+
+
+def _band(pred: np.ndarray, target: np.ndarray, names: Sequence[str], half: np.ndarray,
+          prefix: str) -> dict[str, float]:
     lo, hi = interval(pred, half)
     cover = coverage(lo, hi, target)
-    return {"interval_level": level, "interval_rows": int(len(residuals)),
-            "interval_test_rows": int(len(target)),
-            **{f"{n}_halfwidth": float(h) for n, h in zip(names, half, strict=True)},
-            **{f"{n}_coverage": float(c) for n, c in zip(names, cover, strict=True)}}
+    return {**{f"{n}_{prefix}halfwidth": float(h) for n, h in zip(names, half, strict=True)},
+            **{f"{n}_{prefix}coverage": float(c) for n, c in zip(names, cover, strict=True)}}
 
 
 def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndarray], sd: SeedData,
@@ -506,7 +575,7 @@ def unit_count_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
         shared = train_shared(sub, stats, shared_shape(ctx, opts), opts.sweep_adapter, ctx.spec.training,
                               seed, ctx.device, ctx.progress, opts.adapter_decay)
         fixed = {b: priors.get(b, default_prior(opts)) for b in budgets if b.amount > 0}
-        kind_rows, _, _ = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed)
+        kind_rows = adapted_rows(ctx, arrays, sd, opts, shared, seed, budgets, fixed).rows
         rows += [dict(r, seed=seed, split="patches", n_train_units=k) for r in kind_rows]
     return rows
 

@@ -387,36 +387,47 @@ COVERAGE_BAND = 0.05  # a unit-output's coverage counts as on target within +-0.
 
 def interval_section(rows: list[dict[str, Any]]) -> str:
     """Coverage of the intervals each held-out unit gets from its own plan (`options.intervals`),
-    per method and budget over unit-seed-outputs: how many lie within the band around the
-    nominal level, the lowest, and the mean half-width of each output. Empty without them."""
+    and of the same half-widths times the fleet factor where the run learnt one, per method and
+    budget over unit-seed-outputs: how many lie within the band around the nominal level, the
+    lowest, the median, and the mean half-width of each output. Empty without them."""
     groups: dict[tuple[str, float], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         if r.get("interval_level") is not None:
             groups[(r["method"], budget_of(r))].append(r)
     if not groups:
         return ""
-    names = [k.removesuffix("_coverage") for k in next(iter(groups.values()))[0] if k.endswith("_coverage")]
-    level = next(iter(groups.values()))[0]["interval_level"]
+    first = next(iter(groups.values()))[0]
+    names = [k.removesuffix("_coverage") for k in first if k.endswith("_coverage") and "_fleet_" not in k]
+    level = first["interval_level"]
     body = []
     for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
-        cover = np.array([[r[f"{n}_coverage"] for n in names] for r in rs])
-        inside = np.abs(cover - level) <= COVERAGE_BAND + 1e-12
-        body.append([f"`{method}`", f"{budget:g}", cover.size, f"{inside.mean():.0%}", f"{cover.min():.3f}",
-                     f"{np.median(cover):.3f}", int(np.min([r["interval_test_rows"] for r in rs])),
-                     *(f"{np.mean([r[f'{n}_halfwidth'] for r in rs]):.3g}" for n in names)])
+        for label, prefix in (("own plan", ""), ("own plan x fleet factor", "fleet_")):
+            if all(f"{n}_{prefix}coverage" in r for r in rs for n in names):
+                body.append([f"`{method}`", f"{budget:g}", label, *_coverage_cells(rs, names, prefix, level)])
     lo, hi = level - COVERAGE_BAND, level + COVERAGE_BAND
     return f"""
 ## Intervals from each unit's own plan
 
 Each held-out unit's {level:.0%} interval is its calibrated prediction +- a half-width per output:
 the split-conformal quantile of its plan's out-of-fold residuals (the plan's presses dealt into
-folds, each predicted by the adapter refitted without it; `options.intervals`). Coverage is the
-share of the unit's test rows inside, per output; a unit-seed-output is on target within
-[{lo:.2f}, {hi:.2f}]. Half-widths: mean over unit-seeds, in each output's unit (N, rad).
+folds, each predicted by the adapter refitted without it; `options.intervals`). The fleet factor
+(where recorded) is what the validation units taught: per output, the geometric mean over them of
+the half-width their test rows needed over the one their own plan gave; `anytip calibrate`
+applies the factor its shared model records. Coverage is the share of the unit's test rows
+inside, per output; a unit-seed-output is on target within [{lo:.2f}, {hi:.2f}]. Half-widths:
+mean over unit-seeds, in each output's unit (N, rad).
 
-{table(['method', 'budget [robot-s]', 'unit-seed-outputs', f'in [{lo:.2f}, {hi:.2f}]', 'lowest',
+{table(['method', 'budget [robot-s]', 'half-width', 'unit-seed-outputs', f'in [{lo:.2f}, {hi:.2f}]', 'lowest',
         'median', 'fewest test rows', *(f'{n} half-width' for n in names)], body)}
 """
+
+
+def _coverage_cells(rs: list[dict[str, Any]], names: list[str], prefix: str, level: float) -> list[Any]:
+    cover = np.array([[r[f"{n}_{prefix}coverage"] for n in names] for r in rs])
+    inside = np.abs(cover - level) <= COVERAGE_BAND + 1e-12
+    return [cover.size, f"{inside.mean():.0%}", f"{cover.min():.3f}", f"{np.median(cover):.3f}",
+            int(np.min([r["interval_test_rows"] for r in rs])),
+            *(f"{np.mean([r[f'{n}_{prefix}halfwidth'] for r in rs]):.3g}" for n in names)]
 
 
 def _check_text(folds: int | None) -> str:

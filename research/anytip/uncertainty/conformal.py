@@ -32,6 +32,21 @@ def residual_halfwidth(residuals: np.ndarray, level: float) -> np.ndarray:
     return conformal_quantile(np.abs(residuals), 1.0 - level)
 
 
+def fleet_factor(own: np.ndarray, observed: np.ndarray) -> np.ndarray:
+    """What the fleet knows about a half-width from a unit's own plan: over units whose test
+    rows are labeled (validation units), the geometric mean per output of the half-width the
+    test rows needed (observed, (U, d), e.g. `residual_halfwidth` of their test residuals)
+    over the one the plan's out-of-fold residuals gave (own, (U, d)) -> (d,). A new unit's
+    own half-width times it is the fleet-corrected half-width; 1 leaves it as it is."""
+    own, observed = np.asarray(own, dtype=float), np.asarray(observed, dtype=float)
+    if own.shape != observed.shape or own.ndim != 2 or not len(own):
+        raise ValueError(f"own {own.shape} and observed {observed.shape} half-widths must both be (U > 0, d)")
+    both = np.concatenate([own, observed])
+    if not (np.isfinite(both).all() and (both > 0).all()):
+        raise ValueError("half-widths must be finite and positive to form a fleet factor")
+    return np.exp(np.mean(np.log(observed / own), axis=0))
+
+
 def scores_of(mu: np.ndarray, y: np.ndarray, scale: np.ndarray | None = None) -> np.ndarray:
     """Nonconformity |y - mu| / scale, all (n, d); scale None is the absolute residual."""
     r = np.abs(y - mu)
