@@ -672,9 +672,14 @@ def test_the_fleet_factor_of_intervals_is_learnt_on_validation_units(seconds_run
                 for n in names:
                     assert r[f"{n}_fleet_halfwidth"] == pytest.approx(r[f"{n}_halfwidth"] * factor[n])
                     assert 0.0 <= r[f"{n}_fleet_coverage"] <= 1.0
+                    assert r[f"{n}_typical_halfwidth"] > 0 and 0.0 <= r[f"{n}_typical_coverage"] <= 1.0
                 checked += 1
     assert checked
-    assert "own plan x fleet factor" in (seconds_run / "report.md").read_text()
+    report = (seconds_run / "report.md").read_text()
+    assert "own plan x fleet factor" in report and "validation units' (plan unused)" in report
+    typical = {r["fx_typical_halfwidth"] for r in rows if r["method"] == "adapted:input_affine+film@spread"
+               and r.get("budget_s") == 40.0 and "interval_level" in r and r["seed"] == 0}
+    assert len(typical) == 1  # one width for every held-out unit: the plan unused
 
 
 def test_interval_fields_cover_as_the_residuals_promise():

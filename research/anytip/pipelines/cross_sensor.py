@@ -460,20 +460,29 @@ def plan_bands(shared: SharedFit, arrays: FleetArrays, sd: SeedData, opts: Optio
     resid = plan_residuals(shared, arrays, unlabeled, [plans[(u, b)] for u, b, _ in jobs],
                            [p for _, _, p in jobs], recipe, seed, fit_kind, prior, opts.intervals.folds)
     by_job = dict(zip(labeled, resid, strict=True))
-    factors = validation_factors(at_chosen, by_job, sd, arrays, level)
+    fleet = validation_factors(at_chosen, by_job, sd, arrays, level)
     bands = []
     for k, ((u, b, _), pred) in enumerate(at_chosen):
         if u in sd.split.test:
             bands.append(interval_fields(by_job.get(k), pred, arrays.targets[sd.evals[u].test_rows], names,
-                                         level, factors.get(b)))
-    return bands, factors
+                                         level, fleet.get(b)))
+    return bands, {b: f.factor for b, f in fleet.items()}
+
+
+class FleetWidths(NamedTuple):
+    """What the validation units say about intervals at one budget, per output (D,): the fleet
+    factor (`uncertainty.conformal.fleet_factor`) and the typical half-width their test rows
+    needed (geometric mean; a new unit's plan unused), in the output's unit."""
+
+    factor: np.ndarray
+    typical: np.ndarray
 
 
 def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
                        residuals: dict[int, np.ndarray | None], sd: SeedData, arrays: FleetArrays,
-                       level: float) -> dict[Budget, np.ndarray]:
-    """Budget -> fleet factor per output (D,) over the validation units whose plan gave a finite
-    half-width at `level`: the half-width their test rows needed over their plan's own."""
+                       level: float) -> dict[Budget, FleetWidths]:
+    """Budget -> `FleetWidths` over the validation units whose plan gave a finite half-width at
+    `level`: the half-width their test rows needed against their plan's own."""
     own: dict[Budget, list[np.ndarray]] = {}
     needed: dict[Budget, list[np.ndarray]] = {}
     for k, r in residuals.items():
@@ -485,23 +494,26 @@ def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
         if np.isfinite(half).all() and (half > 0).all() and np.isfinite(test).all() and (test > 0).all():
             own.setdefault(b, []).append(half)
             needed.setdefault(b, []).append(test)
-    return {b: fleet_factor(np.stack(own[b]), np.stack(needed[b])) for b in own}
+    return {b: FleetWidths(fleet_factor(np.stack(own[b]), np.stack(needed[b])),
+                           np.exp(np.log(np.stack(needed[b])).mean(0))) for b in own}
 
 
 def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.ndarray,
-                    names: Sequence[str], level: float, factor: np.ndarray | None = None) -> dict[str, Any]:
+                    names: Sequence[str], level: float, fleet: FleetWidths | None = None) -> dict[str, Any]:
     """A held-out unit's intervals from its own plan, scored on its test rows: the conformal
     half-width of each output (its unit: N or rad) from the plan's out-of-fold residuals
     (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Given
-    the fleet `factor` (D,), the same for the half-width times it (`<output>_fleet_halfwidth`,
-    `<output>_fleet_coverage`). Empty for a plan too short to cross-fit."""
+    what the validation units say (`fleet`), the same for the half-width times the fleet factor
+    (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`) and for their typical half-width,
+    the plan unused (`<output>_typical_...`). Empty for a plan too short to cross-fit."""
     if residuals is None:
         return {}
     half = residual_halfwidth(residuals, level)
     out = {"interval_level": level, "interval_rows": int(len(residuals)),
            "interval_test_rows": int(len(target)), **_band(pred, target, names, half, "")}
-    if factor is not None:
-        out |= _band(pred, target, names, half * factor, "fleet_")
+    if fleet is not None:
+        out |= _band(pred, target, names, half * fleet.factor, "fleet_")
+        out |= _band(pred, target, names, fleet.typical, "typical_")
     return out
 
 

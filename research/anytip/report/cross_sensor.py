@@ -397,11 +397,13 @@ def interval_section(rows: list[dict[str, Any]]) -> str:
     if not groups:
         return ""
     first = next(iter(groups.values()))[0]
-    names = [k.removesuffix("_coverage") for k in first if k.endswith("_coverage") and "_fleet_" not in k]
+    names = [k.removesuffix("_coverage") for k in first
+             if k.endswith("_coverage") and not k.endswith(("_fleet_coverage", "_typical_coverage"))]
     level = first["interval_level"]
     body = []
     for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
-        for label, prefix in (("own plan", ""), ("own plan x fleet factor", "fleet_")):
+        for label, prefix in (("own plan", ""), ("own plan x fleet factor", "fleet_"),
+                              ("validation units' (plan unused)", "typical_")):
             if all(f"{n}_{prefix}coverage" in r for r in rs for n in names):
                 body.append([f"`{method}`", f"{budget:g}", label, *_coverage_cells(rs, names, prefix, level)])
     lo, hi = level - COVERAGE_BAND, level + COVERAGE_BAND
@@ -413,9 +415,11 @@ the split-conformal quantile of its plan's out-of-fold residuals (the plan's pre
 folds, each predicted by the adapter refitted without it; `options.intervals`). The fleet factor
 (where recorded) is what the validation units taught: per output, the geometric mean over them of
 the half-width their test rows needed over the one their own plan gave; `anytip calibrate`
-applies the factor its shared model records. Coverage is the share of the unit's test rows
-inside, per output; a unit-seed-output is on target within [{lo:.2f}, {hi:.2f}]. Half-widths:
-mean over unit-seeds, in each output's unit (N, rad).
+applies the factor its shared model records. The last kind ignores the unit's plan: every
+held-out unit gets the validation units' typical half-width (the geometric mean of what their
+test rows needed), which separates how much the unit's own plan tells from noise in it.
+Coverage is the share of the unit's test rows inside, per output; a unit-seed-output is on
+target within [{lo:.2f}, {hi:.2f}]. Half-widths: mean over unit-seeds, in each output's unit (N, rad).
 
 {table(['method', 'budget [robot-s]', 'half-width', 'unit-seed-outputs', f'in [{lo:.2f}, {hi:.2f}]', 'lowest',
         'median', 'fewest test rows', *(f'{n} half-width' for n in names)], body)}
