@@ -673,6 +673,8 @@ def test_the_fleet_factor_of_intervals_is_learnt_on_validation_units(seconds_run
                     assert r[f"{n}_fleet_halfwidth"] == pytest.approx(r[f"{n}_halfwidth"] * factor[n])
                     assert 0.0 <= r[f"{n}_fleet_coverage"] <= 1.0
                     assert r[f"{n}_typical_halfwidth"] > 0 and 0.0 <= r[f"{n}_typical_coverage"] <= 1.0
+                    assert r[f"{n}_shrunk_halfwidth"] == pytest.approx(
+                        math.sqrt(r[f"{n}_fleet_halfwidth"] * r[f"{n}_typical_halfwidth"]))
                 checked += 1
     assert checked
     report = (seconds_run / "report.md").read_text()

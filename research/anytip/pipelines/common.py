@@ -4,6 +4,8 @@ tensors for a row split, and score per-unit models on their test rows.
 
 from __future__ import annotations
 
+import sys
+import time
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -38,6 +40,14 @@ class Context:
     device: torch.device
     progress: bool = True
     provenance: dict[str, Any] = field(default_factory=dict)
+    started: float = field(default_factory=time.perf_counter)
+
+    def say(self, text: str) -> None:
+        """One line on stderr, with the seconds since the run began, where progress is shown:
+        what a long run has done so far, also where no progress bar renders (a log file)."""
+        if self.progress:
+            print(f"[{self.spec.name} +{time.perf_counter() - self.started:.0f} s] {text}", file=sys.stderr,
+                  flush=True)
 
 
 M = TypeVar("M", bound=BaseModel)

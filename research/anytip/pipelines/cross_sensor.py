@@ -162,11 +162,14 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
              sweep: bool, extra: FleetArrays | None = None) -> list[dict[str, Any]]:
     spec = ctx.spec
     sd = prepare(ctx, arrays, opts, seed, extra)
+    ctx.say(f"seed {seed}: {len(sd.split.train)} training, {len(sd.split.val)} validation and "
+            f"{len(sd.split.test)} held-out units")
     held = "patches" if has_patch_grid(arrays.layout) else "blocks"
     base = {"seed": seed, "split": held, "n_train_units": len(sd.split.train)}
     if sd.n_extra:
         base["n_extra_units"] = sd.n_extra
     rows = [dict(base, **r) for r in per_unit_rows(ctx, arrays, sd, opts, seed)]
+    ctx.say(f"seed {seed}: per-unit references trained")
     rows += [dict(base, **r) for r in scratch_rows(ctx, arrays, sd, opts, seed)]
     shape = shared_shape(ctx, opts)
     pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), shape,
@@ -181,6 +184,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         shared = train_shared(sd.train, sd.train_stats, shape, kind, spec.training, seed,
                               ctx.device, ctx.progress, opts.adapter_decay,
                               adapter_dropout=opts.adapter_dropout, episodes=episodes)
+        ctx.say(f"seed {seed}: shared model {kind}{tag} trained")
         first: tuple[Adapted, PriorFamily, FitVariant] | None = None
         for family, fit in fit_methods(kind, opts, training):
             fit_kind = fit.kind(kind)
@@ -191,6 +195,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             priors_chosen[method.removeprefix("adapted:")] = got.chosen
             val_by_method.update(validation_by_method(method, got.val_loss))
             first = first or (got, family, fit)
+            ctx.say(f"seed {seed}: {method} calibrated on every budget and prior")
         got, family, fit = first
         chosen = got.chosen
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"),
@@ -504,8 +509,10 @@ def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.n
     half-width of each output (its unit: N or rad) from the plan's out-of-fold residuals
     (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Given
     what the validation units say (`fleet`), the same for the half-width times the fleet factor
-    (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`) and for their typical half-width,
-    the plan unused (`<output>_typical_...`). Empty for a plan too short to cross-fit."""
+    (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`), for their typical half-width, the
+    plan unused (`<output>_typical_...`), and for the geometric mean of the two, the unit's
+    plan shrunk halfway to the fleet (`<output>_shrunk_...`). Empty for a plan too short to
+    cross-fit."""
     if residuals is None:
         return {}
     half = residual_halfwidth(residuals, level)
@@ -514,6 +521,7 @@ def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.n
     if fleet is not None:
         out |= _band(pred, target, names, half * fleet.factor, "fleet_")
         out |= _band(pred, target, names, fleet.typical, "typical_")
+        out |= _band(pred, target, names, np.sqrt(half * fleet.factor * fleet.typical), "shrunk_")
     return out
 
 

@@ -398,12 +398,14 @@ def interval_section(rows: list[dict[str, Any]]) -> str:
         return ""
     first = next(iter(groups.values()))[0]
     names = [k.removesuffix("_coverage") for k in first
-             if k.endswith("_coverage") and not k.endswith(("_fleet_coverage", "_typical_coverage"))]
+             if k.endswith("_coverage") and not k.endswith(("_fleet_coverage", "_typical_coverage",
+                                                           "_shrunk_coverage"))]
     level = first["interval_level"]
     body = []
     for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
         for label, prefix in (("own plan", ""), ("own plan x fleet factor", "fleet_"),
-                              ("validation units' (plan unused)", "typical_")):
+                              ("validation units' (plan unused)", "typical_"),
+                              ("geometric mean of the two above", "shrunk_")):
             if all(f"{n}_{prefix}coverage" in r for r in rs for n in names):
                 body.append([f"`{method}`", f"{budget:g}", label, *_coverage_cells(rs, names, prefix, level)])
     lo, hi = level - COVERAGE_BAND, level + COVERAGE_BAND
@@ -417,7 +419,9 @@ folds, each predicted by the adapter refitted without it; `options.intervals`). 
 the half-width their test rows needed over the one their own plan gave; `anytip calibrate`
 applies the factor its shared model records. The last kind ignores the unit's plan: every
 held-out unit gets the validation units' typical half-width (the geometric mean of what their
-test rows needed), which separates how much the unit's own plan tells from noise in it.
+test rows needed), which separates how much the unit's own plan tells from noise in it; the
+geometric mean of the fleet-corrected and the validation units' half-widths shrinks the unit's
+plan halfway to the fleet.
 Coverage is the share of the unit's test rows inside, per output; a unit-seed-output is on
 target within [{lo:.2f}, {hi:.2f}]. Half-widths: mean over unit-seeds, in each output's unit (N, rad).
 
