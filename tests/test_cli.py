@@ -80,15 +80,15 @@ def test_every_data_verb_has_help(verb, capsys):
 
 def test_a_long_run_says_what_it_has_done_on_stderr(capsys, tmp_path):
     """`Context.say`: one stderr line with the spec's name and the seconds since the run began,
-    where progress is shown; nothing otherwise, and nothing on stdout."""
+    also without progress bars (a log file); nothing when told not to narrate, nothing on stdout."""
     import torch
 
     from anytip.config import load_spec
     from anytip.pipelines.common import Context
 
     spec = load_spec("experiments/cross_sensor.yaml")
-    Context(spec, Registry(tmp_path / "r"), tmp_path, torch.device("cpu"), True).say("references trained")
-    Context(spec, Registry(tmp_path / "r"), tmp_path, torch.device("cpu"), False).say("not shown")
+    Context(spec, Registry(tmp_path / "r"), tmp_path, torch.device("cpu"), False).say("references trained")
+    Context(spec, Registry(tmp_path / "r"), tmp_path, torch.device("cpu"), narrate=False).say("not shown")
     out = capsys.readouterr()
     assert out.out == "" and out.err.startswith("[cross_sensor +0 s] references trained")
     assert "not shown" not in out.err

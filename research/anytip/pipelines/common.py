@@ -41,11 +41,12 @@ class Context:
     progress: bool = True
     provenance: dict[str, Any] = field(default_factory=dict)
     started: float = field(default_factory=time.perf_counter)
+    narrate: bool = True  # `say` writes; progress bars show only on a terminal, these lines anywhere
 
     def say(self, text: str) -> None:
-        """One line on stderr, with the seconds since the run began, where progress is shown:
-        what a long run has done so far, also where no progress bar renders (a log file)."""
-        if self.progress:
+        """One line on stderr, with the seconds since the run began: what a long run has done so
+        far, also where no progress bar renders (a log file). Nothing unless `narrate`."""
+        if self.narrate:
             print(f"[{self.spec.name} +{time.perf_counter() - self.started:.0f} s] {text}", file=sys.stderr,
                   flush=True)
 
