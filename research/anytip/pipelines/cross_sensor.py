@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
+from scipy.stats import gmean
 
 from anytip.calibrate import OWN_CHECK_ALARM
 from anytip.data.arrays import FleetArrays, has_patch_grid
@@ -66,7 +67,7 @@ from anytip.train.shared_split import (
 )
 from anytip.uncertainty.conformal import coverage, fleet_factor, interval, residual_halfwidth
 
-PLAIN_FIT = FitVariant()
+PLAIN_FIT = FitVariant()  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
 
 class Adapted(NamedTuple):
@@ -77,7 +78,6 @@ class Adapted(NamedTuple):
     chosen: dict[Budget, float]
     val_loss: dict[Budget, float]
     interval_factors: dict[Budget, np.ndarray]
-  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
 
 def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
@@ -500,7 +500,7 @@ def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
             own.setdefault(b, []).append(half)
             needed.setdefault(b, []).append(test)
     return {b: FleetWidths(fleet_factor(np.stack(own[b]), np.stack(needed[b])),
-                           np.exp(np.log(np.stack(needed[b])).mean(0))) for b in own}
+                           gmean(np.stack(needed[b]), axis=0)) for b in own}
 
 
 def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.ndarray,

@@ -383,11 +383,15 @@ here are ordinary units: how often would the alarm have fired on them (unit-seed
 
 
 COVERAGE_BAND = 0.05  # a unit-output's coverage counts as on target within +-0.05 of the nominal level
+# (label, row-field prefix) of each half-width rows may score (`pipelines.cross_sensor.interval_fields`)
+INTERVAL_KINDS = (("own plan", ""), ("own plan x fleet factor", "fleet_"),
+                  ("validation units' (plan unused)", "typical_"),
+                  ("geometric mean of the two above", "shrunk_"))
 
 
 def interval_section(rows: list[dict[str, Any]]) -> str:
     """Coverage of the intervals each held-out unit gets from its own plan (`options.intervals`),
-    and of the same half-widths times the fleet factor where the run learnt one, per method and
+    and, where the run learnt a fleet factor, of the other `INTERVAL_KINDS`, per method and
     budget over unit-seed-outputs: how many lie within the band around the nominal level, the
     lowest, the median, and the mean half-width of each output. Empty without them."""
     groups: dict[tuple[str, float], list[dict[str, Any]]] = defaultdict(list)
@@ -397,15 +401,12 @@ def interval_section(rows: list[dict[str, Any]]) -> str:
     if not groups:
         return ""
     first = next(iter(groups.values()))[0]
-    names = [k.removesuffix("_coverage") for k in first
-             if k.endswith("_coverage") and not k.endswith(("_fleet_coverage", "_typical_coverage",
-                                                           "_shrunk_coverage"))]
+    names = [k.removesuffix("_coverage") for k in first if k.endswith("_coverage")
+             and not k.endswith(tuple(f"_{prefix}coverage" for _, prefix in INTERVAL_KINDS if prefix))]
     level = first["interval_level"]
     body = []
     for (method, budget), rs in sorted(groups.items(), key=lambda kv: (kv[0][1], kv[0][0])):
-        for label, prefix in (("own plan", ""), ("own plan x fleet factor", "fleet_"),
-                              ("validation units' (plan unused)", "typical_"),
-                              ("geometric mean of the two above", "shrunk_")):
+        for label, prefix in INTERVAL_KINDS:
             if all(f"{n}_{prefix}coverage" in r for r in rs for n in names):
                 body.append([f"`{method}`", f"{budget:g}", label, *_coverage_cells(rs, names, prefix, level)])
     lo, hi = level - COVERAGE_BAND, level + COVERAGE_BAND
@@ -417,7 +418,7 @@ the split-conformal quantile of its plan's out-of-fold residuals (the plan's pre
 folds, each predicted by the adapter refitted without it; `options.intervals`). The fleet factor
 (where recorded) is what the validation units taught: per output, the geometric mean over them of
 the half-width their test rows needed over the one their own plan gave; `anytip calibrate`
-applies the factor its shared model records. The last kind ignores the unit's plan: every
+applies the factor its shared model records. The third kind ignores the unit's plan: every
 held-out unit gets the validation units' typical half-width (the geometric mean of what their
 test rows needed), which separates how much the unit's own plan tells from noise in it; the
 geometric mean of the fleet-corrected and the validation units' half-widths shrinks the unit's

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.stats import gmean
 
 
 def conformal_quantile(scores: np.ndarray, alpha: float) -> np.ndarray:
@@ -44,7 +45,7 @@ def fleet_factor(own: np.ndarray, observed: np.ndarray) -> np.ndarray:
     both = np.concatenate([own, observed])
     if not (np.isfinite(both).all() and (both > 0).all()):
         raise ValueError("half-widths must be finite and positive to form a fleet factor")
-    return np.exp(np.mean(np.log(observed / own), axis=0))
+    return np.asarray(gmean(observed / own, axis=0))
 
 
 def scores_of(mu: np.ndarray, y: np.ndarray, scale: np.ndarray | None = None) -> np.ndarray:
