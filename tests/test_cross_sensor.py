@@ -698,3 +698,39 @@ def test_interval_fields_cover_as_the_residuals_promise():
     assert f["a_coverage"] == pytest.approx(0.9, abs=0.01) and f["b_coverage"] == pytest.approx(0.9, abs=0.01)
     assert f["interval_rows"] == 20_000 and f["interval_test_rows"] == 20_000
     assert interval_fields(None, np.zeros((3, 2)), np.zeros((3, 2)), ["a", "b"], 0.9) == {}
+
+
+def test_held_out_units_are_fitted_only_at_the_prior_validation_chose(two_protocol_registry, tmp_path,
+                                                                       monkeypatch):
+    """The validation units are calibrated at every prior first; the held-out units then only at
+    the chosen one. The own check reuses the intervals' out-of-fold fits where the folds agree."""
+    import anytip.pipelines.cross_sensor as cs
+    fitted: list[list[tuple]] = []
+    checked: list[int] = []
+    fit_jobs, own_check_losses = cs.fit_jobs, cs.own_check_losses
+
+    def recording_fit(*args, **kwargs):
+        fitted.append([(u, b.amount, b.strategy, p) for u, b, p in args[5]])
+        return fit_jobs(*args, **kwargs)
+
+    def recording_check(shared, arrays, unlabeled, plans, *args, **kwargs):
+        checked.extend(p.presses for p in plans)
+        return own_check_losses(shared, arrays, unlabeled, plans, *args, **kwargs)
+
+    monkeypatch.setattr(cs, "fit_jobs", recording_fit)
+    monkeypatch.setattr(cs, "own_check_losses", recording_check)
+    overrides = [*SECONDS[:-2], "options.fits=[{}]", "options.adapter_priors=[identity]",
+                 "options.intervals={folds: 5, level: 0.8}"]
+    out = run_experiment(SPEC, two_protocol_registry, out=tmp_path / "r", overrides=overrides, progress=False)
+    seed = json.loads((out / "provenance.json").read_text())["cross_sensor"]["seed0"]
+    val, test = seed["units"]["val"], seed["units"]["test"]
+    chosen = seed["priors_chosen"]["input_affine+film"]
+    first, second = [c for c in fitted if any(amount > 0 for _, amount, _, _ in c)]  # the adapted model
+    assert {u for u, *_ in first} == set(val) and {u for u, *_ in second} == set(test)
+    assert {p for _, amount, _, p in first if amount > 0} == {1.0, 100.0}
+    for u, amount, strategy, p in second:
+        if amount > 0:
+            assert p == chosen[f"{amount:g} s {strategy}"], (u, amount, strategy, p)
+    assert all(presses < 2 for presses in checked)  # every plan of 2+ presses came from the intervals
+    checks = seed["own_check"]["by_shared_model"]["input_affine-film"]
+    assert all(v is not None and v > 0 for v in checks["40 s spread"].values())

@@ -59,6 +59,7 @@ from anytip.train.shared_split import (
     SeedData,
     calibrate_many,
     main_rows,
+    own_check_loss,
     own_check_losses,
     plan_residuals,
     predict_rows,
@@ -70,14 +71,20 @@ from anytip.uncertainty.conformal import coverage, fleet_factor, interval, resid
 PLAIN_FIT = FitVariant()  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
 
+PlanResiduals = dict[tuple[str, Budget], np.ndarray | None]
+
+
 class Adapted(NamedTuple):
     """What `adapted_rows` gives: rows, the prior chosen per budget, the validation units' loss
-    per budget at that prior, and the intervals' fleet factor per budget (output order)."""
+    per budget at that prior, the intervals' fleet factor per budget (output order), and the
+    out-of-fold residuals of the validation and held-out units' plans at that prior
+    ((unit, budget) -> (n, D) or None; `PlanResiduals`), empty without intervals."""
 
     rows: list[dict[str, Any]]
     chosen: dict[Budget, float]
     val_loss: dict[Budget, float]
     interval_factors: dict[Budget, np.ndarray]
+    residuals: PlanResiduals
 
 
 def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
@@ -206,7 +213,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
                                  "fleet_factor_by_budget": by_budget(
                                      {b: dict(zip(arrays.output_names, map(float, f), strict=True))
                                       for b, f in got.interval_factors.items()}, opts)}
-        checks = own_checks(arrays, sd, opts, shared, seed, chosen, family, fit)
+        checks = own_checks(arrays, sd, opts, shared, seed, chosen, family, fit, got.residuals)
         if checks:
             val = {b: [v for u, v in c.items() if u in sd.split.val and v is not None]
                    for b, c in checks.items()}
@@ -410,68 +417,106 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         priors_of = {b: [fixed_priors[b]] for b in budgets if b.amount > 0}
     else:
         priors_of = {b: list(opts.priors) for b in budgets if b.amount > 0}
-    targets = list(sd.split.test) + ([] if fixed_priors is not None else list(sd.split.val))
-    jobs = [(u, b, p) for u in targets for b in budgets
-            for p in (priors_of.get(b, [0.0]) if b.amount > 0 else [0.0]) if fits or b.amount == 0]
-    plans = {(u, b): plan_of(sd, u, b, opts, seed) for u, b, _ in jobs}
-    # a budget that buys no press (too short, or no designed run of the unit) has no row
-    jobs = [(u, b, p) for u, b, p in jobs if b.amount == 0 or len(plans[(u, b)].rows)]
     recipe = fit.recipe(opts, shared.inner_lr)
     prior = make_prior(family, shared.model, opts.prior_rank) if fits and kind == shared.model.kind else None
-    folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.unlabeled(opts.unlabeled_s)
-                                                    for u, _, _ in jobs],
-                                   [plans[(u, b)] for u, b, _ in jobs], [p for _, _, p in jobs], recipe,
-                                   seed, fit_kind, prior)
-    preds = predict_rows(folded, stats, shared.out_scaler, arrays,
-                         [sd.evals[u].test_rows for u, _, _ in jobs])
+    plans: dict[tuple[str, Budget], Plan] = {}
+
+    def fitted(units: Sequence[str]) -> list[tuple[Job, np.ndarray]]:
+        jobs = planned_jobs(sd, opts, seed, units, budgets, priors_of, fits, plans)
+        return fit_jobs(shared, arrays, sd, opts, seed, jobs, plans, recipe, fit_kind, prior)
+
     chosen, val_loss = dict(fixed_priors or {}), {}
+    validation: list[tuple[Job, np.ndarray]] = []
     if fixed_priors is None:
-        loss = validation_losses(jobs, preds, sd, arrays, set(sd.split.val), shared.out_scaler)
+        # the prior is chosen on the validation units before any held-out unit is fitted
+        validation = fitted(sd.split.val)
+        loss = validation_losses([j for j, _ in validation], [p for _, p in validation], sd, arrays,
+                                 set(sd.split.val), shared.out_scaler)
         chosen = choose_priors(loss)
         val_loss = {b: float(np.mean(v)) for (b, p), v in loss.items() if p == chosen.get(b, p)}
-    at_chosen = [(job, pred) for job, pred in zip(jobs, preds, strict=True)
+        priors_of = {b: [chosen.get(b, ps[0] if len(ps) == 1 else default_prior(opts))]
+                     for b, ps in priors_of.items()}
+    held_out = fitted(sd.split.test)
+    at_chosen = [(job, pred) for job, pred in validation + held_out
                  if job[1].amount == 0 or job[2] == chosen.get(job[1], job[2])]
     kept = [(job, pred) for job, pred in at_chosen if job[0] in sd.split.test]
     bands: list[dict[str, Any]] = [{} for _ in kept]
     factors: dict[Budget, np.ndarray] = {}
+    resid: PlanResiduals = {}
     if intervals and opts.intervals is not None:
-        bands, factors = plan_bands(shared, arrays, sd, opts, at_chosen, plans, recipe, seed, fit_kind, prior)
+        bands, factors, resid = plan_bands(shared, arrays, sd, opts, at_chosen, plans, recipe, seed, fit_kind,
+                                           prior)
     rows = []
     for ((u, b, p), pred), band in zip(kept, bands, strict=True):
         rows.append({"method": method + _suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
                      **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
                      **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout), **band})
-    return Adapted(rows, chosen, val_loss, factors)
+    return Adapted(rows, chosen, val_loss, factors, resid)
 
 
 Job = tuple[str, Budget, float]  # (unit, budget, prior strength)
 
 
+def planned_jobs(sd: SeedData, opts: Options, seed: int, units: Sequence[str], budgets: list[Budget],
+                 priors_of: dict[Budget, list[float]], fits: bool,
+                 plans: dict[tuple[str, Budget], Plan]) -> list[Job]:
+    """Every (unit, budget, prior) of `units` whose plan buys at least one press (budget 0 at
+    prior 0, and only budget 0 for a shared model without adapters); the plans are added to
+    `plans`."""
+    jobs = [(u, b, p) for u in units for b in budgets
+            for p in (priors_of.get(b, [0.0]) if b.amount > 0 else [0.0]) if fits or b.amount == 0]
+    for u, b, _ in jobs:
+        if (u, b) not in plans:
+            plans[(u, b)] = plan_of(sd, u, b, opts, seed)
+    # a budget that buys no press (too short, or no designed run of the unit) has no row
+    return [(u, b, p) for u, b, p in jobs if b.amount == 0 or len(plans[(u, b)].rows)]
+
+
+def fit_jobs(shared: SharedFit, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
+             jobs: list[Job], plans: dict[tuple[str, Budget], Plan], recipe: AdapterRecipe,
+             fit_kind: str, prior: AdapterPrior | None) -> list[tuple[Job, np.ndarray]]:
+    """Each job's adapter fitted and folded on its plan (one batch), with its physical
+    predictions (n_test, D) on its unit's test rows."""
+    if not jobs:
+        return []
+    folded, stats = calibrate_many(shared, arrays, [sd.evals[u].stream.unlabeled(opts.unlabeled_s)
+                                                    for u, _, _ in jobs],
+                                   [plans[(u, b)] for u, b, _ in jobs], [p for _, _, p in jobs], recipe,
+                                   seed, fit_kind, prior)
+    preds = predict_rows(folded, stats, shared.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u, _, _ in jobs])
+    return list(zip(jobs, preds, strict=True))
+
+
 def plan_bands(shared: SharedFit, arrays: FleetArrays, sd: SeedData, opts: Options,
                at_chosen: list[tuple[Job, np.ndarray]], plans: dict[tuple[str, Budget], Plan],
                recipe: AdapterRecipe, seed: int, fit_kind: str, prior: AdapterPrior | None
-               ) -> tuple[list[dict[str, Any]], dict[Budget, np.ndarray]]:
+               ) -> tuple[list[dict[str, Any]], dict[Budget, np.ndarray], PlanResiduals]:
     """Intervals of the held-out units among `at_chosen` ((unit, budget, prior), test-row
     prediction) from their own plans (`interval_fields`, one dict per held-out job in order),
-    and the fleet factor per budget (D,) learnt on the validation units among them: how much
-    wider their test rows needed the interval than their plan's out-of-fold residuals said
-    (`uncertainty.conformal.fleet_factor`). All plans' fold fits run as one batch."""
+    the fleet factor per budget (D,) learnt on the validation units among them (how much wider
+    their test rows needed the interval than their plan's out-of-fold residuals said;
+    `uncertainty.conformal.fleet_factor`), and every plan's out-of-fold residuals. All plans'
+    fold fits run as one batch. A plan of fewer presses than folds is cross-fitted one press per
+    fold (its residuals serve the own check) but gets no interval."""
     assert opts.intervals is not None
-    level, names = opts.intervals.level, arrays.output_names
+    level, names, folds = opts.intervals.level, arrays.output_names, opts.intervals.folds
     labeled = [k for k, ((_, b, _), _) in enumerate(at_chosen) if b.amount > 0]
     jobs = [at_chosen[k][0] for k in labeled]
     unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u, _, _ in jobs]
     resid = plan_residuals(shared, arrays, unlabeled, [plans[(u, b)] for u, b, _ in jobs],
-                           [p for _, _, p in jobs], recipe, seed, fit_kind, prior, opts.intervals.folds)
-    by_job = dict(zip(labeled, resid, strict=True))
+                           [p for _, _, p in jobs], recipe, seed, fit_kind, prior, folds, fewer=True)
+    by_job = {k: r if plans[(u, b)].presses >= folds else None
+              for k, (u, b, _), r in zip(labeled, jobs, resid, strict=True)}
     fleet = validation_factors(at_chosen, by_job, sd, arrays, level)
     bands = []
     for k, ((u, b, _), pred) in enumerate(at_chosen):
         if u in sd.split.test:
             bands.append(interval_fields(by_job.get(k), pred, arrays.targets[sd.evals[u].test_rows], names,
                                          level, fleet.get(b)))
-    return bands, {b: f.factor for b, f in fleet.items()}
+    by_plan = {(u, b): r for (u, b, _), r in zip(jobs, resid, strict=True)}
+    return bands, {b: f.factor for b, f in fleet.items()}, by_plan
 
 
 class FleetWidths(NamedTuple):
@@ -547,25 +592,31 @@ def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndar
 
 
 def own_checks(arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit, seed: int,
-               chosen: dict[Budget, float], family: PriorFamily, fit: FitVariant
-               ) -> dict[Budget, dict[str, float | None]]:
+               chosen: dict[Budget, float], family: PriorFamily, fit: FitVariant,
+               known: PlanResiduals | None = None) -> dict[Budget, dict[str, float | None]]:
     """Budget -> validation or held-out unit -> its calibration's own check at the chosen
     prior (`train.shared_split.own_check_losses`: every press predicted by the adapter refitted
     without its fold). Budgets in robot seconds only (a stream prefix has no presses to hold out);
-    empty for a shared model without adapters."""
+    empty for a shared model without adapters. `known`: out-of-fold residuals the intervals
+    already cross-fitted at these priors, used as they are where their fold count is the check's."""
     kind = fit.kind(shared.model.kind)
     budgets = [b for b in chosen if b.amount > 0 and b.unit == "seconds"]
     if kind == "none" or not budgets:
         return {}
+    if known is None or opts.intervals is None or opts.intervals.folds != OWN_CHECK_FOLDS:
+        known = {}
     jobs = [(u, b) for b in budgets for u in [*sd.split.val, *sd.split.test]]
+    todo = [job for job in jobs if job not in known]
     prior = make_prior(family, shared.model, opts.prior_rank) if kind == shared.model.kind else None
-    unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u, _ in jobs]
+    unlabeled = [sd.evals[u].stream.unlabeled(opts.unlabeled_s) for u, _ in todo]
     recipe = fit.recipe(opts, shared.inner_lr)
-    losses = own_check_losses(shared, arrays, unlabeled, [plan_of(sd, u, b, opts, seed) for u, b in jobs],
-                              [chosen[b] for _, b in jobs], recipe, seed, kind, prior)
+    fresh = own_check_losses(shared, arrays, unlabeled, [plan_of(sd, u, b, opts, seed) for u, b in todo],
+                             [chosen[b] for _, b in todo], recipe, seed, kind, prior) if todo else []
+    losses = dict(zip(todo, fresh, strict=True))
+    losses.update({job: own_check_loss(known[job], shared.out_scaler) for job in jobs if job in known})
     out: dict[Budget, dict[str, float | None]] = {}
-    for (u, b), loss in zip(jobs, losses, strict=True):
-        out.setdefault(b, {})[u] = loss
+    for u, b in jobs:
+        out.setdefault(b, {})[u] = losses[(u, b)]
     return out
 
 
