@@ -17,8 +17,13 @@ With `--priors`, the same calibration is also refitted at each prior strength an
 test patches: the best strength per unit (chosen on held-out units, so never a method) bounds
 what tuning the prior's strength could gain over the validation units' choice.
 
+With `--remount-s`, the plans are chosen as if a change of orientation cost that many seconds
+(100000: a plan that never re-mounts, so its presses stay in one orientation and the budget
+buys more of them); everything else is the run's.
+
     python scripts/where_calibration_errs.py RUN_DIR --registry data/fleet24 --budget 120 \
-        [--seeds 0 1] [--adapter input_affine+film] [--priors 0.1 1 10 100 1000] [--out FILE.md]
+        [--seeds 0 1] [--adapter input_affine+film] [--priors 0.1 1 10 100 1000] \
+        [--remount-s 100000] [--out FILE.md]
 """
 
 from __future__ import annotations
@@ -46,7 +51,7 @@ KEY = "force_rmse_n"  # the benchmark's force RMSE [N] (anytip.train.metrics.sco
 
 
 def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str,
-                priors: list[float]) -> list[dict]:
+                priors: list[float], remount_s: float | None = None) -> list[dict]:
     """Per held-out unit of `seed`: force-RMSE ratios to the reference on plan rows and on the
     test patches of visited and unvisited orientations (at the prior the run chose), and on all
     test patches at each of `priors` (`by_prior`)."""
@@ -54,6 +59,8 @@ def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str
     prov = json.loads((run / "provenance.json").read_text())
     ctx = Context(spec, Registry(Path(registry), create=False), run, torch.device("cpu"), False)
     opts = parse_options(ctx)
+    if remount_s is not None:
+        opts = opts.model_copy(update={"rig": opts.rig.model_copy(update={"remount_s": remount_s})})
     arrays = load(ctx, min_units(ctx))
     sd = prepare(ctx, arrays, opts, seed)
     units = list(sd.split.test)
@@ -139,13 +146,17 @@ def table(lines: list[dict]) -> str:
 def main() -> None:
     ap = diagnostic_parser(__doc__)
     ap.add_argument("--priors", type=float, nargs="*", default=[], help="prior strengths to refit at")
+    ap.add_argument("--remount-s", type=float, default=None,
+                    help="choose the plans as if a re-mount cost this many seconds (default: the run's)")
     a = ap.parse_args()
+    remount = "" if a.remount_s is None else f", plans priced at {a.remount_s:g} s per re-mount"
 
     def render(seeds: list[int], lines: list) -> str:
         return (f"# Where a {a.budget:g} s calibration errs: `{a.run.name}`, {a.adapter} "
-                f"(first fit of the run)\n\n{table(lines)}\n")
+                f"(first fit of the run{remount})\n\n{table(lines)}\n")
 
-    diagnose(a, lambda s: seed_ratios(a.run, a.registry, s, a.budget, a.adapter, a.priors), render)
+    diagnose(a, lambda s: seed_ratios(a.run, a.registry, s, a.budget, a.adapter, a.priors, a.remount_s),
+             render)
 
 if __name__ == "__main__":
     main()

@@ -573,6 +573,13 @@ def test_where_a_calibration_errs_recalibrates_like_the_benchmark(seconds_run, t
         assert line["by_prior"][prior] == pytest.approx(ratio, rel=0.05)
     assert "best strength of each unit" in where.table(lines)
 
+    def orientations(remount_s: float) -> list[int]:
+        got = where.seed_ratios(seconds_run, str(two_protocol_registry.root), 0, 40.0, "input_affine+film",
+                                [], remount_s=remount_s)
+        return [len(line["orientations"]) for line in got]
+    assert max(orientations(0.0)) > 1  # re-mounts for free: the plan spreads over orientations
+    assert max(orientations(1e5)) == 1  # a plan that never re-mounts stays in one
+
 
 def test_episodic_training_is_its_own_method_and_calibrates(two_protocol_registry, tmp_path):
     """`options.shared_training: [joint, episodic]` trains each adapter kind both ways, side by
