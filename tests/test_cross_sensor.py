@@ -741,3 +741,23 @@ def test_held_out_units_are_fitted_only_at_the_prior_validation_chose(two_protoc
     assert all(presses < 2 for presses in checked)  # every plan of 2+ presses came from the intervals
     checks = seed["own_check"]["by_shared_model"]["input_affine-film"]
     assert all(v is not None and v > 0 for v in checks["40 s spread"].values())
+
+
+def test_label_free_whitening_decorrelates_from_the_unlabeled_seconds_only(two_protocol_registry, tmp_path):
+    """scripts/label_free_whitening.py: a unit's unlabeled seconds come out with unit covariance (no
+    correlation, unit spread), and a held-out unit's whitening never reads its test patches."""
+    spec = importlib.util.spec_from_file_location("whiten", REPO / "scripts" / "label_free_whitening.py")
+    whiten = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(whiten)
+    opts, arrays, sd = prepared(two_protocol_registry, tmp_path, [*SECONDS[:-2], "options.fits=[{}]"])
+    out = whiten.whitened(arrays, opts, 0.0, sd)
+    unit = sd.split.test[0]
+    x = out.pressure[sd.evals[unit].stream.unlabeled(opts.unlabeled_s)].astype(np.float64)
+    np.testing.assert_allclose(np.cov(x.T, bias=True), np.eye(x.shape[1]), atol=1e-3)
+    test = sd.evals[unit].test_rows
+    changed = dataclasses.replace(arrays, pressure=arrays.pressure.copy())
+    changed.pressure[test] *= 3.0
+    again = whiten.whitened(changed, opts, 0.0, sd)
+    others = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+    others = np.setdiff1d(others, test)
+    np.testing.assert_array_equal(again.pressure[others], out.pressure[others])
