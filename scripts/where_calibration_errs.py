@@ -8,7 +8,10 @@ rows:
 
 - the plan's own rows (what the adapter was fitted on; the reference trained on them too);
 - test patches in orientations the plan visited;
-- test patches in orientations it did not visit (a re-mount the budget could not pay for).
+- test patches in orientations it did not visit (a re-mount the budget could not pay for),
+  and these again split by where they lie: inside the box the plan's own rows span in every
+  target but force (the fingertip's contact angles: the same places on the dome, reached from
+  another run and orientation), or outside it.
 
 A low ratio on the plan's rows and a high one on the test patches means the calibration does
 not generalise from its presses; a high ratio only in unvisited orientations means coverage.
@@ -35,6 +38,7 @@ import numpy as np
 import torch
 
 from anytip.config import load_spec
+from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget
 from anytip.data.registry import Registry
 from anytip.models.io import load_models, load_shared
@@ -106,7 +110,9 @@ def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str
                 "plan": ratio(adapted["plan"][i], ref["plan"][i], rows["plan"][i])}
         test = rows["test"][i]
         visited = np.isin(orientation[arrays.run[test]], plans[i].orientations)
-        for key, sel in (("visited", visited), ("unvisited", ~visited)):
+        inside = within_plan(arrays, rows["plan"][i], test)
+        for key, sel in (("visited", visited), ("unvisited", ~visited),
+                         ("unvisited_inside", ~visited & inside), ("unvisited_outside", ~visited & ~inside)):
             if sel.any():
                 line[key] = ratio(adapted["test"][i][sel], ref["test"][i][sel], test[sel])
         line["by_prior"] = {p: ratio(every["test"][j], ref["test"][i], test)
@@ -115,18 +121,31 @@ def seed_ratios(run: Path, registry: str, seed: int, amount: float, adapter: str
     return out
 
 
+def within_plan(arrays: FleetArrays, plan_rows: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """(n,) bool: rows whose targets other than force lie within the range the plan's rows span
+    in each component (all True where force is the only target)."""
+    inside = np.ones(len(rows), bool)
+    for name, cols in arrays.slices.items():
+        if name != "force":
+            own = arrays.targets[plan_rows][:, cols]
+            y = arrays.targets[rows][:, cols]
+            inside &= np.all((y >= own.min(0)) & (y <= own.max(0)), axis=1)
+    return inside
+
+
 def table(lines: list[dict]) -> str:
     """Markdown: one row per (unit, seed), then the mean over rows with a 95% bootstrap interval."""
-    head = ("| unit | seed | orientations visited | plan rows | test, visited | test, unvisited |\n"
-            "|---|---|---|---|---|---|")
+    head = ("| unit | seed | orientations visited | plan rows | test, visited | test, unvisited | "
+            "unvisited, inside the plan's places | unvisited, outside |\n|---|---|---|---|---|---|---|---|")
 
     def cell(v: float | None) -> str:
         return "" if v is None else f"{v:.2f}x"
 
     body = [f"| {r['unit']} | {r['seed']} | {', '.join(f'{o:g}' for o in r['orientations'])} | "
-            f"{cell(r['plan'])} | {cell(r.get('visited'))} | {cell(r.get('unvisited'))} |" for r in lines]
+            f"{cell(r['plan'])} | {cell(r.get('visited'))} | {cell(r.get('unvisited'))} | "
+            f"{cell(r.get('unvisited_inside'))} | {cell(r.get('unvisited_outside'))} |" for r in lines]
     summary = []
-    for key in ("plan", "visited", "unvisited"):
+    for key in ("plan", "visited", "unvisited", "unvisited_inside", "unvisited_outside"):
         v = [r[key] for r in lines if key in r]
         if v:
             m, lo, hi = mean_interval(v)

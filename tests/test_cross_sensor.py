@@ -579,6 +579,12 @@ def test_where_a_calibration_errs_recalibrates_like_the_benchmark(seconds_run, t
         return [len(line["orientations"]) for line in got]
     assert max(orientations(0.0)) > 1  # re-mounts for free: the plan spreads over orientations
     assert max(orientations(1e5)) == 1  # a plan that never re-mounts stays in one
+    arrays = load_arrays(two_protocol_registry, two_protocol_registry.list_runs())
+    some = np.flatnonzero(arrays.unit == 0)[:500]
+    assert where.within_plan(arrays, some, some).all()  # a plan's own rows lie within its span
+    moved = dataclasses.replace(arrays, labels=arrays.labels.copy())
+    moved.labels[some[:10], 3] += 10.0  # theta far outside any plan
+    assert not where.within_plan(moved, some[10:], some[:10]).any()
 
 
 def test_episodic_training_is_its_own_method_and_calibrates(two_protocol_registry, tmp_path):

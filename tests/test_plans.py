@@ -61,7 +61,7 @@ def test_presses_are_the_contiguous_contact_segments_of_each_run():
     assert presses.duration_s == pytest.approx(np.full(len(presses), PRESS_ROWS / RATE))
 
 
-@pytest.mark.parametrize("strategy", ["spread", "random", "first"])
+@pytest.mark.parametrize("strategy", ["spread", "cover", "random", "first"])
 @pytest.mark.parametrize("budget", [3.0, 12.0, 40.0, 90.0])
 def test_a_plan_is_whole_presses_within_its_robot_time(strategy, budget):
     arrays, rig = fleet(), RigTiming(move_s=2.0, remount_s=30.0)
@@ -98,6 +98,35 @@ def test_spread_covers_the_target_space_better_than_the_first_presses():
     spread, first = (select_presses(presses, 15.0, strategy=s) for s in ("spread", "first"))
     assert spread.presses == first.presses
     assert radius(spread.rows) < radius(first.rows)
+
+
+def mean_gap(presses, plan) -> float:
+    """Mean over every candidate press of the summary distance to the nearest press of `plan`."""
+    z, rows = presses.summary, set(plan.rows)
+    chosen = [k for k in range(len(presses)) if presses.rows_of(k)[0] in rows]
+    return float(np.min(np.linalg.norm(z[:, None] - z[None, chosen], axis=2), axis=1).mean())
+
+
+@pytest.mark.parametrize("budget", [40.0, 70.0, 120.0])
+def test_cover_reaches_the_target_space_at_least_as_well_as_spread(budget):
+    presses = find_presses(fleet(orientations=(0.0, -45.0, -90.0)), "U1")
+    cover, spread = (select_presses(presses, budget, strategy=s) for s in ("cover", "spread"))
+    assert mean_gap(presses, cover) <= mean_gap(presses, spread) + 1e-9
+
+
+def test_cover_pays_no_remount_for_an_orientation_that_reaches_nothing_new():
+    """An orientation whose presses repeat the targets of the others' is not visited where the
+    budget buys every press of the others (each press 0.2 s plus a 2 s move, one 30 s re-mount)."""
+    arrays = fleet(orientations=(0.0, -90.0, -45.0))
+    half = PRESSES_PER_RUN // 2 * PRESS_ROWS  # the third run repeats half of each other run's targets
+    first, second = (np.flatnonzero(arrays.run == k) for k in (0, 1))
+    arrays.labels[arrays.run == 2] = np.concatenate([arrays.labels[first[:half]],
+                                                     arrays.labels[second[:half]]])
+    presses = find_presses(arrays, "U1")
+    for budget in (90.0, 100.0):
+        plan = select_presses(presses, budget, strategy="cover")
+        assert plan.orientations == (0.0, -90.0) or plan.orientations == (-90.0, 0.0)
+        assert plan.presses == 2 * PRESSES_PER_RUN and mean_gap(presses, plan) == pytest.approx(0.0)
 
 
 def test_a_press_that_touches_an_excluded_row_is_dropped_whole():
