@@ -24,10 +24,12 @@ prior is scaled by that count, not by rows.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream
@@ -36,7 +38,8 @@ from anytip.sensor.protocols import design_protocol, waypoints
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
-Strategy = Literal["spread", "random", "first", "designed"]
+Strategy = Literal["spread", "cover", "random", "first", "designed"]
+MAX_COVER_ORIENTATIONS = 8  # `cover` tries every subset of up to this many orientations (255 plans)
 BudgetUnit = Literal["samples", "seconds"]
 
 
@@ -181,10 +184,13 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
 
     `spread`: farthest-point order in the press summaries, starting from the press nearest
     their mean (ties broken by a seeded draw); a press whose orientation is new must also
-    pay its re-mount. `random`: presses in a seeded random order. `first`: presses in
-    recorded order (what a budget cut from the start of a recorded stream gives, in whole
-    presses). Each strategy adds presses while the budget allows and skips those it cannot
-    afford.
+    pay its re-mount. `cover`: `spread` within each subset of the orientations, keeping the
+    plan with the smallest covering radius (the largest summary distance from any candidate
+    press to the plan's nearest press; fewer orientations on a tie): a re-mount is paid only
+    where its orientation reaches targets the others leave far away. `random`: presses in a
+    seeded random order. `first`: presses in recorded order (what a budget cut from the start
+    of a recorded stream gives, in whole presses). Each strategy adds presses while the budget
+    allows and skips those it cannot afford.
     """
     if not np.isfinite(budget_s) or budget_s < 0:
         raise AnytipError(f"a calibration budget must be a finite number of seconds >= 0, got {budget_s}")
@@ -193,12 +199,14 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
     cost = presses.duration_s + rig.move_s
     if strategy == "spread":
         chosen = _spread(presses, cost, budget_s, rig.remount_s, seed)
+    elif strategy == "cover":
+        chosen = _cover(presses, cost, budget_s, rig.remount_s, seed)
     elif strategy in ("random", "first", "designed"):
         order = (np.random.default_rng(seed).permutation(len(presses)) if strategy == "random"
                  else np.arange(len(presses)))
         chosen = _in_order(presses, cost, order, budget_s, rig.remount_s)
     else:
-        raise AnytipError(f"unknown plan strategy {strategy!r}; use spread, random or first")
+        raise AnytipError(f"unknown plan strategy {strategy!r}; use spread, cover, random or first")
     return _plan(presses, chosen, rig)
 
 
@@ -220,6 +228,26 @@ def _spread(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: floa
         used.add(float(presses.orientation_deg[k]))
         nearest = np.linalg.norm(z - z[k], axis=1)
         score = nearest if len(chosen) == 1 else np.minimum(score, nearest)
+
+
+def _cover(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:
+    orientations = np.unique(presses.orientation_deg)
+    if len(orientations) > MAX_COVER_ORIENTATIONS:
+        raise AnytipError(f"plan strategy cover tries every subset of at most {MAX_COVER_ORIENTATIONS} "
+                          f"orientations; this unit's runs have {len(orientations)}: use spread")
+    z = presses.summary
+    best: tuple[float, list[int]] = (np.inf, [])
+    for size in range(1, len(orientations) + 1):
+        for subset in itertools.combinations(orientations, size):
+            idx = np.flatnonzero(np.isin(presses.orientation_deg, subset))
+            chosen = [int(idx[k]) for k in _spread(presses.subset(np.isin(presses.orientation_deg, subset)),
+                                                   cost[idx], budget_s, remount_s, seed)]
+            if not chosen:
+                continue
+            gap = float(cKDTree(z[chosen]).query(z)[0].max())
+            if gap < best[0] - 1e-12:
+                best = (gap, chosen)
+    return best[1]
 
 
 def _in_order(presses: Presses, cost: np.ndarray, order: np.ndarray, budget_s: float,
