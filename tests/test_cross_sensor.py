@@ -767,3 +767,22 @@ def test_label_free_whitening_decorrelates_from_the_unlabeled_seconds_only(two_p
     others = np.flatnonzero(arrays.unit == arrays.units.index(unit))
     others = np.setdiff1d(others, test)
     np.testing.assert_array_equal(again.pressure[others], out.pressure[others])
+
+
+def test_calibrate_follows_the_plan_strategy_the_validation_units_chose(two_protocol_registry, tmp_path):
+    """With several strategies compared, the shared model records the one with the lowest
+    validation loss over the labeled budgets; with one, or incomplete losses, spread."""
+    from anytip.data.plans import Budget
+    from anytip.pipelines.cross_sensor import by_budget, calibrate_strategy
+    opts, _, _ = prepared(two_protocol_registry, tmp_path,
+                          [*SECONDS, "options.plan_strategies=[spread,cover]"])
+    loss = {Budget(0.0, "seconds", "spread"): 9.0, Budget(8.0, "seconds", "spread"): 0.5,
+            Budget(40.0, "seconds", "spread"): 0.3, Budget(8.0, "seconds", "cover"): 0.4,
+            Budget(40.0, "seconds", "cover"): 0.35}
+    assert calibrate_strategy(opts, loss) == "cover"  # mean 0.375 against 0.40
+    loss[Budget(40.0, "seconds", "cover")] = 0.5
+    assert calibrate_strategy(opts, loss) == "spread"
+    del loss[Budget(40.0, "seconds", "cover")]
+    assert calibrate_strategy(opts, loss) == "spread"  # cover lacks a budget: no comparison
+    assert calibrate_strategy(opts) == "spread"
+    assert by_budget(loss, "cover") == {"8": 0.4}

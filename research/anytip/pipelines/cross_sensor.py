@@ -205,19 +205,20 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             ctx.say(f"seed {seed}: {method} calibrated on every budget and prior")
         got, family, fit = first
         chosen = got.chosen
+        strategy = calibrate_strategy(opts, got.val_loss)
         meta = shared_meta(shared, opts, chosen, seed, ctx.provenance.get("sensor_model"),
-                           arrays.output_names, fit)
-        meta["val_loss_by_budget"] = by_budget(got.val_loss, opts)
+                           arrays.output_names, fit, strategy)
+        meta["val_loss_by_budget"] = by_budget(got.val_loss, strategy)
         if got.interval_factors and opts.intervals is not None:
             meta["intervals"] = {"level": opts.intervals.level, "folds": opts.intervals.folds,
                                  "fleet_factor_by_budget": by_budget(
                                      {b: dict(zip(arrays.output_names, map(float, f), strict=True))
-                                      for b, f in got.interval_factors.items()}, opts)}
+                                      for b, f in got.interval_factors.items()}, strategy)}
         checks = own_checks(arrays, sd, opts, shared, seed, chosen, family, fit, got.residuals)
         if checks:
             val = {b: [v for u, v in c.items() if u in sd.split.val and v is not None]
                    for b, c in checks.items()}
-            meta["own_check_by_budget"] = by_budget(val, opts)
+            meta["own_check_by_budget"] = by_budget(val, strategy)
             meta["own_check_folds"] = OWN_CHECK_FOLDS
             own_by_method[_slug(kind) + tag] = {b.label: c for b, c in checks.items()}
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}{_file_tag(training)}_seed{seed}.safetensors"
@@ -656,30 +657,36 @@ def default_prior(opts: Options) -> float:
     return sorted(opts.priors)[len(opts.priors) // 2]
 
 
-def calibrate_strategy(opts: Options) -> Strategy:
-    """The press selection `anytip calibrate` uses for a budget in seconds: spread where the spec
-    compared it, else the spec's first."""
+def calibrate_strategy(opts: Options, val_loss: dict[Budget, float] | None = None) -> Strategy:
+    """The press selection `anytip calibrate` uses for a budget in seconds: where the spec
+    compared several and `val_loss` (budget -> validation units' loss at the chosen prior) has
+    them all at the same labeled budgets, the one with the lowest mean loss over those budgets;
+    else spread where the spec compared it, else the spec's first."""
+    losses = {s: [v for b, v in (val_loss or {}).items() if b.unit == "seconds" and b.amount > 0
+                  and b.strategy == s] for s in opts.plan_strategies}
+    if len(losses) > 1 and all(losses.values()) and len({len(v) for v in losses.values()}) == 1:
+        return min(opts.plan_strategies, key=lambda s: float(np.mean(losses[s])))
     return "spread" if "spread" in opts.plan_strategies else opts.plan_strategies[0]
 
 
-def by_budget(values: dict[Budget, Any], opts: Options) -> dict[str, Any]:
-    """Per-budget values keyed by amount (samples, or seconds of calibrate's strategy)."""
-    keep = {b: v for b, v in values.items()
-            if b.unit == "samples" or b.strategy == calibrate_strategy(opts)}
+def by_budget(values: dict[Budget, Any], strategy: Strategy) -> dict[str, Any]:
+    """Per-budget values keyed by amount (samples, or seconds of `strategy`, calibrate's)."""
+    keep = {b: v for b, v in values.items() if b.unit == "samples" or b.strategy == strategy}
     return {(str(int(b.amount)) if b.unit == "samples" else f"{b.amount:g}"): v
             for b, v in sorted(keep.items(), key=lambda kv: kv[0].amount)}
 
 
 def shared_meta(shared: SharedFit, opts: Options, chosen: dict[Budget, float], seed: int,
                 sensor_model: str | None, output_names: tuple[str, ...],
-                fit: FitVariant = PLAIN_FIT) -> dict[str, Any]:
+                fit: FitVariant = PLAIN_FIT, strategy: Strategy = "spread") -> dict[str, Any]:
     """What `anytip calibrate` needs to fit a new unit's adapter like the benchmark's `fit` did
-    (its steps, or the inner fit's step sizes; an `add` fit is calibrated without the part)."""
+    (its steps, or the inner fit's step sizes; an `add` fit is calibrated without the part),
+    with the plans of `strategy`."""
     recipe = fit.recipe(opts, shared.inner_lr)
     return {"unit_ids": shared.unit_ids, "seed": seed, "sensor_model": sensor_model,
             "recipe": shared.recipe.model_dump(mode="json"),
-            "priors_by_budget": by_budget(chosen, opts), "budget_unit": opts.budget_unit,
-            "plan_strategy": calibrate_strategy(opts), "rig": opts.rig.model_dump(),
+            "priors_by_budget": by_budget(chosen, strategy), "budget_unit": opts.budget_unit,
+            "plan_strategy": strategy, "rig": opts.rig.model_dump(),
             "adapter_prior": opts.adapter_priors[0], "prior_rank": opts.prior_rank,
             "unlabeled_s": opts.unlabeled_s,
             "default_prior": default_prior(opts),
