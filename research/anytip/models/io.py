@@ -1,4 +1,5 @@
-"""Save and load a fleet of MLPs: `<name>.safetensors` (tensors) + `<name>.json` (metadata).
+"""Save and load a fleet of MLPs, shared models and response models: `<name>.safetensors`
+(tensors) + `<name>.json` (metadata).
 
 No pickles anywhere: tensors go through safetensors, everything else is JSON. The JSON
 holds the format version, the MLPConfig, the number of models and a free `meta` dict
@@ -20,6 +21,7 @@ from torch import Tensor
 from anytip.errors import AnytipError
 from anytip.models.adapted import AdaptedMLP
 from anytip.models.mlp import BatchedMLP, MLPConfig
+from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 
@@ -194,3 +196,49 @@ def load_shared(path: str | Path, device: torch.device | str = "cpu") -> LoadedS
     return LoadedShared(model, Scaler(tensors["in_scaler.mean"], tensors["in_scaler.std"]),
                         Scaler(tensors["out_scaler.mean"], tensors["out_scaler.std"]),
                         header.get("meta", {}))
+
+
+RESPONSE_FORMAT = "anytip.response_model"
+
+
+@dataclass
+class LoadedResponse:
+    """What `load_response` returns: the response model (with its training units' codes), the
+    noise variance (C,) Pa^2 and code spread (k,) a new unit's code fit needs, and the metadata."""
+
+    model: ResponseModel
+    noise_var: Tensor
+    code_var: Tensor
+    meta: dict[str, Any] = field(default_factory=dict)
+
+
+def save_response(path: str | Path, model: ResponseModel, noise_var: Tensor, code_var: Tensor,
+                  meta: dict[str, Any] | None = None) -> Path:
+    """Write a response model like `save_models` (safetensors + JSON)."""
+    tensors_path, json_path = model_paths(path)
+    tensors_path.parent.mkdir(parents=True, exist_ok=True)
+    tensors = {**model.state_dict(), "noise_var": noise_var, "code_var": code_var}
+    save_file({k: v.detach().contiguous().cpu() for k, v in tensors.items()}, str(tensors_path))
+    header = {"format": RESPONSE_FORMAT, "format_version": FORMAT_VERSION, "config": model.config.to_json(),
+              "n_units": model.n_units, "n_channels": model.n_channels,
+              "n_labels": int(model.label_mean.shape[0]), "force_cols": model.force_cols.tolist(),
+              "meta": dict(meta or {})}
+    write_json(json_path, header)
+    return tensors_path
+
+
+def load_response(path: str | Path, device: torch.device | str = "cpu") -> LoadedResponse:
+    """Read what `save_response` wrote; any mismatch raises ModelFileError naming the file."""
+    tensors_path, json_path = model_paths(path)
+    header = read_header(json_path, RESPONSE_FORMAT)
+    try:
+        model = ResponseModel(int(header["n_units"]), int(header["n_channels"]), int(header["n_labels"]),
+                              [int(c) for c in header["force_cols"]], ResponseConfig(**header["config"]))
+    except Exception as e:  # noqa: BLE001 - any bad header is reported the same way
+        raise ModelFileError(json_path, f"bad config, sizes or force columns: {e}") from e
+    tensors = _read_tensors(tensors_path, device)
+    expected = {k: tuple(v.shape) for k, v in model.state_dict().items()}
+    expected |= {"noise_var": (model.n_channels,), "code_var": (model.config.code_dim,)}
+    _check(tensors_path, tensors, expected)
+    model.to(device).load_state_dict({k: tensors[k] for k in model.state_dict()})
+    return LoadedResponse(model, tensors["noise_var"], tensors["code_var"], header.get("meta", {}))

@@ -27,13 +27,19 @@ from scipy.stats import gmean
 from anytip.calibrate import OWN_CHECK_ALARM
 from anytip.data.arrays import FleetArrays, has_patch_grid
 from anytip.data.calibration import CalibrationStream
-from anytip.data.plans import Budget, Plan, Strategy, plan_for
+from anytip.data.plans import Budget, Plan, Strategy
 from anytip.data.seeds import CALIBRATION_ROWS, VALIDATION_PATCHES, stream_seed
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.mlp import MLPConfig
-from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, load_extra, report_metrics, unit_of
+from anytip.pipelines.cross_sensor_jobs import (
+    budget_fields,
+    plan_of,
+    plan_suffix,
+    validation_by_method,
+    validation_losses,
+)
 from anytip.pipelines.cross_sensor_options import (
     FitVariant,
     Options,
@@ -42,6 +48,8 @@ from anytip.pipelines.cross_sensor_options import (
     parse_options,
     training_tag,
 )
+from anytip.pipelines.cross_sensor_response import METHOD as RESPONSE_METHOD
+from anytip.pipelines.cross_sensor_response import response_rows
 from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
@@ -223,6 +231,10 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             own_by_method[_slug(kind) + tag] = {b.label: c for b, c in checks.items()}
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}{_file_tag(training)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
+    if opts.response is not None:
+        got = response_rows(ctx, arrays, sd, opts, seed)
+        rows += [dict(base, **r) for r in got.rows]
+        val_by_method.update(validation_by_method(RESPONSE_METHOD, got.val_loss))
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
         "units": sd.split.to_json(), "val_loss": val_by_method,
         "priors_chosen": {k: {b.label: p for b, p in v.items()} for k, v in priors_chosen.items()},
@@ -265,15 +277,6 @@ def adapted_method(kind: str, family: PriorFamily = "identity") -> str:
     if kind == "none":
         return "adapted:input_stats"
     return f"adapted:{kind}" + ("" if family == "identity" else f"/{family}")
-
-
-def validation_by_method(method: str, val_loss: dict[Budget, float]) -> dict[str, dict[str, float]]:
-    """{row method: {budget: validation-unit loss}} of one shared model and prior, keyed as the
-    report keys rows (method with its plan suffix; budget in samples or seconds)."""
-    out: dict[str, dict[str, float]] = {}
-    for b, v in val_loss.items():
-        out.setdefault(method + _suffix(b), {})[f"{b.amount:g}"] = v
-    return out
 
 
 def pooled_rows(pooled: SharedFit, arrays: FleetArrays, sd: SeedData) -> list[dict[str, Any]]:
@@ -347,22 +350,6 @@ def best_val_loss(fit: Any) -> np.ndarray:
     return np.min(np.array([h["val_loss"] for h in fit.history], float), axis=0)
 
 
-def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int) -> Plan:
-    """The labeled rows `budget` grants `unit` (a stream prefix or whole presses)."""
-    ev = sd.evals[unit]
-    return plan_for(budget, ev.stream, ev.presses, opts.rig.timing(), seed)
-
-
-def budget_fields(budget: Budget, plan: Plan) -> dict[str, Any]:
-    """What a row says of its calibration: labeled samples and robot seconds, and for a
-    budget in seconds the budget, the press selection and the plan's presses."""
-    out: dict[str, Any] = {"calib_samples": int(len(plan.rows)), "calib_seconds": plan.calib_seconds}
-    if budget.unit == "seconds":
-        out |= {"budget_s": budget.amount, "plan": budget.strategy, "presses": plan.presses,
-                "n_effective": plan.n_effective, "orientations": len(plan.orientations)}
-    return out
-
-
 def unlabeled_fields(stream: CalibrationStream, seconds: float | None) -> dict[str, Any]:
     """How much unlabeled data a row's input statistics read: rows, and seconds where capped."""
     rows = stream.unlabeled(seconds)
@@ -370,10 +357,6 @@ def unlabeled_fields(stream: CalibrationStream, seconds: float | None) -> dict[s
     if seconds is not None:
         out["unlabeled_seconds"] = float(stream.seconds[len(rows) - 1]) if len(rows) else 0.0
     return out
-
-
-def _suffix(budget: Budget) -> str:
-    return f"@{budget.strategy}" if budget.unit == "seconds" and budget.amount > 0 else ""
 
 
 def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
@@ -391,7 +374,7 @@ def scratch_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                       progress=ctx.progress)
     preds = predict_rows(fit.model, fit.in_scaler, fit.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
-    return [{"method": "scratch" + _suffix(b), "unit": u, **budget_fields(b, plan),
+    return [{"method": "scratch" + plan_suffix(b), "unit": u, **budget_fields(b, plan),
              **scores(preds[k], arrays.targets[sd.evals[u].test_rows], arrays.layout)}
             for k, (u, b, plan) in enumerate(jobs)]
 
@@ -449,7 +432,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                                            prior)
     rows = []
     for ((u, b, p), pred), band in zip(kept, bands, strict=True):
-        rows.append({"method": method + _suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
+        rows.append({"method": method + plan_suffix(b), "unit": u, **budget_fields(b, plans[(u, b)]),
                      **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
                      **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout), **band})
@@ -577,19 +560,6 @@ def _band(pred: np.ndarray, target: np.ndarray, names: Sequence[str], half: np.n
     cover = coverage(lo, hi, target)
     return {**{f"{n}_{prefix}halfwidth": float(h) for n, h in zip(names, half, strict=True)},
             **{f"{n}_{prefix}coverage": float(c) for n, c in zip(names, cover, strict=True)}}
-
-
-def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndarray], sd: SeedData,
-                      arrays: FleetArrays, val_units: set[str],
-                      out_scaler: Scaler) -> dict[tuple[Budget, float], list[float]]:
-    """(budget, prior) -> each validation unit's standardised MSE on its test patches."""
-    std = out_scaler.std.reshape(-1).cpu().numpy()
-    loss: dict[tuple[Budget, float], list[float]] = {}
-    for (u, b, p), pred in zip(jobs, preds, strict=True):
-        if u in val_units:
-            err = (pred - arrays.targets[sd.evals[u].test_rows]) / std
-            loss.setdefault((b, p), []).append(float((err**2).mean()))
-    return loss
 
 
 def own_checks(arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit, seed: int,

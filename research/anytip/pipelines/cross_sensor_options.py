@@ -12,11 +12,13 @@ from anytip.data.plans import Budget, BudgetUnit, RigTiming, Strategy
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.mlp import MLPConfig
+from anytip.models.response import ResponseConfig
 from anytip.pipelines.common import Context, validate_options
 from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
 from anytip.train.adapter_prior import PriorFamily
 from anytip.train.episodic import EpisodeRecipe
 from anytip.train.recipe import TrainRecipe
+from anytip.train.response import ResponseRecipe
 
 SCRATCH = TrainRecipe(name="scratch", optimizer="adamw", lr=3e-3, weight_decay=1e-4, batch_size=256,
                       epochs=100, schedule="cosine", final_lr_frac=0.01, keep_best=False)
@@ -121,6 +123,36 @@ class IntervalOptions(BaseModel):
     level: float = Field(default=0.9, gt=0, lt=1, description="nominal coverage")
 
 
+class ResponseOptions(BaseModel):
+    """`options.response`: calibration by response transfer (train/response.py), a method `response`
+    beside the adapters at every labeled budget. A fleet response model (contact -> each barometer's
+    pressure, a code per unit and barometer) is trained on the training units; a new unit's codes are
+    fitted on its plan; the training units' rows, carried over to the new unit, train its own network
+    of the spec's `model` shape with its plan's rows."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    code_dim: int = Field(default=ResponseConfig.code_dim, ge=1, le=1024)
+    channel_dim: int = Field(default=ResponseConfig.channel_dim, ge=1, le=1024)
+    hidden: int = Field(default=ResponseConfig.hidden, ge=1, le=4096)
+    layers: int = Field(default=ResponseConfig.layers, ge=1, le=16)
+    steps: int = Field(default=ResponseRecipe.steps, ge=1, le=10_000_000)
+    rows_per_step: int = Field(default=ResponseRecipe.rows_per_step, ge=1, le=2**22)
+    lr: float = Field(default=ResponseRecipe.lr, gt=0, le=10)
+    code_decay: float = Field(default=ResponseRecipe.code_decay, ge=0, le=1e6)
+    code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
+    code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)
+    code_lr: float = Field(default=ResponseRecipe.code_lr, gt=0, le=10)
+    source_rows: int = Field(default=ResponseRecipe.source_rows, ge=1, le=10_000_000)
+    inverse_epochs: int = Field(default=ResponseRecipe.inverse_epochs, ge=1, le=100_000)
+
+    def config(self) -> ResponseConfig:
+        return ResponseConfig(self.code_dim, self.channel_dim, self.hidden, self.layers)
+
+    def recipe(self) -> ResponseRecipe:
+        return ResponseRecipe(**self.model_dump(exclude={"code_dim", "channel_dim", "hidden", "layers"}))
+
+
 Training = Literal["joint", "episodic"]
 
 
@@ -179,6 +211,9 @@ class Options(BaseModel):
         default=None, description="intervals from each held-out unit's own plan, for the first fit of "
         "every shared model at the chosen prior (budget_unit seconds)")
     extra_units: ExtraUnits | None = None
+    response: ResponseOptions | None = Field(
+        default=None, description="calibration by response transfer, a method `response` at every labeled "
+        "budget (train/response.py); null: not run")
     reference_shapes: list[MLPConfig] = Field(
         default=[], description="more per-unit models of other shapes (model blocks), each trained and "
         "selected exactly like the reference: a method `per_unit:<sizes>` with its ratio to the reference")

@@ -1,0 +1,80 @@
+"""The cross_sensor method `response`: each validation and held-out unit calibrated by response
+transfer (train/response.py) at every labeled budget, scored on its test patches like every other
+method. The response model is trained once per seed on the training units and saved with the run
+(`models/response_seed<s>.safetensors`)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from typing import Any, NamedTuple
+
+import torch
+
+from anytip.data.arrays import FleetArrays
+from anytip.data.plans import Budget
+from anytip.models.io import save_response
+from anytip.pipelines.common import Context
+from anytip.pipelines.cross_sensor_jobs import budget_fields, plan_of, plan_suffix, validation_losses
+from anytip.pipelines.cross_sensor_options import Options, budget_list
+from anytip.train.adapt import pooled_scaler
+from anytip.train.metrics import scores
+from anytip.train.response import calibrate_by_response, residual_rms, source_rows, train_response
+from anytip.train.shared_split import SeedData, predict_rows
+
+METHOD = "response"
+
+
+class ResponseRows(NamedTuple):
+    """Rows of the held-out units, and the validation units' mean standardised MSE per budget."""
+
+    rows: list[dict[str, Any]]
+    val_loss: dict[Budget, float]
+
+
+def force_columns(arrays: FleetArrays) -> list[int]:
+    """The label columns of the sensor model's `force` target, or none (no linear structure)."""
+    if "force" not in arrays.layout:
+        return []
+    return list(range(len(arrays.output_names)))[arrays.slices["force"]]
+
+
+def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int) -> ResponseRows:
+    """Every validation and held-out unit calibrated by response transfer on the plan each labeled
+    budget grants it; rows of the held-out units (`response@<strategy>`), with the RMS of the
+    plan's pressures about the unit's fitted response (`response_residual_pa`, its own check)."""
+    assert opts.response is not None
+    recipe = opts.response.recipe()
+    fit = train_response(sd.train, force_columns(arrays), opts.response.config(), recipe, seed, ctx.device,
+                         ctx.progress)
+    ctx.say(f"seed {seed}: response model trained ({fit.wall_s:.0f} s)")
+    budgets = [b for b in budget_list(opts) if b.amount > 0]
+    jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in [*sd.split.val, *sd.split.test] for b in budgets]
+    jobs = [j for j in jobs if len(j[2].rows)]
+    rows: list[dict[str, Any]] = []
+    val_loss: dict[Budget, float] = {}
+    if jobs:
+        X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
+        Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
+        source = source_rows(fit, sd.train, recipe.source_rows, seed)
+        nets, codes = calibrate_by_response(
+            fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, recipe, seed,
+            [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress)
+        preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
+                             [sd.evals[u].test_rows for u, _, _ in jobs])
+        keyed = [(u, b, 0.0) for u, b, _ in jobs]
+        loss = validation_losses(keyed, preds, sd, arrays, set(sd.split.val),
+                                 pooled_scaler(sd.train.Y_train, sd.train.n_train))
+        val_loss = {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
+        for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)):
+            if u in sd.split.test:
+                resid = residual_rms(fit, X[m], Y[m], codes[m])
+                rows.append({"method": METHOD + plan_suffix(b), "unit": u, **budget_fields(b, plan),
+                             "response_residual_pa": float((resid**2).mean() ** 0.5),
+                             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)})
+        ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
+    meta = {"unit_ids": fit.unit_ids, "seed": seed, "output_names": list(arrays.output_names),
+            "recipe": asdict(recipe), "wall_s": fit.wall_s,
+            "val_loss_by_budget": {b.label: v for b, v in val_loss.items()}}
+    save_response(ctx.run_dir / "models" / f"response_seed{seed}.safetensors", fit.model, fit.noise_var,
+                  fit.code_var, meta)
+    return ResponseRows(rows, val_loss)

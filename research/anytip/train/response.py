@@ -1,0 +1,227 @@
+"""Calibration by response transfer: a new unit's own network trained on the training units' rows,
+carried over to the new unit through a fleet response model (models/response.py).
+
+1. `train_response`: the response network and every training unit's codes, jointly, every
+   unit's rows in every step (pressure MSE, a small decay on the codes).
+2. `fit_codes`: a new unit's codes from its calibration rows, the network frozen: the MAP
+   estimate under a Gaussian prior whose spread is the training units' codes', with the
+   training units' residual variance as the noise and the plan's effective sample count as
+   the number of independent rows.
+3. `transfer`: each source row of training unit t, (x, y), becomes a row of the new unit u:
+   (x + G(y; z_u) - G(y; z_t), y). The training unit's own deviations from its response
+   (rig positioning error, relaxation, hysteresis, drift, noise) are kept; only the
+   difference between the two units' responses is added.
+4. `calibrate_by_response`: each new unit's network of the deployed shape, trained on its
+   transferred rows and its own calibration rows (every unit one model of a batched fleet,
+   `train.fleet.train_fleet`). What is deployed is that plain network: nothing to fold.
+
+The response network is learnt from the registry's training units alone; nothing here
+assumes the project's simulator.
+Shapes: U training units, M new-unit jobs, C barometers, D label columns, k code_dim.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+from torch import Tensor
+
+from anytip.data.arrays import OUTPUT_NAMES
+from anytip.data.seeds import unit_seed
+from anytip.models.mlp import MLPConfig
+from anytip.models.response import ResponseConfig, ResponseModel
+from anytip.train.data import FleetBatchData, UnitSampler, UnitTensors, pad_rows
+from anytip.train.fleet import FitResult, ProgressBar, train_fleet
+from anytip.train.recipe import FAST, TrainRecipe, lr_at, set_lr
+
+RESPONSE_VAL_FRACTION = 0.1  # of a new unit's transferred rows: its network's early stopping
+
+
+@dataclass(frozen=True)
+class ResponseRecipe:
+    """How the response model is trained (`steps` Adam steps of `rows_per_step` rows over all
+    training units, one-cycle at peak `lr`, `code_decay` on the training codes), how a new
+    unit's codes are fitted (`code_steps` Adam steps of `code_rows` rows at `code_lr`), how many
+    rows of each training unit are transferred (`source_rows`), and how long the new unit's
+    network trains on them (`inverse_epochs` of the fast recipe)."""
+
+    steps: int = 5000
+    rows_per_step: int = 4096
+    lr: float = 3e-3
+    warmup_frac: float = 0.1
+    code_decay: float = 1e-3
+    code_steps: int = 300
+    code_rows: int = 1024
+    code_lr: float = 3e-2
+    source_rows: int = 8000
+    inverse_epochs: int = 20
+
+
+@dataclass
+class ResponseFit:
+    """A trained response model with what a new unit's code fit needs: noise_var (C,) Pa^2, the
+    training units' residual variance per barometer on their validation rows; code_var (k,), the
+    spread of their codes per code dimension."""
+
+    model: ResponseModel
+    noise_var: Tensor
+    code_var: Tensor
+    unit_ids: list[str]
+    wall_s: float = 0.0
+
+    @property
+    def device(self) -> torch.device:
+        return self.model.codes.device
+
+
+def train_response(data: FleetBatchData, force_cols: list[int], config: ResponseConfig | None = None,
+                   recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0,
+                   device: torch.device | str | None = None, progress: bool = False) -> ResponseFit:
+    """The response network and the training units' codes from their fitting rows (physical
+    units), scored on their validation rows for the noise variance."""
+    start = time.perf_counter()
+    config = config or ResponseConfig()
+    device = torch.device(device) if device is not None else data.device
+    data = data.to(device)
+    U, C, D = data.n_units, data.X_train.shape[2], data.Y_train.shape[2]
+    model = ResponseModel(U, C, D, force_cols, config, seed).to(device)
+    rows = [data.unit(u) for u in range(U)]
+    model.set_scales(torch.cat([r.Y_train for r in rows]), torch.cat([r.X_train for r in rows]))
+    scale = model.pressure_scale
+    opt = torch.optim.Adam(model.parameters(), lr=recipe.lr)
+    schedule = TrainRecipe(name="response", lr=recipe.lr, schedule="onecycle", warmup_frac=recipe.warmup_frac,
+                           final_lr_frac=0.01)
+    sampler = UnitSampler(data.n_train, max(1, recipe.rows_per_step // U), seed, device)
+    rows_of = torch.arange(U, device=device)[:, None]
+    bar = ProgressBar(progress, recipe.steps, f"response model over {U} units")
+    for step, idx in sampler.steps(recipe.steps):
+        set_lr(opt, lr_at(step, recipe.steps, schedule))
+        pred = model(data.Y_train[rows_of, idx], model.codes[:, None])
+        loss = (((pred - data.X_train[rows_of, idx]) / scale) ** 2).mean()
+        loss = loss + recipe.code_decay * model.codes.pow(2).mean()
+        opt.zero_grad(set_to_none=True)
+        loss.backward()
+        opt.step()
+        bar.update(step + 1)
+    bar.close()
+    model.eval()
+    with torch.no_grad():
+        resid = [(model(r.Y_val, model.codes[u]) - r.X_val).pow(2) for u, r in enumerate(rows)]
+        noise_var = torch.cat(resid).mean(0).clamp_min(1e-12)
+        code_var = model.codes.var(0).mean(0).clamp_min(1e-8) if U > 1 else torch.ones(config.code_dim,
+                                                                                       device=device)
+    return ResponseFit(model, noise_var, code_var, list(data.unit_ids), time.perf_counter() - start)
+
+
+def fit_codes(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
+              recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0) -> Tensor:
+    """(M, C, k) MAP codes of M jobs, each its calibration rows X (n_m, C) Pa, Y (n_m, D), worth
+    n_effective[m] independent rows. The loss of job m is n_eff / 2 times the mean over rows of
+    sum_c (x_c - G_c)^2 / noise_var_c, plus sum (z^2 / code_var) / 2. A job without rows keeps
+    the zero code (the fleet's typical unit)."""
+    device, model = fit.device, fit.model
+    M, C, k = len(X), model.n_channels, model.config.code_dim
+    codes = torch.zeros(M, C, k, device=device, requires_grad=True)
+    n = torch.tensor([len(x) for x in X], device=device)
+    if not bool((n > 0).any()):
+        return codes.detach()
+    Xp, _ = pad_rows([x if len(x) else x.new_zeros(1, C) for x in X], device)
+    Yp, _ = pad_rows([y if len(y) else y.new_zeros(1, Y[0].shape[-1]) for y in Y], device)
+    weight = torch.tensor(n_effective, dtype=torch.float32, device=device) * (n > 0)
+    sampler = UnitSampler(n.clamp_min(1), min(recipe.code_rows, int(n.max())), seed, device)
+    rows_of = torch.arange(M, device=device)[:, None]
+    opt = torch.optim.Adam([codes], lr=recipe.code_lr)
+    schedule = TrainRecipe(name="codes", lr=recipe.code_lr, schedule="cosine", final_lr_frac=0.05)
+    noise, spread = fit.noise_var.to(device), fit.code_var.to(device)
+    for p in model.parameters():
+        p.requires_grad_(False)
+    try:
+        for step, idx in sampler.steps(recipe.code_steps):
+            set_lr(opt, lr_at(step, recipe.code_steps, schedule))
+            err = (model(Yp[rows_of, idx], codes[:, None]) - Xp[rows_of, idx]).pow(2) / noise  # (M, B, C)
+            loss = (weight * err.mean(1).sum(-1)).sum() / 2 + (codes.pow(2) / spread).sum() / 2
+            opt.zero_grad(set_to_none=True)
+            loss.backward()
+            opt.step()
+    finally:
+        for p in model.parameters():
+            p.requires_grad_(True)
+    return torch.where((n > 0)[:, None, None], codes.detach(), torch.zeros_like(codes.detach()))
+
+
+@dataclass
+class SourceRows:
+    """Rows of the training units to transfer: X (S, C) Pa, Y (S, D), unit (S,) index into the
+    response model's training units, fitted (S, C) Pa the unit's own response G(y; z_unit)."""
+
+    X: Tensor
+    Y: Tensor
+    unit: Tensor
+    fitted: Tensor
+
+
+def source_rows(fit: ResponseFit, data: FleetBatchData, per_unit: int, seed: int = 0) -> SourceRows:
+    """`per_unit` random fitting rows of each training unit of `data` (the response model's own
+    training units, in its order), with their own response."""
+    device = fit.device
+    X, Y, unit = [], [], []
+    for u in range(data.n_units):
+        r = data.unit(u)
+        g = torch.Generator().manual_seed(unit_seed(seed, u, "response source rows"))
+        take = torch.randperm(len(r.X_train), generator=g)[:per_unit].to(r.X_train.device)
+        X.append(r.X_train[take].to(device))
+        Y.append(r.Y_train[take].to(device))
+        unit.append(torch.full((len(take),), u, dtype=torch.int64, device=device))
+    src = SourceRows(torch.cat(X), torch.cat(Y), torch.cat(unit), torch.empty(0))
+    src.fitted = _respond(fit.model, src.Y, fit.model.codes.detach()[src.unit])
+    return src
+
+
+@torch.no_grad()
+def _respond(model: ResponseModel, labels: Tensor, codes: Tensor, chunk: int = 32768) -> Tensor:
+    """(n, C) Pa: the response to labels (n, D) with codes (n, C, k) or (C, k), in chunks."""
+    model.eval()
+    out = []
+    for a in range(0, len(labels), chunk):
+        z = codes if codes.dim() == 2 else codes[a:a + chunk]
+        out.append(model(labels[a:a + chunk], z))
+    return torch.cat(out) if out else labels.new_zeros(0, model.n_channels)
+
+
+def transfer(fit: ResponseFit, source: SourceRows, codes: Tensor) -> Tensor:
+    """(S, C) Pa: the source rows as the unit of `codes` (C, k) would have read them."""
+    return source.X + _respond(fit.model, source.Y, codes.to(fit.device)) - source.fitted
+
+
+def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor], Y: list[Tensor],
+                          n_effective: list[float], shape: MLPConfig,
+                          recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0,
+                          ids: list[str] | None = None, output_names: tuple[str, ...] = OUTPUT_NAMES,
+                          progress: bool = False) -> tuple[FitResult, Tensor]:
+    """M new units' plain networks of `shape` (one batched fleet) and their codes (M, C, k).
+
+    Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
+    n_effective[m] rows; its network trained on the transferred source rows and its own
+    calibration rows, a random RESPONSE_VAL_FRACTION of them validating (keep-best)."""
+    codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
+    members = []
+    for m, (x, y) in enumerate(zip(X, Y, strict=True)):
+        xs = torch.cat([transfer(fit, source, codes[m]), x.to(fit.device)]).cpu()
+        ys = torch.cat([source.Y, y.to(fit.device)]).cpu()
+        g = torch.Generator().manual_seed(unit_seed(seed, m, "response validation rows"))
+        perm = torch.randperm(len(xs), generator=g)
+        n_val = max(1, int(round(RESPONSE_VAL_FRACTION * len(xs))))
+        val, train = perm[:n_val], perm[n_val:]
+        members.append(UnitTensors(xs[train], ys[train], xs[val], ys[val], ids[m] if ids else str(m)))
+    data = FleetBatchData.from_units(members, fit.device, output_names)
+    inverse = FAST.model_copy(update={"epochs": recipe.inverse_epochs})
+    return train_fleet(data, shape, inverse, seed=seed, device=fit.device, progress=progress), codes
+
+
+def residual_rms(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> np.ndarray:
+    """(C,) Pa: RMS of a unit's pressures X (n, C) about its response with `codes` (C, k)."""
+    resid = X.to(fit.device) - _respond(fit.model, Y.to(fit.device), codes.to(fit.device))
+    return resid.pow(2).mean(0).sqrt().cpu().numpy()
