@@ -1,0 +1,159 @@
+"""Calibration by response transfer: the response model, a new unit's codes, the transfer of rows,
+the saved model file, and the cross_sensor method `response` end to end on tiny fleets."""
+
+import json
+from pathlib import Path
+
+import pytest
+import torch
+
+from anytip.data.registry import Registry
+from anytip.data.simulated import simulate_flat_into, simulate_into
+from anytip.models.io import ModelFileError, load_response, save_response
+from anytip.models.response import ResponseConfig, ResponseModel
+from anytip.runner import run_experiment
+from anytip.sensor.fleet import FleetConfig
+from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.response import (
+    ResponseRecipe,
+    fit_codes,
+    residual_rms,
+    source_rows,
+    train_response,
+    transfer,
+)
+from test_cross_sensor import QUICK, SECONDS, SPEC
+
+C, D = 4, 5  # barometers; labels: a 3-component force, then two place coordinates
+SMALL = ResponseConfig(code_dim=2, channel_dim=3, hidden=32, layers=2)
+FAST_FIT = ResponseRecipe(steps=1500, rows_per_step=1024, lr=1e-2, code_steps=300, code_rows=256,
+                          source_rows=200, inverse_epochs=2)
+
+
+def labels(n: int, g: torch.Generator) -> torch.Tensor:
+    """(n, 5): a pressing force (N, fz < 0) with some shear, and a place in [-1, 1]^2."""
+    force = torch.randn(n, 3, generator=g) * torch.tensor([2.0, 2.0, 4.0]) - torch.tensor([0.0, 0.0, 8.0])
+    return torch.cat([force, 2 * torch.rand(n, 2, generator=g) - 1], 1)
+
+
+def unit_pressures(y: torch.Tensor, gain: torch.Tensor, shift: torch.Tensor) -> torch.Tensor:
+    """(n, C) Pa of a made-up unit: barometer c at place c/2 - 0.75 + shift[c], gain[c]; the
+    pressure falls off with distance from the contact and grows with the normal force."""
+    centre = torch.arange(C) / 2 - 0.75 + shift
+    dist2 = (y[:, 3:4] - centre) ** 2 + y[:, 4:5] ** 2
+    return -1000 * gain * y[:, 2:3] / (1 + 4 * dist2)
+
+
+def made_up_fleet(n_units: int, seed: int) -> tuple[FleetBatchData, list[tuple[torch.Tensor, torch.Tensor]]]:
+    """Units that differ in each barometer's gain and place (two numbers per barometer), their rows
+    (2000 fitting, 200 validating), and the (gain, shift) of each."""
+    g = torch.Generator().manual_seed(seed)
+    members, params = [], []
+    for u in range(n_units):
+        gain, shift = 1 + 0.3 * torch.randn(C, generator=g), 0.2 * torch.randn(C, generator=g)
+        y = labels(2200, g)
+        x = unit_pressures(y, gain, shift) + 5 * torch.randn(2200, C, generator=g)
+        members.append(UnitTensors(x[:2000], y[:2000], x[2000:], y[2000:], f"U{u}"))
+        params.append((gain, shift))
+    return FleetBatchData.from_units(members), params
+
+
+@pytest.fixture(scope="module")
+def made_up() -> tuple:
+    data, params = made_up_fleet(12, seed=0)
+    torch.manual_seed(0)
+    return data, params, train_response(data, [0, 1, 2], SMALL, FAST_FIT, seed=0)
+
+
+def test_the_response_takes_every_batch_shape_and_reads_zero_without_force():
+    model = ResponseModel(3, C, D, [0, 1, 2], SMALL)
+    g = torch.Generator().manual_seed(1)
+    y = labels(10, g)
+    codes = torch.randn(3, C, SMALL.code_dim, generator=g)
+    assert model(y, codes[0]).shape == (10, C)
+    batched = model(y.expand(3, 10, D), codes[:, None])
+    assert batched.shape == (3, 10, C)
+    torch.testing.assert_close(batched[1], model(y, codes[1]))
+    still = y.clone()
+    still[:, :3] = 0  # no force: a tared barometer reads nothing, wherever the place
+    assert model(still, codes[0]).abs().max() == 0
+    plain = ResponseModel(3, C, 2, [], SMALL)  # an edge sensor's targets: no force vector
+    assert plain(y[:, 3:], codes[0]).shape == (10, C)
+
+
+def test_a_new_units_codes_from_its_rows_predict_its_other_rows(made_up):
+    data, _, fit = made_up
+    new, _ = made_up_fleet(2, seed=99)  # units the response model never saw
+    calib = [new.unit(u) for u in range(2)]
+    X = [c.X_train[:300] for c in calib]
+    Y = [c.Y_train[:300] for c in calib]
+    codes = fit_codes(fit, X, Y, [30.0, 30.0], FAST_FIT)
+    for u, c in enumerate(calib):
+        fitted = residual_rms(fit, c.X_val, c.Y_val, codes[u])
+        typical = residual_rms(fit, c.X_val, c.Y_val, torch.zeros_like(codes[u]))
+        assert fitted.mean() < 0.1 * typical.mean()
+    none = fit_codes(fit, [X[0][:0]], [Y[0][:0]], [0.0], FAST_FIT)
+    assert none.abs().max() == 0  # no calibration: the fleet's typical unit
+
+
+def test_transfer_to_a_training_unit_gives_its_own_rows_back(made_up):
+    data, _, fit = made_up
+    source = source_rows(fit, data, 50, seed=0)
+    own = source.unit == 3
+    moved = transfer(fit, source, fit.model.codes.detach()[3])
+    torch.testing.assert_close(moved[own], source.X[own], atol=1e-3, rtol=0)
+    other = transfer(fit, source, fit.model.codes.detach()[4])
+    assert (other[own] - source.X[own]).abs().max() > 10  # another unit reads the same contact otherwise
+
+
+def test_a_saved_response_model_loads_equal_and_a_damaged_one_is_named(made_up, tmp_path):
+    _, _, fit = made_up
+    path = save_response(tmp_path / "response.safetensors", fit.model, fit.noise_var, fit.code_var,
+                         {"unit_ids": fit.unit_ids})
+    back = load_response(path)
+    y = labels(20, torch.Generator().manual_seed(3))
+    torch.testing.assert_close(back.model(y, back.model.codes[2]), fit.model(y, fit.model.codes[2]))
+    torch.testing.assert_close(back.noise_var, fit.noise_var.cpu())
+    assert back.meta["unit_ids"] == fit.unit_ids
+    header = json.loads(path.with_suffix(".json").read_text())
+    header["n_channels"] = C + 1
+    path.with_suffix(".json").write_text(json.dumps(header))
+    with pytest.raises(ModelFileError, match="response.safetensors"):
+        load_response(path)
+
+
+RESPONSE = "options.response={code_dim: 4, hidden: 32, layers: 2, steps: 200, code_steps: 50, " \
+           "source_rows: 500, inverse_epochs: 2}"
+
+
+@pytest.fixture(scope="module")
+def response_run(tmp_path_factory) -> Path:
+    registry = Registry(tmp_path_factory.mktemp("fleet"))
+    simulate_into(registry, FleetConfig(), 8, seed=11, protocols=("short", QUICK))
+    out = tmp_path_factory.mktemp("run") / "response"
+    return run_experiment(SPEC, registry, out=out, overrides=[*SECONDS, RESPONSE], progress=False)
+
+
+def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
+    rows = json.loads((response_run / "metrics.json").read_text())["results"]
+    prov = json.loads((response_run / "provenance.json").read_text())["cross_sensor"]["seed0"]
+    mine = [r for r in rows if r["method"].startswith("response@")]
+    assert {r["method"] for r in mine} == {"response@first", "response@spread"}
+    assert {r["unit"] for r in mine} == set(prov["units"]["test"])
+    for r in mine:
+        assert 0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1
+        assert r["force_rmse_n"] > 0 and r["response_residual_pa"] > 0
+    assert set(prov["val_loss"]["response@spread"]) == {"8", "40"}
+    saved = load_response(response_run / "models" / "response_seed0.safetensors")
+    assert saved.meta["unit_ids"] == prov["units"]["train"]  # no validation or held-out unit trains it
+    assert "response@spread" in (response_run / "report.md").read_text()
+
+
+def test_the_response_method_runs_on_a_sensor_without_a_force_target(tmp_path):
+    reg = Registry(tmp_path / "edge")
+    simulate_flat_into(reg, "edge-4baro", 8, 3, ("short",))
+    over = [o for o in SECONDS if not o.startswith("options.fits")] + [RESPONSE, "data.protocol=short"]
+    run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    assert any(r["method"] == "response@spread" for r in rows)
+    assert load_response(run / "models" / "response_seed0.safetensors").model.force_cols.numel() == 0
