@@ -2,14 +2,18 @@
 the saved model file, and the cross_sensor method `response` end to end on tiny fleets."""
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
 import torch
 
+from anytip.calibrate import calibrate_unit
+from anytip.cli import main
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_flat_into, simulate_into
-from anytip.models.io import ModelFileError, load_response, save_response
+from anytip.errors import AnytipError
+from anytip.models.io import ModelFileError, load_models, load_response, save_response
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.runner import run_experiment
 from anytip.sensor.fleet import FleetConfig
@@ -127,11 +131,16 @@ RESPONSE = "options.response={code_dim: 4, hidden: 32, layers: 2, steps: 200, co
 
 
 @pytest.fixture(scope="module")
-def response_run(tmp_path_factory) -> Path:
+def fleet(tmp_path_factory) -> Registry:
     registry = Registry(tmp_path_factory.mktemp("fleet"))
     simulate_into(registry, FleetConfig(), 8, seed=11, protocols=("short", QUICK))
+    return registry
+
+
+@pytest.fixture(scope="module")
+def response_run(fleet, tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("run") / "response"
-    return run_experiment(SPEC, registry, out=out, overrides=[*SECONDS, RESPONSE], progress=False)
+    return run_experiment(SPEC, fleet, out=out, overrides=[*SECONDS, RESPONSE], progress=False)
 
 
 def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
@@ -157,3 +166,58 @@ def test_the_response_method_runs_on_a_sensor_without_a_force_target(tmp_path):
     rows = json.loads((run / "metrics.json").read_text())["results"]
     assert any(r["method"] == "response@spread" for r in rows)
     assert load_response(run / "models" / "response_seed0.safetensors").model.force_cols.numel() == 0
+
+
+def _held_out(run: Path) -> str:
+    return json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]["test"][0]
+
+
+def test_calibrate_by_response_writes_the_units_own_network(response_run, fleet, tmp_path, capsys):
+    unit = _held_out(response_run)
+    assert main(["calibrate", "--model", str(response_run), "--unit", unit, "--budget-seconds", "40",
+                 "--method", "response", "--registry", str(fleet.root), "--out", str(tmp_path / "cal")]) == 0
+    said = capsys.readouterr().out
+    assert "by response transfer" in said and "own check" in said
+    assert "validation units at this budget" in said
+    saved = load_models(tmp_path / "cal")
+    assert saved.meta["method"] == "response" and saved.meta["unit_ids"] == [unit]
+    assert tuple(saved.model.config.sizes) == (8, 12, 64, 64, 5)  # the deployed shape: nothing to fold
+    record = json.loads((tmp_path / "cal" / "calibration.json").read_text())
+    check = record["response_check"]
+    assert 0 < check["residual_pa"] and len(check["validation_units_pa"]) == 1
+    assert check["alarm"] == (check["over_validation"] > 2.0)
+    assert 0 < record["calib_seconds"] <= 40
+
+
+def _set_response_loss(run: Path, value: float) -> None:
+    path = run / "models" / "response_seed0.json"
+    header = json.loads(path.read_text())
+    header["meta"]["val_loss_by_strategy"]["spread"] = {"8": value, "40": value}
+    path.write_text(json.dumps(header))
+
+
+def test_calibrate_takes_response_transfer_where_its_validation_loss_is_lower(response_run, fleet, tmp_path):
+    run = tmp_path / "run"
+    shutil.copytree(response_run, run)
+    unit = _held_out(run)
+    _set_response_loss(run, 1e-9)
+    first = calibrate_unit(run, unit, fleet, tmp_path / "a", budget_seconds=40)
+    assert first.response_check is not None and any("response transfer" in n for n in first.notes)
+    _set_response_loss(run, 1e9)
+    second = calibrate_unit(run, unit, fleet, tmp_path / "b", budget_seconds=40)
+    assert second.response_check is None and second.own_check is not None  # the folded adapter
+    adapter = calibrate_unit(run, unit, fleet, tmp_path / "c", budget_seconds=40, method="adapter")
+    assert adapter.response_check is None
+
+
+def test_calibrate_by_response_names_what_it_lacks(response_run, fleet, tmp_path):
+    unit = _held_out(response_run)
+    shared = next((response_run / "models").glob("shared_input_affine-film_seed0.safetensors"))
+    with pytest.raises(AnytipError, match="needs a cross_sensor run directory"):
+        calibrate_unit(shared, unit, fleet, tmp_path / "a", budget_seconds=40, method="response")
+    lone = Registry(tmp_path / "lone")  # the new unit's runs only: no training unit to carry over
+    lone.add_runs([fleet.open_run(r.run_id) for r in fleet.list_runs(unit=unit)])
+    with pytest.raises(AnytipError, match="lacks the response model's training units"):
+        calibrate_unit(response_run, unit, lone, tmp_path / "b", budget_seconds=40, method="response")
+    with pytest.raises(AnytipError, match="--method must be one of"):
+        calibrate_unit(response_run, unit, fleet, tmp_path / "c", budget_seconds=40, method="best")

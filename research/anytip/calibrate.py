@@ -27,16 +27,35 @@ from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan, RigTiming, find_presses, select_presses, stream_plan
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
-from anytip.models.io import SHARED_FORMAT, LoadedShared, load_shared, model_paths, read_header, save_models
-from anytip.models.mlp import BatchedMLP
+from anytip.models.io import (
+    RESPONSE_FORMAT,
+    SHARED_FORMAT,
+    LoadedShared,
+    load_response,
+    load_shared,
+    model_paths,
+    read_header,
+    save_models,
+)
+from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
+from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.metrics import predict, scores, target_key
+from anytip.train.response import (
+    ResponseFit,
+    ResponseRecipe,
+    calibrate_by_response,
+    residual_rms,
+    source_rows,
+)
 from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_loss, plan_residuals
 from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 from anytip.validation import read_yaml
+
+METHODS = ("auto", "adapter", "response")
 
 # A new unit whose own check exceeds the worst validation unit's by more than this is flagged.
 # Every cross_sensor report shows how often it fires on held-out units, which are ordinary units
@@ -60,6 +79,7 @@ class Calibrated:
     wall_s: float = 0.0  # fitting and folding the adapter on the whole plan
     intervals: dict[str, Any] | None = None  # from the plan's out-of-fold residuals (`plan_intervals`)
     check_s: float = 0.0  # the fold fits behind the own check and the intervals
+    response_check: dict[str, Any] | None = None  # response transfer: the plan about its fitted response
 
 
 def find_shared(model: str | Path, adapter: str | None = None, seed: int | None = None,
@@ -354,9 +374,14 @@ def own_check(loss: float | None, plan: Plan, fleet_loss: float | None,
 def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | Path,
                    budget_samples: int | None = None, budget_seconds: float | None = None,
                    adapter: str | None = None, seed: int | None = None,
-                   interval_level: float | None = 0.9) -> Calibrated:
+                   interval_level: float | None = 0.9, method: str = "auto") -> Calibrated:
     """Fit, fold and save one unit's model; see the module docstring. `interval_level`: the
-    nominal coverage of the intervals from the plan (None: none)."""
+    nominal coverage of the intervals from the plan (None: none). `method`: `adapter` (the shared
+    model's adapter, folded), `response` (response transfer; a run with a response model) or
+    `auto` (response where the run's validation units scored it below the chosen shared model at
+    this budget)."""
+    if method not in METHODS:
+        raise AnytipError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if interval_level is not None and not 0 < interval_level < 1:
         raise AnytipError(f"--interval-level must lie strictly between 0 and 1, got {interval_level}")
     if budget_samples is not None and budget_seconds is not None:
@@ -385,6 +410,10 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     if unit in meta.get("unit_ids", []):
         notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
                      "calibration check is not an unseen-unit result")
+    response, why = choose_response(model, seed, meta, budget, method, adapter)
+    notes += [why] if why else []
+    if response is not None:
+        return calibrate_by_response_unit(response, registry, arrays, stream, plan, budget, Path(out), notes)
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
     tick = time.perf_counter()
@@ -433,5 +462,118 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         "intervals": bands,
     })
     write_json(Path(out) / "calibration.json",
+               {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()})
+    return result
+
+
+def _strategy_table(meta: dict[str, Any], key: str, strategy: str) -> dict[float, Any]:
+    """A response model's per-budget record for plans of `strategy` (`<key>_by_strategy`); a model
+    saved before that key holds `val_loss_by_budget` keyed by budget labels ("120 s cover")."""
+    table = meta.get(f"{key}_by_strategy")
+    if isinstance(table, dict) and isinstance(table.get(strategy), dict):
+        return {float(b): v for b, v in table[strategy].items() if _is_amount(b)}
+    old = meta.get(f"{key}_by_budget") if key == "val_loss" else None
+    out: dict[float, Any] = {}
+    for label, v in (old.items() if isinstance(old, dict) else []):
+        parts = str(label).split()
+        if len(parts) == 3 and parts[1] == "s" and parts[2] == strategy and _is_amount(parts[0]):
+            out[float(parts[0])] = v
+    return out
+
+
+def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], budget: float, method: str,
+                    adapter: str | None) -> tuple[Path | None, str]:
+    """The response model file to calibrate by (None: the shared model's adapter) and a note why."""
+    model = Path(model)
+    if method == "adapter" or model.suffix in (".safetensors", ".json"):
+        if method == "response":
+            raise AnytipError(f"--method response needs a cross_sensor run directory with a response model, "
+                              f"not the model file {model}")
+        return None, ""
+    path = model / "models" / f"response_seed{int(meta.get('seed', 0) if seed is None else seed)}.safetensors"
+    if not path.is_file():
+        if method == "response":
+            raise AnytipError(f"{path}: the run holds no response model (its spec had no options.response)")
+        return None, ""
+    if method == "response" or budget <= 0:
+        return (path, "calibration by response transfer, as asked") if budget > 0 else (None, "")
+    if adapter is not None:
+        return None, ""
+    recorded = read_header(model_paths(path)[1], RESPONSE_FORMAT).get("meta", {})
+    table = _strategy_table(recorded if isinstance(recorded, dict) else {}, "val_loss",
+                            str(meta.get("plan_strategy", "spread")))
+    theirs = _at_budget({b: float(v) for b, v in table.items() if isinstance(v, (int, float))}, budget)
+    ours = _val_loss_table(meta, budget)
+    if theirs is None or ours is None or theirs >= ours:
+        return None, ""
+    return path, (f"calibration by response transfer: its validation-unit loss {theirs:.3g} is below the "
+                  f"shared model's {ours:.3g} at this budget")
+
+
+def _training_rows(registry: Registry, units: list[str], sensor_model: str) -> FleetBatchData:
+    """The response model's training units' rows from the registry, in its order (source rows)."""
+    missing = [u for u in units if not registry.list_runs(unit=u, sensor_model=sensor_model)]
+    if missing:
+        raise AnytipError(f"registry {registry.root} lacks the response model's training units "
+                          f"{', '.join(missing[:4])}{' ...' if len(missing) > 4 else ''}: response transfer "
+                          "carries their rows over to the new unit, so calibrate on the benchmark's registry")
+    records = [r for u in units for r in registry.list_runs(unit=u, sensor_model=sensor_model)]
+    arrays = load_arrays(registry, records)
+    members = []
+    for u in units:
+        rows = np.flatnonzero(arrays.unit == arrays.units.index(u))
+        x, y = torch.from_numpy(arrays.pressure[rows]), torch.from_numpy(arrays.targets[rows])
+        members.append(UnitTensors(x, y, x[:1], y[:1], u))
+    return FleetBatchData.from_units(members, "cpu", arrays.output_names)
+
+
+def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArrays,
+                               stream: CalibrationStream, plan: Plan, budget: float, out: Path,
+                               notes: list[str]) -> Calibrated:
+    """A new unit's own network by response transfer (train/response.py) on its plan, saved in the
+    per-unit format; its own check is the RMS of the plan's pressures about its fitted response
+    beside the benchmark's validation units' (alarm above OWN_CHECK_ALARM times the worst)."""
+    loaded = load_response(path)
+    meta = loaded.meta
+    units = [str(u) for u in meta.get("unit_ids", [])]
+    recipe = ResponseRecipe(**{k: v for k, v in meta.get("recipe", {}).items()
+                               if k in ResponseRecipe.__dataclass_fields__})
+    fit = ResponseFit(loaded.model, loaded.noise_var, loaded.code_var, units)
+    seed = int(meta.get("seed", 0))
+    training = _training_rows(registry, units, arrays.runs[0].sensor_model)
+    source = source_rows(fit, training, recipe.source_rows, seed)
+    X, Y = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
+    shape = MLPConfig(**meta["shape"]) if isinstance(meta.get("shape"), dict) else MLPConfig()
+    tick = time.perf_counter()
+    nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
+                                        [stream.unit], arrays.output_names)
+    wall_s = time.perf_counter() - tick
+    residual = float((residual_rms(fit, X, Y, codes[0]) ** 2).mean() ** 0.5)
+    strategy = str(meta.get("plan_strategy", "spread"))
+    validation = _at_budget(_strategy_table(meta, "residual", strategy), budget)
+    own: dict[str, Any] = {"presses": plan.presses, "rows": int(len(plan.rows)), "residual_pa": residual,
+                           "fleet_noise_pa": float(loaded.noise_var.mean().sqrt())}
+    if isinstance(validation, list) and validation:
+        own |= {"validation_units_pa": validation, "over_validation": residual / max(validation),
+                "alarm": residual / max(validation) > OWN_CHECK_ALARM}
+        if own["alarm"]:
+            notes.append(f"warning: the plan's pressures lie {own['over_validation']:.1f}x further from the "
+                         "unit's fitted response than the worst validation unit's (alarm above "
+                         f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels")
+    other = stream.outside(arrays)
+    check = None
+    if other.any():
+        X_other = torch.from_numpy(arrays.pressure[other])[None]
+        pred = predict(nets.model, nets.in_scaler, nets.out_scaler, X_other)[0]
+        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout),
+                 "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
+    result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, 0, 0.0, check, notes,
+                        None, wall_s, None, 0.0, own)
+    save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
+        "unit_ids": [stream.unit], "output_names": list(arrays.output_names), "response_model": str(path),
+        "method": "response", "codes": codes[0].tolist(), "calib_samples": result.calib_samples,
+        "calib_seconds": plan.calib_seconds, "calib_presses": plan.presses, "n_effective": plan.n_effective,
+        "calibration_runs": list(stream.runs), "check_on_other_runs": check, "response_check": own})
+    write_json(out / "calibration.json",
                {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()})
     return result

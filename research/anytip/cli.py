@@ -174,16 +174,16 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     if (out / "model.safetensors").exists() and not args.force:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
     r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
-                       args.budget_seconds, args.adapter, args.seed, args.interval_level or None)
+                       args.budget_seconds, args.adapter, args.seed, args.interval_level or None, args.method)
     for note in r.notes:
         print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
+    if r.response_check is not None:
+        return _print_response(r)
     print(f"calibrated {r.unit}: {r.calib_samples} labeled samples ({r.calib_seconds:.1f} robot-s), "
           f"{r.unlabeled_samples} unlabeled{f', prior {r.prior:g}' if r.calib_samples else ''}; "
           f"folded model in {r.path / 'model.safetensors'}")
     if r.check is not None:
-        figures = ", ".join(f"{key.removesuffix('_rmse_n').removesuffix('_rmse_rad').removesuffix('_rmse')} "
-                            f"RMSE {r.check[key]:.4g} {unit}" for key, unit in r.check["units"].items())
-        print(f"on the unit's other runs ({r.check['rows']} rows, not used to calibrate): {figures}")
+        print(_check_line(r.check))
     if r.own_check is not None:
         own = r.own_check
         fleet = ""
@@ -203,6 +203,33 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         print("no intervals: the plan holds fewer presses than the folds needed to cross-fit them")
     took = f"; its own check and intervals (fold fits) in {r.check_s:.1f} s" if r.own_check else ""
     print(f"fitted and folded in {r.wall_s:.1f} s{took}")
+    return 0
+
+
+def _check_line(check: dict[str, Any]) -> str:
+    """A calibrated model's RMSE on the unit's other runs, one phrase."""
+    figures = ", ".join(f"{key.removesuffix('_rmse_n').removesuffix('_rmse_rad').removesuffix('_rmse')} "
+                        f"RMSE {check[key]:.4g} {unit}" for key, unit in check["units"].items())
+    return f"on the unit's other runs ({check['rows']} rows, not used to calibrate): {figures}"
+
+
+def _print_response(r: Any) -> int:
+    """A unit calibrated by response transfer, on the console."""
+    own = r.response_check
+    print(f"calibrated {r.unit} by response transfer: {r.calib_samples} labeled samples "
+          f"({r.calib_seconds:.1f} robot-s, {own['presses']} presses); its own network in "
+          f"{r.path / 'model.safetensors'}")
+    if r.check is not None:
+        print(_check_line(r.check))
+    line = (f"own check: the plan's pressures lie {own['residual_pa']:.0f} Pa (RMS) from the unit's fitted "
+            f"response; the training units' rows lie {own['fleet_noise_pa']:.0f} Pa from theirs")
+    if "over_validation" in own:
+        val = ", ".join(f"{v:.0f}" for v in own["validation_units_pa"])
+        line += (f"\n  the benchmark's validation units at this budget: {val} Pa; this unit is "
+                 f"{own['over_validation']:.2f}x the worst of them{' (ALARM)' if own['alarm'] else ''}")
+    print(line)
+    print(f"codes fitted and the unit's network trained in {r.wall_s:.1f} s (no intervals for response "
+          "transfer yet)")
     return 0
 
 
@@ -351,6 +378,10 @@ def build_parser() -> argparse.ArgumentParser:
     cal.add_argument("--interval-level", type=float, default=0.9,
                      help="nominal coverage of the unit's intervals from its own plan (default 0.9; "
                           "0: none); needs a plan of at least 5 presses")
+    cal.add_argument("--method", choices=["auto", "adapter", "response"], default="auto",
+                     help="adapter: fold the shared model's adapter; response: response transfer (a run "
+                          "with a response model); auto (default): response where the run's validation "
+                          "units scored it lower at this budget")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",

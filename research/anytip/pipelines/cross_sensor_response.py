@@ -52,6 +52,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     jobs = [j for j in jobs if len(j[2].rows)]
     rows: list[dict[str, Any]] = []
     val_loss: dict[Budget, float] = {}
+    residual: dict[Budget, list[float]] = {}
     if jobs:
         X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
         Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
@@ -66,15 +67,27 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                                  pooled_scaler(sd.train.Y_train, sd.train.n_train))
         val_loss = {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
         for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)):
-            if u in sd.split.test:
-                resid = residual_rms(fit, X[m], Y[m], codes[m])
-                rows.append({"method": METHOD + plan_suffix(b), "unit": u, **budget_fields(b, plan),
-                             "response_residual_pa": float((resid**2).mean() ** 0.5),
-                             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)})
+            own = float((residual_rms(fit, X[m], Y[m], codes[m]) ** 2).mean() ** 0.5)
+            if u in sd.split.val:
+                residual.setdefault(b, []).append(own)
+                continue
+            rows.append({"method": METHOD + plan_suffix(b), "unit": u, **budget_fields(b, plan),
+                         "response_residual_pa": own,
+                         **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
     meta = {"unit_ids": fit.unit_ids, "seed": seed, "output_names": list(arrays.output_names),
-            "recipe": asdict(recipe), "wall_s": fit.wall_s,
-            "val_loss_by_budget": {b.label: v for b, v in val_loss.items()}}
+            "recipe": asdict(recipe), "wall_s": fit.wall_s, "shape": ctx.spec.model.model_dump(mode="json"),
+            "val_loss_by_strategy": by_strategy(val_loss),
+            "residual_by_strategy": by_strategy(residual)}
     save_response(ctx.run_dir / "models" / f"response_seed{seed}.safetensors", fit.model, fit.noise_var,
                   fit.code_var, meta)
     return ResponseRows(rows, val_loss)
+
+
+def by_strategy(values: dict[Budget, Any]) -> dict[str, dict[str, Any]]:
+    """{strategy: {robot seconds (or samples): value}}: what `anytip calibrate` reads for the plans
+    it makes (the validation units' loss, their plans' residual about their response in Pa)."""
+    out: dict[str, dict[str, Any]] = {}
+    for b, v in sorted(values.items(), key=lambda kv: kv[0].amount):
+        out.setdefault(b.strategy if b.unit == "seconds" else "samples", {})[f"{b.amount:g}"] = v
+    return out
