@@ -11,8 +11,11 @@ import torch
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.sensor.fleet import FleetConfig
+from anytip.sensor.protocols import Protocol
 
 SMALL_UNITS = 8
+# A calibration protocol a few seconds long, beside the short protocol the units are tested on.
+QUICK = Protocol(name="quick", patches=3, layers_n=(12.5,), orientations_deg=(0.0,))
 
 # Tiny models on a shared 2-core machine: one thread per test worker avoids oversubscription.
 torch.set_num_threads(1)
@@ -34,3 +37,12 @@ def small_registry(small_registry_master: Path, tmp_path: Path) -> Registry:
 
 
 REPO = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def two_protocol_registry(tmp_path_factory) -> Registry:
+    """8 default-fleet units with the short protocol and the seconds-long QUICK one (cross-sensor
+    tests; one per test module)."""
+    registry = Registry(tmp_path_factory.mktemp("cross"))
+    simulate_into(registry, FleetConfig(), 8, seed=11, protocols=("short", QUICK))
+    return registry

@@ -25,25 +25,16 @@ from anytip.pipelines.cross_sensor import main_rows, prepare
 from anytip.pipelines.cross_sensor_options import parse_options
 from anytip.runner import run_experiment
 from anytip.sensor.fleet import FleetConfig
-from anytip.sensor.protocols import Protocol
 from anytip.train.metrics import predict
+from conftest import QUICK
 
 REPO = Path(__file__).resolve().parents[1]
 SPEC = REPO / "experiments" / "cross_sensor.yaml"
-# A calibration protocol a few seconds long, beside the short protocol the units are tested on.
-QUICK = Protocol(name="quick", patches=3, layers_n=(12.5,), orientations_deg=(0.0,))
 TINY = ["seeds=[0]", "training.epochs=1", "training.batch_size=128", "options.budgets=[0,50,400]",
         "options.adapters=[input_diag,input_affine+film]", "options.priors=[1,100]",
         "options.calibration_protocol=quick", "options.train_unit_counts=[2]",
         "options.adapter_steps=60", "options.scratch.epochs=5", "splits.n_val_units=1",
         "splits.n_test_units=2"]
-
-
-@pytest.fixture(scope="module")
-def two_protocol_registry(tmp_path_factory) -> Registry:
-    registry = Registry(tmp_path_factory.mktemp("cross"))
-    simulate_into(registry, FleetConfig(), 8, seed=11, protocols=("short", QUICK))
-    return registry
 
 
 @pytest.fixture(scope="module")

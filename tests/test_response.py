@@ -11,12 +11,11 @@ import torch
 from anytip.calibrate import calibrate_unit
 from anytip.cli import main
 from anytip.data.registry import Registry
-from anytip.data.simulated import simulate_flat_into, simulate_into
+from anytip.data.simulated import simulate_flat_into
 from anytip.errors import AnytipError
 from anytip.models.io import ModelFileError, load_models, load_response, save_response
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.runner import run_experiment
-from anytip.sensor.fleet import FleetConfig
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.response import (
     ResponseRecipe,
@@ -26,7 +25,7 @@ from anytip.train.response import (
     train_response,
     transfer,
 )
-from test_cross_sensor import QUICK, SECONDS, SPEC
+from test_cross_sensor import SECONDS, SPEC
 
 C, D = 4, 5  # barometers; labels: a 3-component force, then two place coordinates
 SMALL = ResponseConfig(code_dim=2, channel_dim=3, hidden=32, layers=2)
@@ -131,10 +130,8 @@ RESPONSE = "options.response={code_dim: 4, hidden: 32, layers: 2, steps: 200, co
 
 
 @pytest.fixture(scope="module")
-def fleet(tmp_path_factory) -> Registry:
-    registry = Registry(tmp_path_factory.mktemp("fleet"))
-    simulate_into(registry, FleetConfig(), 8, seed=11, protocols=("short", QUICK))
-    return registry
+def fleet(two_protocol_registry) -> Registry:
+    return two_protocol_registry
 
 
 @pytest.fixture(scope="module")

@@ -163,17 +163,21 @@ class LoadedShared:
 def save_shared(path: str | Path, model: AdaptedMLP, in_scaler: Scaler, out_scaler: Scaler,
                 meta: dict[str, Any] | None = None) -> Path:
     """Write a shared model and its adapters like `save_models` (safetensors + JSON)."""
+    tensors = dict(model.state_dict())
+    for name, s in (("in_scaler", in_scaler), ("out_scaler", out_scaler)):
+        tensors[f"{name}.mean"], tensors[f"{name}.std"] = s.mean, s.std
+    header = {"format": SHARED_FORMAT, "config": model.config.model_dump(mode="json"), "kind": model.kind,
+              "n_units": model.n_units, "meta": dict(meta or {})}
+    return _write_pair(path, tensors, header)
+
+
+def _write_pair(path: str | Path, tensors: dict[str, Tensor], header: dict[str, Any]) -> Path:
+    """`tensors` to `<path>.safetensors` (on the CPU, contiguous) and `header` with the format
+    version to its JSON; returns the tensors' path."""
     tensors_path, json_path = model_paths(path)
     tensors_path.parent.mkdir(parents=True, exist_ok=True)
-    tensors = {k: v.detach().contiguous().cpu() for k, v in model.state_dict().items()}
-    for name, s in (("in_scaler", in_scaler), ("out_scaler", out_scaler)):
-        tensors[f"{name}.mean"] = s.mean.detach().contiguous().cpu()
-        tensors[f"{name}.std"] = s.std.detach().contiguous().cpu()
-    save_file(tensors, str(tensors_path))
-    header = {"format": SHARED_FORMAT, "format_version": FORMAT_VERSION,
-              "config": model.config.model_dump(mode="json"), "kind": model.kind,
-              "n_units": model.n_units, "meta": dict(meta or {})}
-    write_json(json_path, header)
+    save_file({k: v.detach().contiguous().cpu() for k, v in tensors.items()}, str(tensors_path))
+    write_json(json_path, {"format": header["format"], "format_version": FORMAT_VERSION, **header})
     return tensors_path
 
 
@@ -215,16 +219,10 @@ class LoadedResponse:
 def save_response(path: str | Path, model: ResponseModel, noise_var: Tensor, code_var: Tensor,
                   meta: dict[str, Any] | None = None) -> Path:
     """Write a response model like `save_models` (safetensors + JSON)."""
-    tensors_path, json_path = model_paths(path)
-    tensors_path.parent.mkdir(parents=True, exist_ok=True)
-    tensors = {**model.state_dict(), "noise_var": noise_var, "code_var": code_var}
-    save_file({k: v.detach().contiguous().cpu() for k, v in tensors.items()}, str(tensors_path))
-    header = {"format": RESPONSE_FORMAT, "format_version": FORMAT_VERSION, "config": model.config.to_json(),
-              "n_units": model.n_units, "n_channels": model.n_channels,
-              "n_labels": int(model.label_mean.shape[0]), "force_cols": model.force_cols.tolist(),
-              "meta": dict(meta or {})}
-    write_json(json_path, header)
-    return tensors_path
+    return _write_pair(path, {**model.state_dict(), "noise_var": noise_var, "code_var": code_var},
+                       {"format": RESPONSE_FORMAT, "config": model.config.to_json(), "n_units": model.n_units,
+                        "n_channels": model.n_channels, "n_labels": int(model.label_mean.shape[0]),
+                        "force_cols": model.force_cols.tolist(), "meta": dict(meta or {})})
 
 
 def load_response(path: str | Path, device: torch.device | str = "cpu") -> LoadedResponse:
