@@ -218,3 +218,13 @@ def test_calibrate_by_response_names_what_it_lacks(response_run, fleet, tmp_path
         calibrate_unit(response_run, unit, lone, tmp_path / "b", budget_seconds=40, method="response")
     with pytest.raises(AnytipError, match="--method must be one of"):
         calibrate_unit(response_run, unit, fleet, tmp_path / "c", budget_seconds=40, method="best")
+
+
+def test_calibrate_reads_a_response_models_record_by_strategy_in_either_layout():
+    from anytip.calibrate import _strategy_table
+
+    new = {"val_loss_by_strategy": {"cover": {"120": 0.05, "600": 0.03}, "spread": {"120": 0.09}}}
+    assert _strategy_table(new, "val_loss", "cover") == {120.0: 0.05, 600.0: 0.03}
+    old = {"val_loss_by_budget": {"120 s cover": 0.05, "120 s spread": 0.09, "30 s cover": 0.2}}
+    assert _strategy_table(old, "val_loss", "spread") == {120.0: 0.09}
+    assert _strategy_table(old, "residual", "cover") == {}  # older files recorded no residuals
