@@ -217,6 +217,7 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
         val, train = perm[:n_val], perm[n_val:]
         members.append(UnitTensors(xs[train], ys[train], xs[val], ys[val], ids[m] if ids else str(m)))
     data = FleetBatchData.from_units(members, fit.device, output_names)
+    del members  # the padded copy is all training needs; a large fleet's rows are held once
     inverse = FAST.model_copy(update={"epochs": recipe.inverse_epochs})
     return train_fleet(data, shape, inverse, seed=seed, device=fit.device, progress=progress), codes
 
