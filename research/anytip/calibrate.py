@@ -48,7 +48,7 @@ from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
     calibrate_by_response,
-    residual_rms,
+    plan_residual,
     source_rows,
 )
 from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_loss, plan_residuals
@@ -461,7 +461,12 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         "calibration_runs": list(stream.runs), "check_on_other_runs": check, "own_check": own,
         "intervals": bands,
     })
-    write_json(Path(out) / "calibration.json",
+    return _write_calibration(result)
+
+
+def _write_calibration(result: Calibrated) -> Calibrated:
+    """`calibration.json` in the result's directory: every field of `result`, paths as text."""
+    write_json(Path(result.path) / "calibration.json",
                {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()})
     return result
 
@@ -495,8 +500,10 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
         if method == "response":
             raise AnytipError(f"{path}: the run holds no response model (its spec had no options.response)")
         return None, ""
-    if method == "response" or budget <= 0:
-        return (path, "calibration by response transfer, as asked") if budget > 0 else (None, "")
+    if budget <= 0:
+        return None, ""
+    if method == "response":
+        return path, "calibration by response transfer, as asked"
     if adapter is not None:
         return None, ""
     recorded = read_header(model_paths(path)[1], RESPONSE_FORMAT).get("meta", {})
@@ -512,12 +519,13 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
 
 def _training_rows(registry: Registry, units: list[str], sensor_model: str) -> FleetBatchData:
     """The response model's training units' rows from the registry, in its order (source rows)."""
-    missing = [u for u in units if not registry.list_runs(unit=u, sensor_model=sensor_model)]
+    runs = {u: registry.list_runs(unit=u, sensor_model=sensor_model) for u in units}
+    missing = [u for u, records in runs.items() if not records]
     if missing:
         raise AnytipError(f"registry {registry.root} lacks the response model's training units "
                           f"{', '.join(missing[:4])}{' ...' if len(missing) > 4 else ''}: response transfer "
                           "carries their rows over to the new unit, so calibrate on the benchmark's registry")
-    records = [r for u in units for r in registry.list_runs(unit=u, sensor_model=sensor_model)]
+    records = [r for u in units for r in runs[u]]
     arrays = load_arrays(registry, records)
     members = []
     for u in units:
@@ -548,7 +556,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names)
     wall_s = time.perf_counter() - tick
-    residual = float((residual_rms(fit, X, Y, codes[0]) ** 2).mean() ** 0.5)
+    residual = plan_residual(fit, X, Y, codes[0])
     strategy = str(meta.get("plan_strategy", "spread"))
     validation = _at_budget(_strategy_table(meta, "residual", strategy), budget)
     own: dict[str, Any] = {"presses": plan.presses, "rows": int(len(plan.rows)), "residual_pa": residual,
@@ -574,6 +582,4 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         "method": "response", "codes": codes[0].tolist(), "calib_samples": result.calib_samples,
         "calib_seconds": plan.calib_seconds, "calib_presses": plan.presses, "n_effective": plan.n_effective,
         "calibration_runs": list(stream.runs), "check_on_other_runs": check, "response_check": own})
-    write_json(out / "calibration.json",
-               {k: (str(v) if isinstance(v, Path) else v) for k, v in result.__dict__.items()})
-    return result
+    return _write_calibration(result)

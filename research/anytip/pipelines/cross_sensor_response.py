@@ -18,7 +18,7 @@ from anytip.pipelines.cross_sensor_jobs import budget_fields, plan_of, plan_suff
 from anytip.pipelines.cross_sensor_options import Options, budget_list
 from anytip.train.adapt import pooled_scaler
 from anytip.train.metrics import scores
-from anytip.train.response import calibrate_by_response, residual_rms, source_rows, train_response
+from anytip.train.response import calibrate_by_response, plan_residual, source_rows, train_response
 from anytip.train.shared_split import SeedData, predict_rows
 
 METHOD = "response"
@@ -67,7 +67,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                                  pooled_scaler(sd.train.Y_train, sd.train.n_train))
         val_loss = {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
         for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)):
-            own = float((residual_rms(fit, X[m], Y[m], codes[m]) ** 2).mean() ** 0.5)
+            own = plan_residual(fit, X[m], Y[m], codes[m])
             if u in sd.split.val:
                 residual.setdefault(b, []).append(own)
                 continue

@@ -226,3 +226,9 @@ def residual_rms(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> np.nd
     """(C,) Pa: RMS of a unit's pressures X (n, C) about its response with `codes` (C, k)."""
     resid = X.to(fit.device) - _respond(fit.model, Y.to(fit.device), codes.to(fit.device))
     return resid.pow(2).mean(0).sqrt().cpu().numpy()
+
+
+def plan_residual(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> float:
+    """Pa: RMS over rows and barometers of a unit's pressures X (n, C) about its response with
+    `codes` (C, k); the calibration's own check and the benchmark rows' `response_residual_pa`."""
+    return float((residual_rms(fit, X, Y, codes) ** 2).mean() ** 0.5)
