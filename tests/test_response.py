@@ -3,6 +3,7 @@ the saved model file, and the cross_sensor method `response` end to end on tiny 
 
 import json
 import shutil
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import pytest
@@ -25,7 +26,7 @@ from anytip.train.response import (
     train_response,
     transfer,
 )
-from test_cross_sensor import SECONDS, SPEC
+from test_cross_sensor import REPO, SECONDS, SPEC
 
 C, D = 4, 5  # barometers; labels: a 3-component force, then two place coordinates
 SMALL = ResponseConfig(code_dim=2, channel_dim=3, hidden=32, layers=2)
@@ -84,19 +85,58 @@ def test_the_response_takes_every_batch_shape_and_reads_zero_without_force():
     assert plain(y[:, 3:], codes[0]).shape == (10, C)
 
 
-def test_a_new_units_codes_from_its_rows_predict_its_other_rows(made_up):
+def map_loss(fit, X, Y, n_effective, codes) -> float:
+    """The MAP objective `fit_codes` minimises, for one job."""
+    with torch.no_grad():
+        err = (X - fit.model(Y, codes)).pow(2) / fit.noise_var
+    return float(n_effective / 2 * err.mean(0).sum() + (codes.pow(2) / fit.code_var).sum() / 2)
+
+
+@pytest.mark.parametrize("solver", ["gauss_newton", "adam"])
+def test_a_new_units_codes_from_its_rows_predict_its_other_rows(made_up, solver):
     data, _, fit = made_up
     new, _ = made_up_fleet(2, seed=99)  # units the response model never saw
     calib = [new.unit(u) for u in range(2)]
     X = [c.X_train[:300] for c in calib]
     Y = [c.Y_train[:300] for c in calib]
-    codes = fit_codes(fit, X, Y, [30.0, 30.0], FAST_FIT)
+    recipe = replace(FAST_FIT, code_fit=solver)
+    codes = fit_codes(fit, X, Y, [30.0, 30.0], recipe)
     for u, c in enumerate(calib):
         fitted = residual_rms(fit, c.X_val, c.Y_val, codes[u])
         typical = residual_rms(fit, c.X_val, c.Y_val, torch.zeros_like(codes[u]))
         assert fitted.mean() < 0.1 * typical.mean()
-    none = fit_codes(fit, [X[0][:0]], [Y[0][:0]], [0.0], FAST_FIT)
+    none = fit_codes(fit, [X[0][:0]], [Y[0][:0]], [0.0], recipe)
     assert none.abs().max() == 0  # no calibration: the fleet's typical unit
+    assert all(p.requires_grad for p in fit.model.parameters())  # the network is frozen only while fitting
+
+
+def test_gauss_newton_reaches_the_map_estimate_at_least_as_well_as_adam(made_up):
+    """Each barometer's code is a small least-squares problem: a few damped Gauss-Newton steps
+    reach a loss no higher than 300 Adam steps, and more rows or steps no longer lower it."""
+    _, _, fit = made_up
+    new, _ = made_up_fleet(3, seed=98)
+    X = [new.unit(u).X_train[:400] for u in range(3)]
+    Y = [new.unit(u).Y_train[:400] for u in range(3)]
+    n_eff = [40.0, 40.0, 400.0]
+    adam = fit_codes(fit, X, Y, n_eff, replace(FAST_FIT, code_fit="adam"))
+    newton = fit_codes(fit, X, Y, n_eff, replace(FAST_FIT, code_fit="gauss_newton", code_rows=400))
+    longer = fit_codes(fit, X, Y, n_eff, replace(FAST_FIT, code_fit="gauss_newton", code_rows=400,
+                                                 code_iterations=40))
+    for m in range(3):
+        best = map_loss(fit, X[m], Y[m], n_eff[m], longer[m])
+        assert map_loss(fit, X[m], Y[m], n_eff[m], newton[m]) <= 1.001 * best
+        assert map_loss(fit, X[m], Y[m], n_eff[m], newton[m]) <= map_loss(fit, X[m], Y[m], n_eff[m], adam[m])
+
+
+def test_a_saved_recipe_reads_as_it_was_run_and_a_bad_value_is_named():
+    old = ResponseRecipe.from_saved({"steps": 10, "code_steps": 300, "code_rows": 1024, "code_lr": 0.03,
+                                     "somebody_elses_key": 1})
+    assert (old.code_fit, old.inverse_batch, old.steps) == ("adam", 256, 10)  # before the choice existed
+    assert ResponseRecipe.from_saved(asdict(ResponseRecipe())) == ResponseRecipe()
+    for key, value in [("code_fit", "newton"), ("inverse_batch", 0), ("lr", float("nan")), ("steps", "9"),
+                       ("code_rows", True)]:
+        with pytest.raises(ValueError, match=f"recipe.{key}"):
+            ResponseRecipe.from_saved({key: value})
 
 
 def test_transfer_to_a_training_unit_gives_its_own_rows_back(made_up):
@@ -152,6 +192,17 @@ def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
     assert set(prov["val_loss"]["response@spread"]) == {"8", "40"}
     saved = load_response(response_run / "models" / "response_seed0.safetensors")
     assert saved.meta["unit_ids"] == prov["units"]["train"]  # no validation or held-out unit trains it
+    banded = [r for r in mine if "interval_level" in r]  # the spec asks for intervals at level 0.8
+    assert banded and all(r["interval_level"] == 0.8 for r in banded)
+    assert all(r["interval_rows"] == r["calib_samples"] for r in banded)
+    for r in banded:
+        assert all(0 <= r[f"{n}_coverage"] <= 1 and r[f"{n}_halfwidth"] > 0 for n in ("fx", "theta"))
+        if "fx_fleet_coverage" in r:  # the validation unit's factor, applied
+            assert r["fx_fleet_halfwidth"] != r["fx_halfwidth"]
+    record = saved.meta["intervals"]
+    assert record["level"] == 0.8 and record["residuals"] == "plan"
+    assert any(f > 0 for by_budget in record["fleet_factor_by_strategy"].values()
+               for factor in by_budget.values() for f in factor.values())
     assert "response@spread" in (response_run / "report.md").read_text()
 
 
@@ -184,6 +235,12 @@ def test_calibrate_by_response_writes_the_units_own_network(response_run, fleet,
     assert 0 < check["residual_pa"] and len(check["validation_units_pa"]) == 1
     assert check["alarm"] == (check["over_validation"] > 2.0)
     assert 0 < record["calib_seconds"] <= 40
+    bands = record["intervals"]  # residuals on the plan's rows, times the validation units' factor
+    assert bands["folds"] is None and bands["rows"] == record["calib_samples"] and bands["level"] == 0.9
+    assert "intervals from the plan (residuals on its" in said
+    factor = load_response(response_run / "models" / "response_seed0.safetensors").meta["intervals"]
+    if factor["level"] != 0.9:  # the benchmark learnt its factor at 0.8: the plan alone, and why
+        assert "fleet_factor" not in bands and "learnt at level 0.8" in said
 
 
 def _set_response_loss(run: Path, value: float) -> None:
@@ -218,6 +275,14 @@ def test_calibrate_by_response_names_what_it_lacks(response_run, fleet, tmp_path
         calibrate_unit(response_run, unit, lone, tmp_path / "b", budget_seconds=40, method="response")
     with pytest.raises(AnytipError, match="--method must be one of"):
         calibrate_unit(response_run, unit, fleet, tmp_path / "c", budget_seconds=40, method="best")
+    crafted = tmp_path / "crafted"
+    shutil.copytree(response_run, crafted)
+    header_path = crafted / "models" / "response_seed0.json"
+    header = json.loads(header_path.read_text())
+    header["meta"]["recipe"]["inverse_epochs"] = -3
+    header_path.write_text(json.dumps(header))
+    with pytest.raises(AnytipError, match=r"response_seed0.safetensors: recipe.inverse_epochs: -3"):
+        calibrate_unit(crafted, unit, fleet, tmp_path / "d", budget_seconds=40, method="response")
 
 
 def test_calibrate_reads_a_response_models_record_by_strategy_in_either_layout():
@@ -228,3 +293,47 @@ def test_calibrate_reads_a_response_models_record_by_strategy_in_either_layout()
     old = {"val_loss_by_budget": {"120 s cover": 0.05, "120 s spread": 0.09, "30 s cover": 0.2}}
     assert _strategy_table(old, "val_loss", "spread") == {120.0: 0.09}
     assert _strategy_table(old, "residual", "cover") == {}  # older files recorded no residuals
+
+
+def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, fleet, tmp_path):
+    """scripts/rescore_response.py reuses the run's response models and references: with the run's
+    own options its response rows are the run's, and it refuses what would need a new model."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("rescore", REPO / "scripts" / "rescore_response.py")
+    rescore = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rescore)
+    out = tmp_path / "again"
+    assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(out)]) == 0
+    then = json.loads((response_run / "metrics.json").read_text())["results"]
+    now = json.loads((out / "metrics.json").read_text())["results"]
+    mine = [r for r in then if r["method"].startswith("response@") or r["method"] == "per_unit"]
+    assert now == mine
+    assert (out / "models" / "shared_input_affine-film_seed0.safetensors").is_file()  # calibrate reads it
+    assert "response@spread" in (out / "report.md").read_text()
+    assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(tmp_path / "b"),
+                         "--set", "options.response.hidden=64"]) == 2
+    assert not (tmp_path / "b").exists()
+
+
+def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_run, fleet, tmp_path):
+    """The response model's records are keyed by plan strategy; calibrate looks them up under the
+    strategy its shared model chooses plans by, whatever that is."""
+    run = tmp_path / "run"
+    shutil.copytree(response_run, run)
+    for header_path in (run / "models").glob("shared_*.json"):
+        header = json.loads(header_path.read_text())
+        header["meta"]["plan_strategy"] = "first"
+        header_path.write_text(json.dumps(header))
+    path = run / "models" / "response_seed0.json"
+    header = json.loads(path.read_text())
+    meta = header["meta"]
+    for key in ("val_loss_by_strategy", "residual_by_strategy"):
+        meta[key] = {"first": meta[key]["spread"]}
+    factors = meta["intervals"]["fleet_factor_by_strategy"]
+    meta["intervals"]["fleet_factor_by_strategy"] = {"first": factors["spread"]}
+    meta["intervals"]["level"] = 0.9
+    path.write_text(json.dumps(header))
+    got = calibrate_unit(run, _held_out(run), fleet, tmp_path / "cal", budget_seconds=40, method="response")
+    assert got.response_check["validation_units_pa"] == meta["residual_by_strategy"]["first"]["40"]
+    assert got.intervals["fleet_factor"] == meta["intervals"]["fleet_factor_by_strategy"]["first"]["40"]

@@ -140,11 +140,15 @@ class ResponseOptions(BaseModel):
     rows_per_step: int = Field(default=ResponseRecipe.rows_per_step, ge=1, le=2**22)
     lr: float = Field(default=ResponseRecipe.lr, gt=0, le=10)
     code_decay: float = Field(default=ResponseRecipe.code_decay, ge=0, le=1e6)
+    code_fit: Literal["gauss_newton", "adam"] = Field(
+        default="gauss_newton", description="how a new unit's codes are fitted (train/response.py fit_codes)")
+    code_iterations: int = Field(default=ResponseRecipe.code_iterations, ge=1, le=10_000)
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)
     code_lr: float = Field(default=ResponseRecipe.code_lr, gt=0, le=10)
     source_rows: int = Field(default=ResponseRecipe.source_rows, ge=1, le=10_000_000)
     inverse_epochs: int = Field(default=ResponseRecipe.inverse_epochs, ge=1, le=100_000)
+    inverse_batch: int = Field(default=ResponseRecipe.inverse_batch, ge=1, le=2**20)
 
     def config(self) -> ResponseConfig:
         return ResponseConfig(self.code_dim, self.channel_dim, self.hidden, self.layers)

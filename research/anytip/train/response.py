@@ -6,7 +6,10 @@ carried over to the new unit through a fleet response model (models/response.py)
 2. `fit_codes`: a new unit's codes from its calibration rows, the network frozen: the MAP
    estimate under a Gaussian prior whose spread is the training units' codes', with the
    training units' residual variance as the noise and the plan's effective sample count as
-   the number of independent rows.
+   the number of independent rows. Each barometer's pressure depends on its own code alone,
+   so the estimate is C small least-squares problems of k numbers, solved by Gauss-Newton
+   with Levenberg-Marquardt damping (`code_fit: gauss_newton`) or by Adam (`adam`, the
+   first recipe, which response models saved before the choice existed were run with).
 3. `transfer`: each source row of training unit t, (x, y), becomes a row of the new unit u:
    (x + G(y; z_u) - G(y; z_t), y). The training unit's own deviations from its response
    (rig positioning error, relaxation, hysteresis, drift, noise) are kept; only the
@@ -23,7 +26,8 @@ Shapes: U training units, M new-unit jobs, C barometers, D label columns, k code
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 import torch
@@ -37,6 +41,7 @@ from anytip.train.data import FleetBatchData, UnitSampler, UnitTensors, pad_rows
 from anytip.train.fleet import FitResult, ProgressBar, train_fleet
 from anytip.train.recipe import FAST, TrainRecipe, lr_at, set_lr
 
+CODE_FITS = ("gauss_newton", "adam")  # how a new unit's codes are fitted (fit_codes)
 RESPONSE_VAL_FRACTION = 0.1  # of a new unit's transferred rows: its network's early stopping
 
 
@@ -44,20 +49,43 @@ RESPONSE_VAL_FRACTION = 0.1  # of a new unit's transferred rows: its network's e
 class ResponseRecipe:
     """How the response model is trained (`steps` Adam steps of `rows_per_step` rows over all
     training units, one-cycle at peak `lr`, `code_decay` on the training codes), how a new
-    unit's codes are fitted (`code_steps` Adam steps of `code_rows` rows at `code_lr`), how many
-    rows of each training unit are transferred (`source_rows`), and how long the new unit's
-    network trains on them (`inverse_epochs` of the fast recipe)."""
+    unit's codes are fitted (`code_fit`: `gauss_newton`, `code_iterations` damped Gauss-Newton
+    steps on `code_rows` rows evenly spaced over the plan; or `adam`, `code_steps` Adam steps of
+    `code_rows` random rows at `code_lr`), how many rows of each training unit are transferred
+    (`source_rows`), and how the new unit's network trains on them (`inverse_epochs` of the fast
+    recipe in batches of `inverse_batch` rows)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
     lr: float = 3e-3
     warmup_frac: float = 0.1
     code_decay: float = 1e-3
+    code_fit: str = "gauss_newton"
+    code_iterations: int = 10
     code_steps: int = 300
-    code_rows: int = 1024
+    code_rows: int = 2048
     code_lr: float = 3e-2
     source_rows: int = 8000
-    inverse_epochs: int = 20
+    inverse_epochs: int = 40
+    inverse_batch: int = 256
+
+    @classmethod
+    def from_saved(cls, saved: dict[str, Any]) -> ResponseRecipe:
+        """The recipe a saved response model records (unknown keys ignored). A model saved before a
+        choice existed ran its first value: Adam codes (`code_fit`), batches of 256 rows."""
+        known = {k: v for k, v in saved.items() if k in cls.__dataclass_fields__}
+        recipe = cls(**({"code_fit": "adam", "inverse_batch": 256} | known))
+        for key, default in asdict(cls()).items():
+            value = getattr(recipe, key)
+            kind = float if isinstance(default, float) else type(default)
+            typed = isinstance(value, kind) or (kind is float and isinstance(value, int))
+            ok = typed and not isinstance(value, bool)
+            if not ok or (kind is int and value < 1) or (kind is float and not value >= 0):
+                raise ValueError(f"recipe.{key}: {value!r} is not a {'positive ' if kind is int else ''}"
+                                 f"{kind.__name__}")
+        if recipe.code_fit not in CODE_FITS:
+            raise ValueError(f"recipe.code_fit: {recipe.code_fit!r} is not one of {', '.join(CODE_FITS)}")
+        return recipe
 
 
 @dataclass
@@ -116,18 +144,99 @@ def train_response(data: FleetBatchData, force_cols: list[int], config: Response
     return ResponseFit(model, noise_var, code_var, list(data.unit_ids), time.perf_counter() - start)
 
 
+CODE_JOBS_PER_PASS = 16  # new units whose Gauss-Newton step runs in one pass (bounds memory)
+
+
 def fit_codes(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
               recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0) -> Tensor:
     """(M, C, k) MAP codes of M jobs, each its calibration rows X (n_m, C) Pa, Y (n_m, D), worth
     n_effective[m] independent rows. The loss of job m is n_eff / 2 times the mean over rows of
     sum_c (x_c - G_c)^2 / noise_var_c, plus sum (z^2 / code_var) / 2. A job without rows keeps
-    the zero code (the fleet's typical unit)."""
+    the zero code (the fleet's typical unit). `recipe.code_fit` picks the solver."""
+    if recipe.code_fit not in CODE_FITS:
+        raise ValueError(f"code_fit {recipe.code_fit!r}: expected one of {', '.join(CODE_FITS)}")
+    M, C, k = len(X), fit.model.n_channels, fit.model.config.code_dim
+    has_rows = torch.tensor([len(x) > 0 for x in X], device=fit.device)
+    codes = torch.zeros(M, C, k, device=fit.device)
+    if not bool(has_rows.any()):
+        return codes
+    for p in fit.model.parameters():
+        p.requires_grad_(False)
+    try:
+        if recipe.code_fit == "adam":
+            codes = _codes_by_adam(fit, X, Y, n_effective, recipe, seed)
+        else:
+            for a in range(0, M, CODE_JOBS_PER_PASS):
+                part = slice(a, a + CODE_JOBS_PER_PASS)
+                codes[part] = _codes_by_gauss_newton(fit, X[part], Y[part], n_effective[part], recipe)
+    finally:
+        for p in fit.model.parameters():
+            p.requires_grad_(True)
+    return torch.where(has_rows[:, None, None], codes, torch.zeros_like(codes))
+
+
+def evenly_spaced(n: int, at_most: int) -> Tensor:
+    """Indices of at most `at_most` of n rows, evenly spaced (all of them when n <= at_most)."""
+    if n <= at_most:
+        return torch.arange(n)
+    return torch.linspace(0, n - 1, at_most).round().long()
+
+
+def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
+                           recipe: ResponseRecipe) -> Tensor:
+    """(M, C, k) MAP codes by damped Gauss-Newton on `code_rows` evenly spaced rows of each job.
+
+    Pressure c depends on code c alone, and on row i's copy of it alone, so one backward pass
+    through per-row copies of the codes gives every row's Jacobian (M, n, C, k); each
+    (job, barometer) then takes a Levenberg-Marquardt step of k numbers, kept where it lowers
+    that problem's loss (the damping shrinks after a kept step and grows after a refused one)."""
+    model, device = fit.model, fit.device
+    take = [evenly_spaced(len(x), recipe.code_rows) for x in X]
+    Xp, n = pad_rows([x[t] if len(x) else x.new_zeros(1, model.n_channels)
+                      for x, t in zip(X, take, strict=True)], device)
+    Yp, _ = pad_rows([y[t] if len(y) else y.new_zeros(1, Y[0].shape[-1])
+                      for y, t in zip(Y, take, strict=True)], device)
+    M, B, C, k = Xp.shape[0], Xp.shape[1], model.n_channels, model.config.code_dim
+    valid = (torch.arange(B, device=device)[None] < n[:, None]).float()  # (M, B)
+    weight = torch.tensor(n_effective, dtype=torch.float32, device=device) / n.clamp_min(1)  # per row
+    row_w = valid[..., None] * weight[:, None, None] / fit.noise_var.to(device)  # (M, B, C)
+    inv_spread = 1 / fit.code_var.to(device)  # (k,)
+
+    def loss_of(codes: Tensor) -> Tensor:
+        with torch.no_grad():
+            err = Xp - model(Yp, codes[:, None])
+            return (row_w * err**2).sum(1) / 2 + (codes**2 * inv_spread).sum(-1) / 2  # (M, C)
+
+    codes = torch.zeros(M, C, k, device=device)
+    damping = torch.full((M, C), 1e-2, device=device)
+    loss = loss_of(codes)
+    for _ in range(recipe.code_iterations):
+        per_row = codes[:, None].expand(M, B, C, k).clone().requires_grad_(True)
+        pred = model(Yp, per_row)
+        pred.sum().backward()
+        J = per_row.grad  # (M, B, C, k): d pressure_c of row i / d code_c
+        resid = Xp - pred.detach()
+        JW = J * row_w[..., None]
+        H = torch.einsum("mbck,mbcj->mckj", JW, J) + torch.diag_embed(inv_spread.expand(M, C, k))
+        g = torch.einsum("mbck,mbc->mck", JW, resid) - codes * inv_spread
+        diag = torch.diagonal(H, dim1=-2, dim2=-1)
+        damped = H + torch.diag_embed(damping[..., None] * diag)
+        step = torch.linalg.solve(damped, g.unsqueeze(-1)).squeeze(-1)
+        trial = loss_of(codes + step)
+        kept = trial < loss
+        codes = torch.where(kept[..., None], codes + step, codes)
+        loss = torch.where(kept, trial, loss)
+        damping = torch.where(kept, damping / 3, damping * 4).clamp(1e-6, 1e6)
+    return codes
+
+
+def _codes_by_adam(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
+                   recipe: ResponseRecipe, seed: int) -> Tensor:
+    """(M, C, k) MAP codes by `code_steps` Adam steps of `code_rows` random rows of each job."""
     device, model = fit.device, fit.model
     M, C, k = len(X), model.n_channels, model.config.code_dim
     codes = torch.zeros(M, C, k, device=device, requires_grad=True)
     n = torch.tensor([len(x) for x in X], device=device)
-    if not bool((n > 0).any()):
-        return codes.detach()
     Xp, _ = pad_rows([x if len(x) else x.new_zeros(1, C) for x in X], device)
     Yp, _ = pad_rows([y if len(y) else y.new_zeros(1, Y[0].shape[-1]) for y in Y], device)
     weight = torch.tensor(n_effective, dtype=torch.float32, device=device) * (n > 0)
@@ -136,20 +245,14 @@ def fit_codes(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: l
     opt = torch.optim.Adam([codes], lr=recipe.code_lr)
     schedule = TrainRecipe(name="codes", lr=recipe.code_lr, schedule="cosine", final_lr_frac=0.05)
     noise, spread = fit.noise_var.to(device), fit.code_var.to(device)
-    for p in model.parameters():
-        p.requires_grad_(False)
-    try:
-        for step, idx in sampler.steps(recipe.code_steps):
-            set_lr(opt, lr_at(step, recipe.code_steps, schedule))
-            err = (model(Yp[rows_of, idx], codes[:, None]) - Xp[rows_of, idx]).pow(2) / noise  # (M, B, C)
-            loss = (weight * err.mean(1).sum(-1)).sum() / 2 + (codes.pow(2) / spread).sum() / 2
-            opt.zero_grad(set_to_none=True)
-            loss.backward()
-            opt.step()
-    finally:
-        for p in model.parameters():
-            p.requires_grad_(True)
-    return torch.where((n > 0)[:, None, None], codes.detach(), torch.zeros_like(codes.detach()))
+    for step, idx in sampler.steps(recipe.code_steps):
+        set_lr(opt, lr_at(step, recipe.code_steps, schedule))
+        err = (model(Yp[rows_of, idx], codes[:, None]) - Xp[rows_of, idx]).pow(2) / noise  # (M, B, C)
+        loss = (weight * err.mean(1).sum(-1)).sum() / 2 + (codes.pow(2) / spread).sum() / 2
+        opt.zero_grad(set_to_none=True)
+        loss.backward()
+        opt.step()
+    return codes.detach()
 
 
 @dataclass
@@ -181,7 +284,7 @@ def source_rows(fit: ResponseFit, data: FleetBatchData, per_unit: int, seed: int
 
 
 @torch.no_grad()
-def _respond(model: ResponseModel, labels: Tensor, codes: Tensor, chunk: int = 32768) -> Tensor:
+def _respond(model: ResponseModel, labels: Tensor, codes: Tensor, chunk: int = 1024) -> Tensor:
     """(n, C) Pa: the response to labels (n, D) with codes (n, C, k) or (C, k), in chunks."""
     model.eval()
     out = []
@@ -218,7 +321,7 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
         members.append(UnitTensors(xs[train], ys[train], xs[val], ys[val], ids[m] if ids else str(m)))
     data = FleetBatchData.from_units(members, fit.device, output_names)
     del members  # the padded copy is all training needs; a large fleet's rows are held once
-    inverse = FAST.model_copy(update={"epochs": recipe.inverse_epochs})
+    inverse = FAST.model_copy(update={"epochs": recipe.inverse_epochs, "batch_size": recipe.inverse_batch})
     return train_fleet(data, shape, inverse, seed=seed, device=fit.device, progress=progress), codes
 
 
