@@ -691,7 +691,7 @@ def test_the_fleet_factor_of_intervals_is_learnt_on_validation_units(seconds_run
 def test_interval_fields_cover_as_the_residuals_promise():
     """Residuals and test errors from one distribution: the 90% half-width is the normal
     quantile and about 90% of test rows fall inside; no residuals, no fields."""
-    from anytip.pipelines.cross_sensor import interval_fields
+    from anytip.pipelines.cross_sensor_jobs import interval_fields
 
     rng = np.random.default_rng(0)
     resid = rng.normal(0, [1.0, 2.0], (20_000, 2))

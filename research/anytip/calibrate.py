@@ -77,7 +77,7 @@ class Calibrated:
     notes: list[str]  # which shared model and why, clipped budgets, warnings
     own_check: dict[str, float] | None = None  # the plan's held-out presses against the fleet's
     wall_s: float = 0.0  # fitting and folding the adapter on the whole plan
-    intervals: dict[str, Any] | None = None  # from the plan's out-of-fold residuals (`plan_intervals`)
+    intervals: dict[str, Any] | None = None  # from the plan's residuals (`plan_intervals`)
     check_s: float = 0.0  # the fold fits behind the own check and the intervals
     response_check: dict[str, Any] | None = None  # response transfer: the plan about its fitted response
 
@@ -309,12 +309,13 @@ def interval_folds(meta: dict[str, Any]) -> int:
 def plan_intervals(residuals: np.ndarray | None, level: float, names: tuple[str, ...],
                    other: tuple[np.ndarray, np.ndarray] | None,
                    factor: dict[str, float] | None = None,
-                   folds: int = INTERVAL_FOLDS) -> dict[str, Any] | None:
+                   folds: int | None = INTERVAL_FOLDS) -> dict[str, Any] | None:
     """A new unit's intervals: the half-width per output (names; the output's unit) at nominal
-    `level` from its plan's out-of-fold residuals (n, D), times the shared model's fleet factor
-    per output where given (`fleet_factor`; `own_halfwidth` keeps the plan's own), and, given
-    the unit's other runs as (prediction, target) (m, D), the share of their rows inside. None
-    without residuals. `folds`: the press folds behind the residuals, as recorded."""
+    `level` from its plan's residuals (n, D), times the benchmark's fleet factor per output
+    where given (`fleet_factor`; `own_halfwidth` keeps the plan's own), and, given the unit's
+    other runs as (prediction, target) (m, D), the share of their rows inside. None without
+    residuals. `folds`: the press folds behind out-of-fold residuals, as recorded; None for
+    residuals on the plan's own rows (response transfer)."""
     if residuals is None:
         return None
     own = residual_halfwidth(residuals, level)
@@ -338,14 +339,22 @@ def fleet_factor_for(meta: dict[str, Any], budget: float, level: float,
     rec = meta.get("intervals")
     if not isinstance(rec, dict) or not isinstance(rec.get("fleet_factor_by_budget"), dict):
         return None, ""
+    return _usable_factor(rec, _budget_table(rec, "fleet_factor_by_budget"), budget, level, names)
+
+
+def _usable_factor(rec: dict[str, Any], table: dict[float, Any], budget: float, level: float,
+                   names: tuple[str, ...]) -> tuple[dict[str, float] | None, str]:
+    """The factor of a benchmark's intervals record `rec` from its per-budget `table` at the
+    largest budget <= `budget`, or None and why: another level, or not a finite positive number
+    for every output."""
     if rec.get("level") != level:
-        return None, (f"the shared model's fleet factor for intervals was learnt at level "
+        return None, (f"the benchmark's fleet factor for intervals was learnt at level "
                       f"{rec.get('level')}, not {level:g}: intervals from the plan alone")
-    factor = _at_budget(_budget_table(rec, "fleet_factor_by_budget"), budget)
+    factor = _at_budget(table, budget)
     ok = isinstance(factor, dict) and all(isinstance(factor.get(n), (int, float)) and
                                           math.isfinite(factor[n]) and factor[n] > 0 for n in names)
     if not ok:
-        return None, (f"the shared model records no usable fleet factor for intervals at {budget:g} robot-s "
+        return None, (f"the benchmark records no usable fleet factor for intervals at {budget:g} robot-s "
                       "or less: intervals from the plan alone")
     return {n: float(factor[n]) for n in names}, ""
 
@@ -413,7 +422,8 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     response, why = choose_response(model, seed, meta, budget, method, adapter)
     notes += [why] if why else []
     if response is not None:
-        return calibrate_by_response_unit(response, registry, arrays, stream, plan, budget, Path(out), notes)
+        return calibrate_by_response_unit(response, registry, arrays, stream, plan, budget, Path(out), notes,
+                                          interval_level, str(meta.get("plan_strategy", "spread")))
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
     tick = time.perf_counter()
@@ -517,6 +527,22 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
                   f"shared model's {ours:.3g} at this budget")
 
 
+def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: float, strategy: str,
+                        level: float, names: tuple[str, ...], other: tuple[np.ndarray, np.ndarray] | None,
+                        notes: list[str]) -> dict[str, Any] | None:
+    """A response-transferred unit's intervals: its network's residuals on the plan's rows (n, D),
+    which also trained it, times the fleet factor the benchmark's validation units learnt for
+    plans of `strategy` (`intervals.fleet_factor_by_strategy`); a note where there is none."""
+    rec = meta.get("intervals")
+    factor, why = None, ("the response model's benchmark learnt no fleet factor for intervals: intervals "
+                         "from the plan's rows alone, which also trained the network (too narrow)")
+    if isinstance(rec, dict):
+        table = _strategy_table(rec, "fleet_factor", strategy)
+        factor, why = _usable_factor(rec, table, budget, level, names)
+    notes += [why] if why else []
+    return plan_intervals(residuals, level, names, other, factor, folds=None)
+
+
 def _training_rows(registry: Registry, units: list[str], sensor_model: str) -> FleetBatchData:
     """The response model's training units' rows from the registry, in its order (source rows)."""
     runs = {u: registry.list_runs(unit=u, sensor_model=sensor_model) for u in units}
@@ -537,27 +563,32 @@ def _training_rows(registry: Registry, units: list[str], sensor_model: str) -> F
 
 def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArrays,
                                stream: CalibrationStream, plan: Plan, budget: float, out: Path,
-                               notes: list[str]) -> Calibrated:
+                               notes: list[str], interval_level: float | None = 0.9,
+                               strategy: str = "spread") -> Calibrated:
     """A new unit's own network by response transfer (train/response.py) on its plan, saved in the
     per-unit format; its own check is the RMS of the plan's pressures about its fitted response
-    beside the benchmark's validation units' (alarm above OWN_CHECK_ALARM times the worst)."""
+    beside the benchmark's validation units' (alarm above OWN_CHECK_ALARM times the worst).
+    `strategy`: how the plan was chosen (the shared model's `plan_strategy`), the key of what the
+    response model recorded for such plans."""
     loaded = load_response(path)
     meta = loaded.meta
     units = [str(u) for u in meta.get("unit_ids", [])]
-    recipe = ResponseRecipe(**{k: v for k, v in meta.get("recipe", {}).items()
-                               if k in ResponseRecipe.__dataclass_fields__})
+    saved = meta.get("recipe", {})
+    try:
+        recipe = ResponseRecipe.from_saved(saved if isinstance(saved, dict) else {})
+    except (TypeError, ValueError) as e:
+        raise AnytipError(f"{path}: {e}") from None
     fit = ResponseFit(loaded.model, loaded.noise_var, loaded.code_var, units)
     seed = int(meta.get("seed", 0))
     training = _training_rows(registry, units, arrays.runs[0].sensor_model)
-    source = source_rows(fit, training, recipe.source_rows, seed)
     X, Y = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
     shape = MLPConfig(**meta["shape"]) if isinstance(meta.get("shape"), dict) else MLPConfig()
     tick = time.perf_counter()
+    source = source_rows(fit, training, recipe.source_rows, seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names)
     wall_s = time.perf_counter() - tick
     residual = plan_residual(fit, X, Y, codes[0])
-    strategy = str(meta.get("plan_strategy", "spread"))
     validation = _at_budget(_strategy_table(meta, "residual", strategy), budget)
     own: dict[str, Any] = {"presses": plan.presses, "rows": int(len(plan.rows)), "residual_pa": residual,
                            "fleet_noise_pa": float(loaded.noise_var.mean().sqrt())}
@@ -569,17 +600,25 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
                          "unit's fitted response than the worst validation unit's (alarm above "
                          f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels")
     other = stream.outside(arrays)
-    check = None
+    check, on_other = None, None
     if other.any():
         X_other = torch.from_numpy(arrays.pressure[other])[None]
-        pred = predict(nets.model, nets.in_scaler, nets.out_scaler, X_other)[0]
-        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout),
+        pred = predict(nets.model, nets.in_scaler, nets.out_scaler, X_other)[0].numpy()
+        on_other = (pred, arrays.targets[other])
+        check = {"rows": int(other.sum()), **scores(pred, arrays.targets[other], arrays.layout),
                  "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
+    bands = None
+    if interval_level is not None:
+        fitted = predict(nets.model, nets.in_scaler, nets.out_scaler, X[None])[0].numpy()
+        residuals = fitted - arrays.targets[plan.rows]
+        bands = _response_intervals(meta, residuals, budget, strategy, interval_level, arrays.output_names,
+                                    on_other, notes)
     result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, 0, 0.0, check, notes,
-                        None, wall_s, None, 0.0, own)
+                        None, wall_s, bands, 0.0, own)
     save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
         "unit_ids": [stream.unit], "output_names": list(arrays.output_names), "response_model": str(path),
         "method": "response", "codes": codes[0].tolist(), "calib_samples": result.calib_samples,
         "calib_seconds": plan.calib_seconds, "calib_presses": plan.presses, "n_effective": plan.n_effective,
-        "calibration_runs": list(stream.runs), "check_on_other_runs": check, "response_check": own})
+        "calibration_runs": list(stream.runs), "check_on_other_runs": check, "response_check": own,
+        "intervals": bands})
     return _write_calibration(result)

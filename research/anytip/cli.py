@@ -228,16 +228,19 @@ def _print_response(r: Any) -> int:
         line += (f"\n  the benchmark's validation units at this budget: {val} Pa; this unit is "
                  f"{own['over_validation']:.2f}x the worst of them{' (ALARM)' if own['alarm'] else ''}")
     print(line)
-    print(f"codes fitted and the unit's network trained in {r.wall_s:.1f} s (no intervals for response "
-          "transfer yet)")
+    if r.intervals is not None:
+        _print_intervals(r.intervals)
+    print(f"codes fitted, the training units' rows carried over and the unit's network trained in "
+          f"{r.wall_s:.1f} s")
     return 0
 
 
 def _print_intervals(bands: dict[str, Any]) -> None:
     """A calibrated unit's intervals (`calibrate.plan_intervals`) on the console."""
     half = ", ".join(f"{k} +-{v:.3g}" for k, v in bands["halfwidth"].items())
-    print(f"{bands['level']:.0%} intervals from the plan ({bands['folds']} press folds, {bands['rows']} "
-          f"out-of-fold rows; N or rad as the target): {half}")
+    source = (f"{bands['folds']} press folds, {bands['rows']} out-of-fold rows" if bands["folds"] is not None
+              else f"residuals on its {bands['rows']} rows, which also trained the network")
+    print(f"{bands['level']:.0%} intervals from the plan ({source}; N or rad as the target): {half}")
     if "fleet_factor" in bands:
         factor = ", ".join(f"{k} x{v:.2f}" for k, v in bands["fleet_factor"].items())
         print(f"  the plan's own half-widths times the fleet factor its validation units learnt: {factor}")

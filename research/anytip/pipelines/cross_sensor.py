@@ -22,7 +22,6 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
-from scipy.stats import gmean
 
 from anytip.calibrate import OWN_CHECK_ALARM
 from anytip.data.arrays import FleetArrays, has_patch_grid
@@ -34,10 +33,13 @@ from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.mlp import MLPConfig
 from anytip.pipelines.common import Context, load, load_extra, report_metrics, unit_of
 from anytip.pipelines.cross_sensor_jobs import (
+    Job,
     budget_fields,
+    interval_fields,
     plan_of,
     plan_suffix,
     validation_by_method,
+    validation_factors,
     validation_losses,
 )
 from anytip.pipelines.cross_sensor_options import (
@@ -74,7 +76,6 @@ from anytip.train.shared_split import (
     prepare_seed,
     unit_main_rows,
 )
-from anytip.uncertainty.conformal import coverage, fleet_factor, interval, residual_halfwidth
 
 PLAIN_FIT = FitVariant()  # the shared model's own adapter kind, `adapter_steps` Adam steps
 
@@ -439,7 +440,6 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
     return Adapted(rows, chosen, val_loss, factors, resid)
 
 
-Job = tuple[str, Budget, float]  # (unit, budget, prior strength)
 
 
 def planned_jobs(sd: SeedData, opts: Options, seed: int, units: Sequence[str], budgets: list[Budget],
@@ -501,65 +501,6 @@ def plan_bands(shared: SharedFit, arrays: FleetArrays, sd: SeedData, opts: Optio
                                          level, fleet.get(b)))
     by_plan = {(u, b): r for (u, b, _), r in zip(jobs, resid, strict=True)}
     return bands, {b: f.factor for b, f in fleet.items()}, by_plan
-
-
-class FleetWidths(NamedTuple):
-    """What the validation units say about intervals at one budget, per output (D,): the fleet
-    factor (`uncertainty.conformal.fleet_factor`) and the typical half-width their test rows
-    needed (geometric mean; a new unit's plan unused), in the output's unit."""
-
-    factor: np.ndarray
-    typical: np.ndarray
-
-
-def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
-                       residuals: dict[int, np.ndarray | None], sd: SeedData, arrays: FleetArrays,
-                       level: float) -> dict[Budget, FleetWidths]:
-    """Budget -> `FleetWidths` over the validation units whose plan gave a finite half-width at
-    `level`: the half-width their test rows needed against their plan's own."""
-    own: dict[Budget, list[np.ndarray]] = {}
-    needed: dict[Budget, list[np.ndarray]] = {}
-    for k, r in residuals.items():
-        (u, b, _), pred = at_chosen[k]
-        if u not in sd.split.val or r is None:
-            continue
-        half = residual_halfwidth(r, level)
-        test = residual_halfwidth(pred - arrays.targets[sd.evals[u].test_rows], level)
-        if np.isfinite(half).all() and (half > 0).all() and np.isfinite(test).all() and (test > 0).all():
-            own.setdefault(b, []).append(half)
-            needed.setdefault(b, []).append(test)
-    return {b: FleetWidths(fleet_factor(np.stack(own[b]), np.stack(needed[b])),
-                           gmean(np.stack(needed[b]), axis=0)) for b in own}
-
-
-def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.ndarray,
-                    names: Sequence[str], level: float, fleet: FleetWidths | None = None) -> dict[str, Any]:
-    """A held-out unit's intervals from its own plan, scored on its test rows: the conformal
-    half-width of each output (its unit: N or rad) from the plan's out-of-fold residuals
-    (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Given
-    what the validation units say (`fleet`), the same for the half-width times the fleet factor
-    (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`), for their typical half-width, the
-    plan unused (`<output>_typical_...`), and for the geometric mean of the two, the unit's
-    plan shrunk halfway to the fleet (`<output>_shrunk_...`). Empty for a plan too short to
-    cross-fit."""
-    if residuals is None:
-        return {}
-    half = residual_halfwidth(residuals, level)
-    out = {"interval_level": level, "interval_rows": int(len(residuals)),
-           "interval_test_rows": int(len(target)), **_band(pred, target, names, half, "")}
-    if fleet is not None:
-        out |= _band(pred, target, names, half * fleet.factor, "fleet_")
-        out |= _band(pred, target, names, fleet.typical, "typical_")
-        out |= _band(pred, target, names, np.sqrt(half * fleet.factor * fleet.typical), "shrunk_")
-    return out
-
-
-def _band(pred: np.ndarray, target: np.ndarray, names: Sequence[str], half: np.ndarray,
-          prefix: str) -> dict[str, float]:
-    lo, hi = interval(pred, half)
-    cover = coverage(lo, hi, target)
-    return {**{f"{n}_{prefix}halfwidth": float(h) for n, h in zip(names, half, strict=True)},
-            **{f"{n}_{prefix}coverage": float(c) for n, c in zip(names, cover, strict=True)}}
 
 
 def own_checks(arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedFit, seed: int,

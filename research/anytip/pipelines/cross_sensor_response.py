@@ -8,17 +8,34 @@ from __future__ import annotations
 from dataclasses import asdict
 from typing import Any, NamedTuple
 
+import numpy as np
 import torch
 
 from anytip.data.arrays import FleetArrays
-from anytip.data.plans import Budget
+from anytip.data.plans import Budget, Plan
+from anytip.errors import AnytipError
 from anytip.models.io import save_response
 from anytip.pipelines.common import Context
-from anytip.pipelines.cross_sensor_jobs import budget_fields, plan_of, plan_suffix, validation_losses
+from anytip.pipelines.cross_sensor_jobs import (
+    Job,
+    budget_fields,
+    interval_fields,
+    plan_of,
+    plan_suffix,
+    validation_factors,
+    validation_losses,
+)
 from anytip.pipelines.cross_sensor_options import Options, budget_list
 from anytip.train.adapt import pooled_scaler
+from anytip.train.fleet import FitResult
 from anytip.train.metrics import scores
-from anytip.train.response import calibrate_by_response, plan_residual, source_rows, train_response
+from anytip.train.response import (
+    ResponseFit,
+    calibrate_by_response,
+    plan_residual,
+    source_rows,
+    train_response,
+)
 from anytip.train.shared_split import SeedData, predict_rows
 
 METHOD = "response"
@@ -38,15 +55,21 @@ def force_columns(arrays: FleetArrays) -> list[int]:
     return list(range(len(arrays.output_names)))[arrays.slices["force"]]
 
 
-def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int) -> ResponseRows:
+def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
+                  fit: ResponseFit | None = None) -> ResponseRows:
     """Every validation and held-out unit calibrated by response transfer on the plan each labeled
     budget grants it; rows of the held-out units (`response@<strategy>`), with the RMS of the
-    plan's pressures about the unit's fitted response (`response_residual_pa`, its own check)."""
+    plan's pressures about the unit's fitted response (`response_residual_pa`, its own check).
+    `fit`: a response model trained before on `sd`'s training units (None: train it here)."""
     assert opts.response is not None
     recipe = opts.response.recipe()
-    fit = train_response(sd.train, force_columns(arrays), opts.response.config(), recipe, seed, ctx.device,
-                         ctx.progress)
-    ctx.say(f"seed {seed}: response model trained ({fit.wall_s:.0f} s)")
+    if fit is None:
+        fit = train_response(sd.train, force_columns(arrays), opts.response.config(), recipe, seed,
+                             ctx.device, ctx.progress)
+        ctx.say(f"seed {seed}: response model trained ({fit.wall_s:.0f} s)")
+    if fit.unit_ids != list(sd.train.unit_ids):
+        raise AnytipError(f"seed {seed}: the response model was trained on other units than this split's "
+                          f"training units ({', '.join(fit.unit_ids[:4])} ...)")
     budgets = [b for b in budget_list(opts) if b.amount > 0]
     jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in [*sd.split.val, *sd.split.test] for b in budgets]
     jobs = [j for j in jobs if len(j[2].rows)]
@@ -66,6 +89,10 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         loss = validation_losses(keyed, preds, sd, arrays, set(sd.split.val),
                                  pooled_scaler(sd.train.Y_train, sd.train.n_train))
         val_loss = {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
+        bands = Bands({}, {})
+        if opts.intervals is not None:
+            bands = plan_bands(nets, arrays, sd, list(zip(keyed, preds, strict=True)),
+                               [p for _, _, p in jobs], opts.intervals.level)
         for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)):
             own = plan_residual(fit, X[m], Y[m], codes[m])
             if u in sd.split.val:
@@ -73,15 +100,53 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                 continue
             rows.append({"method": METHOD + plan_suffix(b), "unit": u, **budget_fields(b, plan),
                          "response_residual_pa": own,
-                         **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)})
+                         **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
+                         **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
     meta = {"unit_ids": fit.unit_ids, "seed": seed, "output_names": list(arrays.output_names),
             "recipe": asdict(recipe), "wall_s": fit.wall_s, "shape": ctx.spec.model.model_dump(mode="json"),
             "val_loss_by_strategy": by_strategy(val_loss),
             "residual_by_strategy": by_strategy(residual)}
+    if opts.intervals is not None and jobs:
+        names = arrays.output_names
+        meta["intervals"] = {"level": opts.intervals.level, "residuals": INTERVAL_RESIDUALS,
+                             "fleet_factor_by_strategy": by_strategy(
+                                 {b: dict(zip(names, map(float, f), strict=True))
+                                  for b, f in bands.factors.items()})}
     save_response(ctx.run_dir / "models" / f"response_seed{seed}.safetensors", fit.model, fit.noise_var,
                   fit.code_var, meta)
     return ResponseRows(rows, val_loss)
+
+
+class Bands(NamedTuple):
+    """Intervals of response-transferred units: each held-out job's interval fields by job index,
+    and the fleet factor (D,) per budget that the validation units learnt."""
+
+    fields: dict[int, dict[str, Any]]
+    factors: dict[Budget, np.ndarray]
+
+
+INTERVAL_RESIDUALS = "plan"  # what a response-transferred unit's intervals start from (plan_bands)
+
+
+def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
+               at: list[tuple[Job, np.ndarray]], plans: list[Plan], level: float) -> Bands:
+    """Intervals from each unit's own plan: the conformal half-width of its network's residuals
+    on the plan's rows (D,), times the fleet factor the validation units learnt at its budget (how
+    much wider their test rows needed it; `uncertainty.conformal.fleet_factor`).
+
+    The plan's rows also trained the network, so its residuals there understate its error
+    elsewhere; the fleet factor carries that back, as it carries the press-fold residuals of
+    adapters (which would cost a response transfer a network per fold). `at`: ((unit, budget,
+    prior), test-row prediction) per job, in the order of `nets`' models and `plans`."""
+    fitted = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays, [p.rows for p in plans])
+    residuals = {m: f - arrays.targets[p.rows] for m, (f, p) in enumerate(zip(fitted, plans, strict=True))}
+    fleet = validation_factors(at, dict(residuals), sd, arrays, level)
+    names = arrays.output_names
+    fields = {m: interval_fields(residuals[m], pred, arrays.targets[sd.evals[u].test_rows], names, level,
+                                 fleet.get(b))
+              for m, ((u, b, _), pred) in enumerate(at) if u in sd.split.test}
+    return Bands(fields, {b: f.factor for b, f in fleet.items()})
 
 
 def by_strategy(values: dict[Budget, Any]) -> dict[str, dict[str, Any]]:

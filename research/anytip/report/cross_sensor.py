@@ -383,7 +383,7 @@ here are ordinary units: how often would the alarm have fired on them (unit-seed
 
 
 COVERAGE_BAND = 0.05  # a unit-output's coverage counts as on target within +-0.05 of the nominal level
-# (label, row-field prefix) of each half-width rows may score (`pipelines.cross_sensor.interval_fields`)
+# (label, row-field prefix) of each half-width rows may score (`pipelines.cross_sensor_jobs.interval_fields`)
 INTERVAL_KINDS = (("own plan", ""), ("own plan x fleet factor", "fleet_"),
                   ("validation units' (plan unused)", "typical_"),
                   ("geometric mean of the two above", "shrunk_"))
@@ -415,7 +415,9 @@ def interval_section(rows: list[dict[str, Any]]) -> str:
 
 Each held-out unit's {level:.0%} interval is its calibrated prediction +- a half-width per output:
 the split-conformal quantile of its plan's out-of-fold residuals (the plan's presses dealt into
-folds, each predicted by the adapter refitted without it; `options.intervals`). The fleet factor
+folds, each predicted by the adapter refitted without it; `options.intervals`). For `response@`
+rows the residuals are those of the unit's network on its plan's own rows, which also trained it
+(a network per fold would cost a response transfer as much again per fold). The fleet factor
 (where recorded) is what the validation units taught: per output, the geometric mean over them of
 the half-width their test rows needed over the one their own plan gave; `anytip calibrate`
 applies the factor its shared model records. The third kind ignores the unit's plan: every
