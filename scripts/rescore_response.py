@@ -1,0 +1,122 @@
+"""Calibration by response transfer again, on a finished run's own response models and references.
+
+A cross_sensor run with `options.response` saved each seed's response model
+(`models/response_seed<s>.safetensors`) and scored every held-out unit against its converged
+per-unit reference (`per_unit` rows). Both are deterministic, and the reference is what costs
+most of a run. This script re-runs only the response transfer of the run's validation and
+held-out units, on the same splits, plans and test patches, with the spec's options changed
+by `--set` (a new recipe for the unit's network or its codes, intervals), and writes a run
+directory whose rows are the run's references beside the new response rows, with the new
+response models (their new recipe and intervals record) and copies of the run's shared models,
+so `anytip calibrate --model OUT` works as on the run:
+
+    python scripts/rescore_response.py RUN_DIR --registry data/fleet88 --out OUT \
+        --set options.response.inverse_epochs=40 --set "options.intervals={folds: 5, level: 0.9}"
+
+The validation units choose the method and learn the intervals' fleet factor, as in a run; the
+held-out units are only scored. With unchanged options the rows equal the run's own
+`response@` rows. The response model is not retrained: options that would change it
+(code_dim, hidden, layers, steps, ...) are refused.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import torch
+
+from anytip.config import load_spec, public_config
+from anytip.data.registry import Registry
+from anytip.errors import AnytipError
+from anytip.models.io import load_response
+from anytip.models.response import ResponseConfig
+from anytip.pipelines.common import Context, load
+from anytip.pipelines.cross_sensor import min_units, prepare
+from anytip.pipelines.cross_sensor_jobs import validation_by_method
+from anytip.pipelines.cross_sensor_options import Options, parse_options
+from anytip.pipelines.cross_sensor_response import METHOD, response_rows
+from anytip.rundir import code_version, read_json, write_config, write_json, write_metrics
+from anytip.runner import rewrite_report
+from anytip.train.metrics import target_key
+from anytip.train.response import ResponseFit, ResponseRecipe
+
+TRAINING_KEYS = ("steps", "rows_per_step", "lr", "warmup_frac", "code_decay")  # what trained the model
+
+
+def rescore(run: Path, registry: Path, out: Path, overrides: list[str]) -> Path:
+    """The run's references and its units calibrated again by response transfer, in `out`."""
+    spec = load_spec(run / "config.yaml", [*overrides, "options.adapters=[]"])
+    old = read_json(run / "provenance.json")
+    ctx = Context(spec, Registry(registry, create=False), out, torch.device("cpu"), False,
+                  {"spec_file": str(run / "config.yaml")})
+    opts = parse_options(ctx)
+    if opts.response is None:
+        raise AnytipError(f"{run}: its spec has no options.response")
+    arrays = load(ctx, min_units(ctx))
+    if ctx.provenance["selection_content_hash"] != old.get("selection_content_hash"):
+        raise AnytipError(f"{registry}: its runs differ from those {run} was run on")
+    saved = {s: load_response(run / "models" / f"response_seed{s}.safetensors") for s in spec.all_seeds}
+    for seed, model in saved.items():
+        _check_same_model(model.model.config, model.meta.get("recipe", {}), opts, seed)
+    out.mkdir(parents=True, exist_ok=False)
+    (out / "models").mkdir()
+    write_config(out, public_config(spec))
+    for shared in (run / "models").glob("shared_*"):  # the run's shared models: what `anytip calibrate` reads
+        shutil.copy2(shared, out / "models" / shared.name)
+    rows = [r for r in read_json(run / "metrics.json")["results"] if r["method"] == "per_unit"]
+    start = time.perf_counter()
+    for seed in spec.all_seeds:
+        sd = prepare(ctx, arrays, opts, seed)
+        if sd.split.to_json() != old["cross_sensor"][f"seed{seed}"]["units"]:
+            raise AnytipError(f"seed {seed}: the split differs from the run's")
+        model = saved[seed]
+        units = [str(u) for u in model.meta["unit_ids"]]
+        fit = ResponseFit(model.model, model.noise_var, model.code_var, units)
+        got = response_rows(ctx, arrays, sd, opts, seed, fit)
+        base = {"seed": seed, "split": rows[0]["split"], "n_train_units": len(sd.split.train)}
+        rows += [dict(base, **r) for r in got.rows]
+        ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
+            "units": sd.split.to_json(), "val_loss": validation_by_method(METHOD, got.val_loss)}
+        print(f"seed {seed}: {len(got.rows)} held-out rows ({time.perf_counter() - start:.0f} s)", flush=True)
+    ctx.provenance.update(rescored_from=str(run), overrides=overrides, seeds=spec.all_seeds,
+                          code=code_version(), wall_s=round(time.perf_counter() - start, 2))
+    keys = [target_key(name) for name in ctx.provenance["targets"]]
+    write_metrics(out, rows, keys, spec=spec.name, pipeline=spec.pipeline)
+    write_json(out / "provenance.json", ctx.provenance)
+    return rewrite_report(out)
+
+
+def _check_same_model(config: ResponseConfig, recipe: dict[str, Any], opts: Options, seed: int) -> None:
+    """Refuse options that would have trained another response model than the one saved."""
+    assert opts.response is not None
+    asked, trained = opts.response.recipe(), ResponseRecipe.from_saved(recipe)
+    differ = [k for k in TRAINING_KEYS if getattr(asked, k) != getattr(trained, k)]
+    if opts.response.config() != config or differ:
+        raise AnytipError(f"seed {seed}: options.response asks for another response model than the saved one "
+                          f"({', '.join(differ) or 'its shape'}); the saved models are reused, not retrained")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", type=Path, help="a finished cross_sensor run with options.response")
+    parser.add_argument("--registry", type=Path, required=True, help="the registry the run read")
+    parser.add_argument("--out", type=Path, required=True, help="a new directory for the rescored run")
+    parser.add_argument("--set", dest="overrides", action="append", default=[],
+                        help="KEY=VALUE, as `anytip run --set`")
+    args = parser.parse_args(argv)
+    torch.set_num_threads(1)
+    try:
+        print(f"report: {rescore(args.run, args.registry, args.out, args.overrides)}")
+    except AnytipError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
