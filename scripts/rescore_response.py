@@ -62,7 +62,10 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str]) -> Path:
         raise AnytipError(f"{registry}: its runs differ from those {run} was run on")
     saved = {s: load_response(run / "models" / f"response_seed{s}.safetensors") for s in spec.all_seeds}
     for seed, model in saved.items():
-        _check_same_model(model.model.config, model.meta.get("recipe", {}), opts, seed)
+        try:
+            _check_same_model(model.model.config, model.meta.get("recipe", {}), opts, seed)
+        except (TypeError, ValueError) as e:  # a recipe in the model's header that no run wrote
+            raise AnytipError(f"{run / 'models' / f'response_seed{seed}.safetensors'}: {e}") from None
     out.mkdir(parents=True, exist_ok=False)
     (out / "models").mkdir()
     write_config(out, public_config(spec))

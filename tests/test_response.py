@@ -314,6 +314,14 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(tmp_path / "b"),
                          "--set", "options.response.hidden=64"]) == 2
     assert not (tmp_path / "b").exists()
+    crafted = tmp_path / "crafted"
+    shutil.copytree(response_run, crafted)
+    header_path = crafted / "models" / "response_seed0.json"
+    header = json.loads(header_path.read_text())
+    header["meta"]["recipe"]["steps"] = "many"
+    header_path.write_text(json.dumps(header))
+    assert rescore.main([str(crafted), "--registry", str(fleet.root), "--out", str(tmp_path / "c")]) == 2
+    assert not (tmp_path / "c").exists()
 
 
 def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_run, fleet, tmp_path):

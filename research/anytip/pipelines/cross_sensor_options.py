@@ -141,7 +141,8 @@ class ResponseOptions(BaseModel):
     lr: float = Field(default=ResponseRecipe.lr, gt=0, le=10)
     code_decay: float = Field(default=ResponseRecipe.code_decay, ge=0, le=1e6)
     code_fit: Literal["gauss_newton", "adam"] = Field(
-        default="gauss_newton", description="how a new unit's codes are fitted (train/response.py fit_codes)")
+        default=ResponseRecipe.code_fit,
+        description="how a new unit's codes are fitted (train/response.py fit_codes)")
     code_iterations: int = Field(default=ResponseRecipe.code_iterations, ge=1, le=10_000)
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)

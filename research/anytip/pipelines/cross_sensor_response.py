@@ -141,7 +141,7 @@ def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
     prior), test-row prediction) per job, in the order of `nets`' models and `plans`."""
     fitted = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays, [p.rows for p in plans])
     residuals = {m: f - arrays.targets[p.rows] for m, (f, p) in enumerate(zip(fitted, plans, strict=True))}
-    fleet = validation_factors(at, dict(residuals), sd, arrays, level)
+    fleet = validation_factors(at, residuals, sd, arrays, level)
     names = arrays.output_names
     fields = {m: interval_fields(residuals[m], pred, arrays.targets[sd.evals[u].test_rows], names, level,
                                  fleet.get(b))
