@@ -15,8 +15,12 @@ so `anytip calibrate --model OUT` works as on the run:
 
 The validation units choose the method and learn the intervals' fleet factor, as in a run; the
 held-out units are only scored. With unchanged options the rows equal the run's own
-`response@` rows. The response model is not retrained: options that would change it
-(code_dim, hidden, layers, steps, ...) are refused.
+`response@` rows. The response model is reused, and options that would change it (code_dim,
+hidden, layers, steps, ...) are refused, unless `--retrain` asks for each seed's response model to
+be trained again, on the run's own training units (and its `extra_units`), with the options given:
+
+    python scripts/rescore_response.py RUN_DIR --registry data/fleet24 --out OUT --retrain \
+        --set options.response.steps=20000
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import load_response
 from anytip.models.response import ResponseConfig
-from anytip.pipelines.common import Context, load
+from anytip.pipelines.common import Context, load, load_extra
 from anytip.pipelines.cross_sensor import min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import validation_by_method
 from anytip.pipelines.cross_sensor_options import Options, parse_options
@@ -48,8 +52,10 @@ from anytip.train.response import ResponseFit, ResponseRecipe
 TRAINING_KEYS = ("steps", "rows_per_step", "lr", "warmup_frac", "code_decay")  # what trained the model
 
 
-def rescore(run: Path, registry: Path, out: Path, overrides: list[str]) -> Path:
-    """The run's references and its units calibrated again by response transfer, in `out`."""
+def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False) -> Path:
+    """The run's references and its units calibrated again by response transfer, in `out`; with
+    `retrain`, each seed's response model is trained again on the run's training units with the
+    options given (otherwise the run's own models are reused)."""
     spec = load_spec(run / "config.yaml", [*overrides, "options.adapters=[]"])
     old = read_json(run / "provenance.json")
     ctx = Context(spec, Registry(registry, create=False), out, torch.device("cpu"), False,
@@ -60,7 +66,8 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str]) -> Path:
     arrays = load(ctx, min_units(ctx))
     if ctx.provenance["selection_content_hash"] != old.get("selection_content_hash"):
         raise AnytipError(f"{registry}: its runs differ from those {run} was run on")
-    saved = {s: load_response(run / "models" / f"response_seed{s}.safetensors") for s in spec.all_seeds}
+    saved = {} if retrain else {s: load_response(run / "models" / f"response_seed{s}.safetensors")
+                                for s in spec.all_seeds}
     for seed, model in saved.items():
         try:
             _check_same_model(model.model.config, model.meta.get("recipe", {}), opts, seed)
@@ -74,12 +81,14 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str]) -> Path:
     rows = [r for r in read_json(run / "metrics.json")["results"] if r["method"] == "per_unit"]
     start = time.perf_counter()
     for seed in spec.all_seeds:
-        sd = prepare(ctx, arrays, opts, seed)
+        extra = None  # loaded per seed and dropped once its rows are in the training tensors (memory)
+        if opts.extra_units is not None:  # they trained (or train) the response model
+            extra = load_extra(ctx, opts.extra_units.registry, opts.extra_units.data(), arrays)
+        sd = prepare(ctx, arrays, opts, seed, extra)
+        del extra
         if sd.split.to_json() != old["cross_sensor"][f"seed{seed}"]["units"]:
             raise AnytipError(f"seed {seed}: the split differs from the run's")
-        model = saved[seed]
-        units = [str(u) for u in model.meta["unit_ids"]]
-        fit = ResponseFit(model.model, model.noise_var, model.code_var, units)
+        fit = ResponseFit.from_loaded(saved[seed]) if seed in saved else None
         got = response_rows(ctx, arrays, sd, opts, seed, fit)
         base = {"seed": seed, "split": rows[0]["split"], "n_train_units": len(sd.split.train)}
         rows += [dict(base, **r) for r in got.rows]
@@ -87,7 +96,8 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str]) -> Path:
             "units": sd.split.to_json(), "val_loss": validation_by_method(METHOD, got.val_loss)}
         print(f"seed {seed}: {len(got.rows)} held-out rows ({time.perf_counter() - start:.0f} s)", flush=True)
     ctx.provenance.update(rescored_from=str(run), overrides=overrides, seeds=spec.all_seeds,
-                          code=code_version(), wall_s=round(time.perf_counter() - start, 2))
+                          retrained=retrain, code=code_version(),
+                          wall_s=round(time.perf_counter() - start, 2))
     keys = [target_key(name) for name in ctx.provenance["targets"]]
     write_metrics(out, rows, keys, spec=spec.name, pipeline=spec.pipeline)
     write_json(out / "provenance.json", ctx.provenance)
@@ -111,10 +121,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, required=True, help="a new directory for the rescored run")
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         help="KEY=VALUE, as `anytip run --set`")
+    parser.add_argument("--retrain", action="store_true",
+                        help="train each seed's response model again on the run's training units with the "
+                             "options given (otherwise the run's own response models are reused)")
     args = parser.parse_args(argv)
     torch.set_num_threads(1)
     try:
-        print(f"report: {rescore(args.run, args.registry, args.out, args.overrides)}")
+        print(f"report: {rescore(args.run, args.registry, args.out, args.overrides, args.retrain)}")
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2

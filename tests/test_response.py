@@ -275,6 +275,10 @@ def test_calibrate_by_response_names_what_it_lacks(response_run, fleet, tmp_path
         calibrate_unit(response_run, unit, lone, tmp_path / "b", budget_seconds=40, method="response")
     with pytest.raises(AnytipError, match="--method must be one of"):
         calibrate_unit(response_run, unit, fleet, tmp_path / "c", budget_seconds=40, method="best")
+    with pytest.raises(AnytipError, match="--method response needs labeled presses"):
+        calibrate_unit(response_run, unit, fleet, tmp_path / "e", budget_seconds=0, method="response")
+    free = calibrate_unit(response_run, unit, fleet, tmp_path / "f", budget_seconds=0)  # auto: label-free
+    assert free.response_check is None and any("response transfer needs labels" in n for n in free.notes)
     crafted = tmp_path / "crafted"
     shutil.copytree(response_run, crafted)
     header_path = crafted / "models" / "response_seed0.json"
@@ -314,6 +318,14 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(tmp_path / "b"),
                          "--set", "options.response.hidden=64"]) == 2
     assert not (tmp_path / "b").exists()
+    again = tmp_path / "retrained"  # trained again with the run's options: the same model, the same rows
+    assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(again),
+                         "--retrain"]) == 0
+    assert json.loads((again / "metrics.json").read_text())["results"] == mine
+    wider = tmp_path / "wider"
+    assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(wider), "--retrain",
+                         "--set", "options.response.hidden=48"]) == 0
+    assert load_response(wider / "models" / "response_seed0.safetensors").model.config.hidden == 48
     crafted = tmp_path / "crafted"
     shutil.copytree(response_run, crafted)
     header_path = crafted / "models" / "response_seed0.json"
@@ -345,3 +357,92 @@ def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_
     got = calibrate_unit(run, _held_out(run), fleet, tmp_path / "cal", budget_seconds=40, method="response")
     assert got.response_check["validation_units_pa"] == meta["residual_by_strategy"]["first"]["40"]
     assert got.intervals["fleet_factor"] == meta["intervals"]["fleet_factor_by_strategy"]["first"]["40"]
+
+
+def _write_lab_run(path: Path, serial: str, k: int, rng) -> None:
+    """One run of a made-up 6-barometer pad, written with raw h5py from CALIBRATION_FORMAT.md alone
+    (version 2, no in_contact, no temperature, no protocol record): 1 s at rest, then presses at
+    random places (u, v in m), each a ramp of normal force with some shear, rest between them."""
+    import h5py
+    import numpy as np
+
+    rate, place = 100.0, np.array([[-8, -8], [0, -8], [8, -8], [-8, 8], [0, 8], [8, 8]]) * 1e-3
+    unit = np.random.default_rng(1000 + k)
+    gain, shift = 1 + 0.25 * unit.standard_normal(6), 1e-3 * unit.standard_normal((6, 2))
+    force, uv = [np.zeros((100, 3))], [np.zeros((100, 2))]
+    for _ in range(30):
+        at = rng.uniform(-10e-3, 10e-3, 2)
+        ramp = np.sin(np.linspace(0, np.pi, 80)) * rng.uniform(2, 15)
+        shear = rng.uniform(-0.3, 0.3, 2)
+        f = np.stack([shear[0] * ramp, shear[1] * ramp, -ramp], 1)
+        force += [f, np.zeros((20, 3))]
+        uv += [np.repeat(at[None], 80, 0), np.repeat(at[None], 20, 0)]
+    F, P = np.concatenate(force), np.concatenate(uv)
+    d2 = (((P[:, None] - place[None] - shift[None]) / 6e-3) ** 2).sum(-1)
+    load = -F[:, 2:3] * (1 + (F[:, None, :2] * (place[None] - P[:, None])).sum(-1) / 2e-2)
+    pressure = 101_325 + gain * 900 * load * np.exp(-d2) + 4 * rng.standard_normal((len(F), 6))
+    with h5py.File(path, "w") as f:
+        f.attrs.update({"format": "calibration_run", "format_version": 2, "sensor_id": serial,
+                        "sensor_model": "pad-6baro-lab", "sample_rate_hz": rate, "source": "rig",
+                        "created": f"2025-04-{k + 1:02d}T09:00:00Z"})
+        f.create_dataset("time", data=np.arange(len(F)) / rate)
+        f.create_dataset("pressure", data=pressure.astype(np.float32))
+        targets = f.create_group("targets")
+        for name, values, unit_name, comps in (("force", F, "N", ["fx", "fy", "fz"]),
+                                               ("place", P, "m", ["u", "v"])):
+            d = targets.create_dataset(name, data=values.astype(np.float32))
+            d.attrs["unit"] = unit_name
+            d.attrs["components"] = comps
+
+
+def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_path):
+    """Runs another lab might write (format version 2 from the spec alone: one kind of run per unit,
+    no in_contact, temperature or protocol record, its own targets): the response method finds
+    the presses, trains on the training units only and calibrates held-out units better than the
+    pooled model that ignores how units differ."""
+    import numpy as np
+
+    files = tmp_path / "lab"
+    files.mkdir()
+    rng = np.random.default_rng(3)
+    for u in range(9):
+        _write_lab_run(files / f"LAB-P{u}.h5", f"LAB-P{u}", u, rng)
+    reg = Registry(tmp_path / "registry")
+    reg.import_paths([files])
+    over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
+    over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 1500, source_rows: 2000, "
+             "inverse_epochs: 10}", "data.protocol=null",
+             "options.calibration_protocol=null", "options.budgets=[0,20]",
+             "options.plan_strategies=[spread]"]
+    run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    prov = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
+    mine = {r["unit"]: r for r in rows if r["method"] == "response@spread"}
+    pooled = {r["unit"]: r for r in rows if r["method"] == "pooled"}
+    assert set(mine) == set(prov["test"]) and all(r["presses"] >= 2 for r in mine.values())
+    assert load_response(run / "models" / "response_seed0.safetensors").meta["unit_ids"] == prov["train"]
+    for key in ("u_rmse", "v_rmse", "fz_rmse"):  # the place is where units differ most
+        assert np.mean([mine[u][key] for u in mine]) < np.mean([pooled[u][key] for u in mine]), key
+
+
+def test_extra_units_train_the_response_model_and_the_registrys_units_carry_over(fleet, tmp_path):
+    """With `extra_units` and `transfer_from: registry` the response model learns from the extra
+    units too, while a new unit's network is trained on the registry's own training units' rows:
+    the model file says which, and `anytip calibrate` needs only those units in the registry."""
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    extra = Registry(tmp_path / "extra")
+    simulate_into(extra, FleetConfig(), 3, seed=12, protocols=(QUICK,))
+    over = [*SECONDS, RESPONSE.replace("}", ", transfer_from: registry}"),
+            "options.adapters=[input_affine+film]", f"options.extra_units={{registry: {extra.root}}}",
+            "options.fits=[{}]"]
+    run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
+    units = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
+    meta = load_response(run / "models" / "response_seed0.safetensors").meta
+    assert meta["unit_ids"] == units["train"] + sorted(extra.units())
+    assert meta["source_unit_ids"] == units["train"] and meta["recipe"]["transfer_from"] == "registry"
+    result = calibrate_unit(run, units["test"][0], fleet, tmp_path / "cal", budget_seconds=40,
+                            method="response")
+    assert result.response_check is not None and (tmp_path / "cal" / "model.safetensors").is_file()

@@ -511,7 +511,11 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
             raise AnytipError(f"{path}: the run holds no response model (its spec had no options.response)")
         return None, ""
     if budget <= 0:
-        return None, ""
+        if method == "response":
+            raise AnytipError("--method response needs labeled presses: it fits the unit's response on its "
+                              "plan, and this budget is label-free (0); give a budget, or use --method auto "
+                              "or adapter for the label-free calibration")
+        return None, "label-free budget: the shared model's adapter (response transfer needs labels)"
     if method == "response":
         return path, "calibration by response transfer, as asked"
     if adapter is not None:
@@ -572,13 +576,14 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     response model recorded for such plans."""
     loaded = load_response(path)
     meta = loaded.meta
-    units = [str(u) for u in meta.get("unit_ids", [])]
+    # the units whose rows are carried over (every training unit of a model saved before the choice)
+    units = [str(u) for u in meta.get("source_unit_ids", meta.get("unit_ids", []))]
     saved = meta.get("recipe", {})
     try:
         recipe = ResponseRecipe.from_saved(saved if isinstance(saved, dict) else {})
     except (TypeError, ValueError) as e:
         raise AnytipError(f"{path}: {e}") from None
-    fit = ResponseFit(loaded.model, loaded.noise_var, loaded.code_var, units)
+    fit = ResponseFit.from_loaded(loaded)
     seed = int(meta.get("seed", 0))
     training = _training_rows(registry, units, arrays.runs[0].sensor_model)
     X, Y = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])

@@ -148,6 +148,10 @@ class ResponseOptions(BaseModel):
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)
     code_lr: float = Field(default=ResponseRecipe.code_lr, gt=0, le=10)
     source_rows: int = Field(default=ResponseRecipe.source_rows, ge=1, le=10_000_000)
+    transfer_from: Literal["all", "registry"] = Field(
+        default=ResponseRecipe.transfer_from,
+        description="whose rows a new unit's network trains on: every unit that trained the response "
+                    "model (`extra_units` included), or the registry's own training units")
     inverse_epochs: int = Field(default=ResponseRecipe.inverse_epochs, ge=1, le=100_000)
     inverse_batch: int = Field(default=ResponseRecipe.inverse_batch, ge=1, le=2**20)
 

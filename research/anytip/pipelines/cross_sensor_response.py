@@ -27,10 +27,12 @@ from anytip.pipelines.cross_sensor_jobs import (
 )
 from anytip.pipelines.cross_sensor_options import Options, budget_list
 from anytip.train.adapt import pooled_scaler
+from anytip.train.data import FleetBatchData
 from anytip.train.fleet import FitResult
 from anytip.train.metrics import scores
 from anytip.train.response import (
     ResponseFit,
+    ResponseRecipe,
     calibrate_by_response,
     plan_residual,
     source_rows,
@@ -79,7 +81,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     if jobs:
         X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
         Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
-        source = source_rows(fit, sd.train, recipe.source_rows, seed)
+        source = source_rows(fit, source_units(sd, recipe), recipe.source_rows, seed)
         nets, codes = calibrate_by_response(
             fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, recipe, seed,
             [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress)
@@ -103,7 +105,8 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
-    meta = {"unit_ids": fit.unit_ids, "seed": seed, "output_names": list(arrays.output_names),
+    meta = {"unit_ids": fit.unit_ids, "source_unit_ids": list(source_units(sd, recipe).unit_ids),
+            "seed": seed, "output_names": list(arrays.output_names),
             "recipe": asdict(recipe), "wall_s": fit.wall_s, "shape": ctx.spec.model.model_dump(mode="json"),
             "val_loss_by_strategy": by_strategy(val_loss),
             "residual_by_strategy": by_strategy(residual)}
@@ -116,6 +119,14 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     save_response(ctx.run_dir / "models" / f"response_seed{seed}.safetensors", fit.model, fit.noise_var,
                   fit.code_var, meta)
     return ResponseRows(rows, val_loss)
+
+
+def source_units(sd: SeedData, recipe: ResponseRecipe) -> FleetBatchData:
+    """The units whose rows a new unit's network trains on: every training unit (`extra_units`
+    included), or the registry's own (`recipe.transfer_from`)."""
+    if recipe.transfer_from == "registry" and sd.n_extra:
+        return sd.train.subset(range(sd.train.n_units - sd.n_extra))
+    return sd.train
 
 
 class Bands(NamedTuple):

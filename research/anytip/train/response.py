@@ -26,6 +26,7 @@ Shapes: U training units, M new-unit jobs, C barometers, D label columns, k code
 from __future__ import annotations
 
 import time
+from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -35,6 +36,7 @@ from torch import Tensor
 
 from anytip.data.arrays import OUTPUT_NAMES
 from anytip.data.seeds import unit_seed
+from anytip.models.io import LoadedResponse
 from anytip.models.mlp import MLPConfig
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.train.data import FleetBatchData, UnitSampler, UnitTensors, pad_rows
@@ -42,6 +44,9 @@ from anytip.train.fleet import FitResult, ProgressBar, train_fleet
 from anytip.train.recipe import FAST, TrainRecipe, lr_at, set_lr
 
 CODE_FITS = ("gauss_newton", "adam")  # how a new unit's codes are fitted (fit_codes)
+# whose rows a new unit's network is trained on: every unit the response model was trained on, or
+# the registry's own training units only (not the `extra_units` that helped train the response model)
+TRANSFER_FROM = ("all", "registry")
 RESPONSE_VAL_FRACTION = 0.1  # of a new unit's transferred rows: its network's early stopping
 
 
@@ -52,8 +57,9 @@ class ResponseRecipe:
     unit's codes are fitted (`code_fit`: `gauss_newton`, `code_iterations` damped Gauss-Newton
     steps on `code_rows` rows evenly spaced over the plan; or `adam`, `code_steps` Adam steps of
     `code_rows` random rows at `code_lr`), how many rows of each training unit are transferred
-    (`source_rows`), and how the new unit's network trains on them (`inverse_epochs` of the fast
-    recipe in batches of `inverse_batch` rows)."""
+    (`source_rows`) and from which units (`transfer_from`: every unit that trained the response
+    model, or the registry's own training units), and how the new unit's network trains on them
+    (`inverse_epochs` of the fast recipe in batches of `inverse_batch` rows)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
@@ -66,6 +72,7 @@ class ResponseRecipe:
     code_rows: int = 2048
     code_lr: float = 3e-2
     source_rows: int = 8000
+    transfer_from: str = "all"
     inverse_epochs: int = 40
     inverse_batch: int = 256
 
@@ -85,6 +92,9 @@ class ResponseRecipe:
                                  f"{kind.__name__}")
         if recipe.code_fit not in CODE_FITS:
             raise ValueError(f"recipe.code_fit: {recipe.code_fit!r} is not one of {', '.join(CODE_FITS)}")
+        if recipe.transfer_from not in TRANSFER_FROM:
+            raise ValueError(f"recipe.transfer_from: {recipe.transfer_from!r} is not one of "
+                             f"{', '.join(TRANSFER_FROM)}")
         return recipe
 
 
@@ -103,6 +113,12 @@ class ResponseFit:
     @property
     def device(self) -> torch.device:
         return self.model.codes.device
+
+    @classmethod
+    def from_loaded(cls, loaded: LoadedResponse) -> ResponseFit:
+        """A saved response model (`models.io.load_response`), its training units from its metadata."""
+        units = [str(u) for u in loaded.meta.get("unit_ids", [])]
+        return cls(loaded.model, loaded.noise_var, loaded.code_var, units)
 
 
 def train_response(data: FleetBatchData, force_cols: list[int], config: ResponseConfig | None = None,
@@ -267,24 +283,28 @@ class SourceRows:
 
 
 def source_rows(fit: ResponseFit, data: FleetBatchData, per_unit: int, seed: int = 0) -> SourceRows:
-    """`per_unit` random fitting rows of each training unit of `data` (the response model's own
-    training units, in its order), with their own response."""
+    """`per_unit` random fitting rows of each unit of `data` (units the response model was trained
+    on, found by id; in the model's order, all of them or some), with their own response."""
     device = fit.device
+    missing = [u for u in data.unit_ids if u not in fit.unit_ids]
+    if missing:
+        raise ValueError(f"units {', '.join(missing[:4])} did not train the response model: no codes to "
+                         "transfer their rows with")
     X, Y, unit = [], [], []
-    for u in range(data.n_units):
-        r = data.unit(u)
+    for k in range(data.n_units):
+        r, u = data.unit(k), fit.unit_ids.index(data.unit_ids[k])
         g = torch.Generator().manual_seed(unit_seed(seed, u, "response source rows"))
         take = torch.randperm(len(r.X_train), generator=g)[:per_unit].to(r.X_train.device)
         X.append(r.X_train[take].to(device))
         Y.append(r.Y_train[take].to(device))
         unit.append(torch.full((len(take),), u, dtype=torch.int64, device=device))
     src = SourceRows(torch.cat(X), torch.cat(Y), torch.cat(unit), torch.empty(0))
-    src.fitted = _respond(fit.model, src.Y, fit.model.codes.detach()[src.unit])
+    src.fitted = respond(fit.model, src.Y, fit.model.codes.detach()[src.unit])
     return src
 
 
 @torch.no_grad()
-def _respond(model: ResponseModel, labels: Tensor, codes: Tensor, chunk: int = 1024) -> Tensor:
+def respond(model: ResponseModel, labels: Tensor, codes: Tensor, chunk: int = 1024) -> Tensor:
     """(n, C) Pa: the response to labels (n, D) with codes (n, C, k) or (C, k), in chunks."""
     model.eval()
     out = []
@@ -296,7 +316,7 @@ def _respond(model: ResponseModel, labels: Tensor, codes: Tensor, chunk: int = 1
 
 def transfer(fit: ResponseFit, source: SourceRows, codes: Tensor) -> Tensor:
     """(S, C) Pa: the source rows as the unit of `codes` (C, k) would have read them."""
-    return source.X + _respond(fit.model, source.Y, codes.to(fit.device)) - source.fitted
+    return source.X + respond(fit.model, source.Y, codes.to(fit.device)) - source.fitted
 
 
 def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor], Y: list[Tensor],
@@ -308,26 +328,38 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
 
     Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
     n_effective[m] rows; its network trained on the transferred source rows and its own
-    calibration rows, a random RESPONSE_VAL_FRACTION of them validating (keep-best)."""
+    calibration rows (`unit_networks`)."""
     codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
+    rows = ((torch.cat([transfer(fit, source, codes[m]), x.to(fit.device)]),
+             torch.cat([source.Y, y.to(fit.device)])) for m, (x, y) in enumerate(zip(X, Y, strict=True)))
+    return unit_networks(rows, shape, recipe, seed, ids, output_names, fit.device, progress), codes
+
+
+def unit_networks(rows: Iterable[tuple[Tensor, Tensor]], shape: MLPConfig,
+                  recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0, ids: list[str] | None = None,
+                  output_names: tuple[str, ...] = OUTPUT_NAMES,
+                  device: torch.device | str = "cpu", progress: bool = False) -> FitResult:
+    """M plain networks of `shape`, one batched fleet, job m trained on its rows (X (n_m, C) Pa,
+    Y (n_m, D)) for `recipe.inverse_epochs` of the fast recipe; a random RESPONSE_VAL_FRACTION of
+    each job's rows validating (keep-best). `rows` may be a generator: each job's rows are then
+    made only when its turn comes, and held once, in the padded fleet."""
     members = []
-    for m, (x, y) in enumerate(zip(X, Y, strict=True)):
-        xs = torch.cat([transfer(fit, source, codes[m]), x.to(fit.device)]).cpu()
-        ys = torch.cat([source.Y, y.to(fit.device)]).cpu()
+    for m, (xs, ys) in enumerate(rows):
         g = torch.Generator().manual_seed(unit_seed(seed, m, "response validation rows"))
         perm = torch.randperm(len(xs), generator=g)
         n_val = max(1, int(round(RESPONSE_VAL_FRACTION * len(xs))))
         val, train = perm[:n_val], perm[n_val:]
+        xs, ys = xs.cpu(), ys.cpu()
         members.append(UnitTensors(xs[train], ys[train], xs[val], ys[val], ids[m] if ids else str(m)))
-    data = FleetBatchData.from_units(members, fit.device, output_names)
+    data = FleetBatchData.from_units(members, device, output_names)
     del members  # the padded copy is all training needs; a large fleet's rows are held once
     inverse = FAST.model_copy(update={"epochs": recipe.inverse_epochs, "batch_size": recipe.inverse_batch})
-    return train_fleet(data, shape, inverse, seed=seed, device=fit.device, progress=progress), codes
+    return train_fleet(data, shape, inverse, seed=seed, device=device, progress=progress)
 
 
 def residual_rms(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> np.ndarray:
     """(C,) Pa: RMS of a unit's pressures X (n, C) about its response with `codes` (C, k)."""
-    resid = X.to(fit.device) - _respond(fit.model, Y.to(fit.device), codes.to(fit.device))
+    resid = X.to(fit.device) - respond(fit.model, Y.to(fit.device), codes.to(fit.device))
     return resid.pow(2).mean(0).sqrt().cpu().numpy()
 
 
