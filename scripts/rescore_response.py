@@ -21,6 +21,9 @@ be trained again, on the run's own training units (and its `extra_units`), with 
 
     python scripts/rescore_response.py RUN_DIR --registry data/fleet24 --out OUT --retrain \
         --set options.response.steps=20000
+
+A retrained model is saved as soon as it is trained: the same command on an OUT that an
+interruption left without metrics.json reuses it, as `anytip run` does in place.
 """
 
 from __future__ import annotations
@@ -44,12 +47,10 @@ from anytip.pipelines.cross_sensor import min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import validation_by_method
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.pipelines.cross_sensor_response import METHOD, response_rows
-from anytip.rundir import code_version, read_json, write_config, write_json, write_metrics
+from anytip.rundir import check_run_dir, code_version, read_json, write_config, write_json, write_metrics
 from anytip.runner import rewrite_report
 from anytip.train.metrics import target_key
-from anytip.train.response import ResponseFit, ResponseRecipe
-
-TRAINING_KEYS = ("steps", "rows_per_step", "lr", "warmup_frac", "code_decay")  # what trained the model
+from anytip.train.response import TRAINING_FIELDS, ResponseFit, ResponseRecipe
 
 
 def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False) -> Path:
@@ -73,8 +74,8 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
             _check_same_model(model.model.config, model.meta.get("recipe", {}), opts, seed)
         except (TypeError, ValueError) as e:  # a recipe in the model's header that no run wrote
             raise AnytipError(f"{run / 'models' / f'response_seed{seed}.safetensors'}: {e}") from None
-    out.mkdir(parents=True, exist_ok=False)
-    (out / "models").mkdir()
+    check_run_dir(out)  # an interrupted rescoring (no metrics yet) resumes in place
+    (out / "models").mkdir(parents=True, exist_ok=True)
     write_config(out, public_config(spec))
     for shared in (run / "models").glob("shared_*"):  # the run's shared models: what `anytip calibrate` reads
         shutil.copy2(shared, out / "models" / shared.name)
@@ -108,7 +109,7 @@ def _check_same_model(config: ResponseConfig, recipe: dict[str, Any], opts: Opti
     """Refuse options that would have trained another response model than the one saved."""
     assert opts.response is not None
     asked, trained = opts.response.recipe(), ResponseRecipe.from_saved(recipe)
-    differ = [k for k in TRAINING_KEYS if getattr(asked, k) != getattr(trained, k)]
+    differ = [k for k in TRAINING_FIELDS if getattr(asked, k) != getattr(trained, k)]
     if opts.response.config() != config or differ:
         raise AnytipError(f"seed {seed}: options.response asks for another response model than the saved one "
                           f"({', '.join(differ) or 'its shape'}); the saved models are reused, not retrained")
@@ -118,7 +119,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run", type=Path, help="a finished cross_sensor run with options.response")
     parser.add_argument("--registry", type=Path, required=True, help="the registry the run read")
-    parser.add_argument("--out", type=Path, required=True, help="a new directory for the rescored run")
+    parser.add_argument("--out", type=Path, required=True,
+                        help="a new directory for the rescored run (or one an interruption left)")
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         help="KEY=VALUE, as `anytip run --set`")
     parser.add_argument("--retrain", action="store_true",

@@ -326,6 +326,7 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(wider), "--retrain",
                          "--set", "options.response.hidden=48"]) == 0
     assert load_response(wider / "models" / "response_seed0.safetensors").model.config.hidden == 48
+    assert len(load_response(again / "models" / "response_seed0.safetensors").meta["training_digest"]) == 64
     crafted = tmp_path / "crafted"
     shutil.copytree(response_run, crafted)
     header_path = crafted / "models" / "response_seed0.json"
@@ -334,6 +335,38 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     header_path.write_text(json.dumps(header))
     assert rescore.main([str(crafted), "--registry", str(fleet.root), "--out", str(tmp_path / "c")]) == 2
     assert not (tmp_path / "c").exists()
+
+
+def test_an_interrupted_retraining_resumes_on_the_model_it_saved(response_run, fleet, tmp_path, monkeypatch):
+    """A response model is saved as soon as it is trained; the same command on the directory an
+    interruption left reuses it where its training digest matches, and trains over a file the
+    interruption cut short or one trained another way."""
+    import importlib.util
+
+    import anytip.pipelines.cross_sensor_response as method
+
+    spec = importlib.util.spec_from_file_location("rescore", REPO / "scripts" / "rescore_response.py")
+    rescore = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rescore)
+    out = tmp_path / "once"
+    command = [str(response_run), "--registry", str(fleet.root), "--out", str(out), "--retrain"]
+    assert rescore.main(command) == 0
+    done = json.loads((out / "metrics.json").read_text())["results"]
+    assert rescore.main(command) == 2  # a finished directory is never written over
+    (out / "metrics.json").unlink()  # as an interruption after the response model was saved leaves it
+    trained = []
+    real = method.train_response
+    monkeypatch.setattr(method, "train_response", lambda *a, **k: trained.append(1) or real(*a, **k))
+    assert rescore.main(command) == 0 and not trained
+    assert json.loads((out / "metrics.json").read_text())["results"] == done
+    (out / "metrics.json").unlink()
+    model = out / "models" / "response_seed0.safetensors"
+    model.write_bytes(model.read_bytes()[:100])
+    assert rescore.main(command) == 0 and len(trained) == 1
+    assert json.loads((out / "metrics.json").read_text())["results"] == done
+    (out / "metrics.json").unlink()
+    assert rescore.main([*command, "--set", "options.response.steps=1000"]) == 0 and len(trained) == 2
+    assert load_response(model).meta["recipe"]["steps"] == 1000
 
 
 def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_run, fleet, tmp_path):

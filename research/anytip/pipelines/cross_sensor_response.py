@@ -6,6 +6,7 @@ method. The response model is trained once per seed on the training units and sa
 from __future__ import annotations
 
 from dataclasses import asdict
+from pathlib import Path
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -14,7 +15,7 @@ import torch
 from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget, Plan
 from anytip.errors import AnytipError
-from anytip.models.io import save_response
+from anytip.models.io import LoadedResponse, ModelFileError, load_response, save_response
 from anytip.pipelines.common import Context
 from anytip.pipelines.cross_sensor_jobs import (
     Job,
@@ -37,6 +38,7 @@ from anytip.train.response import (
     plan_residual,
     source_rows,
     train_response,
+    training_digest,
 )
 from anytip.train.shared_split import SeedData, predict_rows
 
@@ -65,10 +67,10 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     `fit`: a response model trained before on `sd`'s training units (None: train it here)."""
     assert opts.response is not None
     recipe = opts.response.recipe()
+    digest = None  # a model handed in was trained elsewhere: its file records no digest
     if fit is None:
-        fit = train_response(sd.train, force_columns(arrays), opts.response.config(), recipe, seed,
-                             ctx.device, ctx.progress)
-        ctx.say(f"seed {seed}: response model trained ({fit.wall_s:.0f} s)")
+        digest = training_digest(sd.train, force_columns(arrays), opts.response.config(), recipe, seed)
+        fit = trained_response(ctx, sd, arrays, opts, seed, digest)
     if fit.unit_ids != list(sd.train.unit_ids):
         raise AnytipError(f"seed {seed}: the response model was trained on other units than this split's "
                           f"training units ({', '.join(fit.unit_ids[:4])} ...)")
@@ -105,9 +107,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
-    meta = {"unit_ids": fit.unit_ids, "source_unit_ids": list(source_units(sd, recipe).unit_ids),
-            "seed": seed, "output_names": list(arrays.output_names),
-            "recipe": asdict(recipe), "wall_s": fit.wall_s, "shape": ctx.spec.model.model_dump(mode="json"),
+    meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
             "residual_by_strategy": by_strategy(residual)}
     if opts.intervals is not None and jobs:
@@ -116,9 +116,54 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                              "fleet_factor_by_strategy": by_strategy(
                                  {b: dict(zip(names, map(float, f), strict=True))
                                   for b, f in bands.factors.items()})}
-    save_response(ctx.run_dir / "models" / f"response_seed{seed}.safetensors", fit.model, fit.noise_var,
-                  fit.code_var, meta)
+    save_response(response_path(ctx, seed), fit.model, fit.noise_var, fit.code_var, meta)
     return ResponseRows(rows, val_loss)
+
+
+def trained_response(ctx: Context, sd: SeedData, arrays: FleetArrays, opts: Options, seed: int,
+                     digest: str) -> ResponseFit:
+    """The seed's response model, saved in the run directory as soon as it is trained. A run
+    resumed in place after an interruption reuses the model it saved there when that model's
+    `training_digest` (rows, shape, recipe, seed) is this one's; any other file is trained over."""
+    assert opts.response is not None
+    path = response_path(ctx, seed)
+    saved = saved_response(path)
+    if saved is not None and saved.meta.get("training_digest") == digest:
+        ctx.say(f"seed {seed}: response model reused from the interrupted run ({path})")
+        return ResponseFit.from_loaded(saved)
+    recipe = opts.response.recipe()
+    fit = train_response(sd.train, force_columns(arrays), opts.response.config(), recipe, seed,
+                         ctx.device, ctx.progress)
+    ctx.say(f"seed {seed}: response model trained ({fit.wall_s:.0f} s)")
+    save_response(path, fit.model, fit.noise_var, fit.code_var,
+                  response_meta(ctx, sd, arrays, recipe, seed, fit, digest))
+    return fit
+
+
+def response_path(ctx: Context, seed: int) -> Path:
+    """Where the run keeps the seed's response model."""
+    return ctx.run_dir / "models" / f"response_seed{seed}.safetensors"
+
+
+def saved_response(path: Path) -> LoadedResponse | None:
+    """The response model at `path`, or None where there is none or it cannot be read (a file an
+    interruption cut short)."""
+    if not path.exists():
+        return None
+    try:
+        return load_response(path)
+    except ModelFileError:
+        return None
+
+
+def response_meta(ctx: Context, sd: SeedData, arrays: FleetArrays, recipe: ResponseRecipe, seed: int,
+                  fit: ResponseFit, digest: str | None) -> dict[str, Any]:
+    """What a response model file records of its training (`training_digest`: None for a model
+    trained elsewhere) and of the rows `anytip calibrate` transfers (`source_unit_ids`)."""
+    return {"unit_ids": fit.unit_ids, "source_unit_ids": list(source_units(sd, recipe).unit_ids),
+            "seed": seed, "output_names": list(arrays.output_names), "recipe": asdict(recipe),
+            "wall_s": fit.wall_s, "shape": ctx.spec.model.model_dump(mode="json"),
+            "training_digest": digest}
 
 
 def source_units(sd: SeedData, recipe: ResponseRecipe) -> FleetBatchData:

@@ -25,6 +25,8 @@ Shapes: U training units, M new-unit jobs, C barometers, D label columns, k code
 
 from __future__ import annotations
 
+import hashlib
+import json
 import time
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass
@@ -116,9 +118,32 @@ class ResponseFit:
 
     @classmethod
     def from_loaded(cls, loaded: LoadedResponse) -> ResponseFit:
-        """A saved response model (`models.io.load_response`), its training units from its metadata."""
+        """A saved response model (`models.io.load_response`), its training units and training time
+        from its metadata."""
         units = [str(u) for u in loaded.meta.get("unit_ids", [])]
-        return cls(loaded.model, loaded.noise_var, loaded.code_var, units)
+        wall = loaded.meta.get("wall_s", 0.0)
+        wall_s = float(wall) if isinstance(wall, int | float) and not isinstance(wall, bool) else 0.0
+        return cls(loaded.model, loaded.noise_var, loaded.code_var, units, wall_s)
+
+
+TRAINING_FIELDS = ("steps", "rows_per_step", "lr", "warmup_frac", "code_decay")  # what train_response reads
+
+
+def training_digest(data: FleetBatchData, force_cols: list[int], config: ResponseConfig,
+                    recipe: ResponseRecipe, seed: int) -> str:
+    """SHA-256 (hex) of everything `train_response` depends on: the units' rows and their ids,
+    the force columns, the network's shape, the recipe's training fields and the seed. Two
+    trainings with the same digest give the same model on the same device, so a model saved
+    under it can stand in for training it again."""
+    h = hashlib.sha256()
+    settings = {"units": list(data.unit_ids), "force_cols": [int(c) for c in force_cols],
+                "config": config.to_json(), "seed": seed,
+                "recipe": {k: getattr(recipe, k) for k in TRAINING_FIELDS}}
+    h.update(json.dumps(settings, sort_keys=True).encode())
+    for t in (data.X_train, data.Y_train, data.n_train, data.X_val, data.Y_val, data.n_val):
+        h.update(str((tuple(t.shape), t.dtype)).encode())
+        h.update(np.ascontiguousarray(t.detach().cpu().numpy()).data)  # no copy on the CPU
+    return h.hexdigest()
 
 
 def train_response(data: FleetBatchData, force_cols: list[int], config: ResponseConfig | None = None,
