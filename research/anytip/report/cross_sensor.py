@@ -455,8 +455,9 @@ def _extra_text(provenance: dict[str, Any]) -> str:
     extra = provenance.get("extra_units")
     if not extra:
         return ""
-    return (f" Every shared model also trains on {len(extra['units'])} units of registry "
-            f"`{extra['registry']}` (`options.extra_units`; training only, no unit in common).")
+    return (f" Every model this run trains across units (shared models, the response model) also "
+            f"trains on {len(extra['units'])} units of registry `{extra['registry']}` "
+            f"(`options.extra_units`; training only, no unit in common).")
 
 
 def _budget_text(opts: Any, seconds: bool) -> str:
