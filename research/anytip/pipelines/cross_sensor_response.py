@@ -69,8 +69,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     recipe = opts.response.recipe()
     digest = None  # a model handed in was trained elsewhere: its file records no digest
     if fit is None:
-        digest = training_digest(sd.train, force_columns(arrays), opts.response.config(), recipe, seed)
-        fit = trained_response(ctx, sd, arrays, opts, seed, digest)
+        fit, digest = trained_response(ctx, sd, arrays, opts, seed)
     if fit.unit_ids != list(sd.train.unit_ids):
         raise AnytipError(f"seed {seed}: the response model was trained on other units than this split's "
                           f"training units ({', '.join(fit.unit_ids[:4])} ...)")
@@ -120,24 +119,25 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     return ResponseRows(rows, val_loss)
 
 
-def trained_response(ctx: Context, sd: SeedData, arrays: FleetArrays, opts: Options, seed: int,
-                     digest: str) -> ResponseFit:
-    """The seed's response model, saved in the run directory as soon as it is trained. A run
-    resumed in place after an interruption reuses the model it saved there when that model's
-    `training_digest` (rows, shape, recipe, seed) is this one's; any other file is trained over."""
+def trained_response(ctx: Context, sd: SeedData, arrays: FleetArrays, opts: Options,
+                     seed: int) -> tuple[ResponseFit, str]:
+    """The seed's response model and its `training_digest` (rows, shape, recipe, seed), saved in
+    the run directory as soon as it is trained. A run resumed in place after an interruption
+    reuses the model it saved there when that model's digest is this one's; any other file is
+    trained over."""
     assert opts.response is not None
+    recipe, config, force_cols = opts.response.recipe(), opts.response.config(), force_columns(arrays)
+    digest = training_digest(sd.train, force_cols, config, recipe, seed)
     path = response_path(ctx, seed)
     saved = saved_response(path)
     if saved is not None and saved.meta.get("training_digest") == digest:
         ctx.say(f"seed {seed}: response model reused from the interrupted run ({path})")
-        return ResponseFit.from_loaded(saved)
-    recipe = opts.response.recipe()
-    fit = train_response(sd.train, force_columns(arrays), opts.response.config(), recipe, seed,
-                         ctx.device, ctx.progress)
+        return ResponseFit.from_loaded(saved), digest
+    fit = train_response(sd.train, force_cols, config, recipe, seed, ctx.device, ctx.progress)
     ctx.say(f"seed {seed}: response model trained ({fit.wall_s:.0f} s)")
     save_response(path, fit.model, fit.noise_var, fit.code_var,
                   response_meta(ctx, sd, arrays, recipe, seed, fit, digest))
-    return fit
+    return fit, digest
 
 
 def response_path(ctx: Context, seed: int) -> Path:
@@ -160,18 +160,23 @@ def response_meta(ctx: Context, sd: SeedData, arrays: FleetArrays, recipe: Respo
                   fit: ResponseFit, digest: str | None) -> dict[str, Any]:
     """What a response model file records of its training (`training_digest`: None for a model
     trained elsewhere) and of the rows `anytip calibrate` transfers (`source_unit_ids`)."""
-    return {"unit_ids": fit.unit_ids, "source_unit_ids": list(source_units(sd, recipe).unit_ids),
+    return {"unit_ids": fit.unit_ids, "source_unit_ids": list(sd.train.unit_ids[:n_sources(sd, recipe)]),
             "seed": seed, "output_names": list(arrays.output_names), "recipe": asdict(recipe),
             "wall_s": fit.wall_s, "shape": ctx.spec.model.model_dump(mode="json"),
             "training_digest": digest}
 
 
+def n_sources(sd: SeedData, recipe: ResponseRecipe) -> int:
+    """How many of `sd.train`'s units (its first ones) a new unit's network trains on: every
+    training unit (`extra_units` included), or the registry's own (`recipe.transfer_from`)."""
+    n = sd.train.n_units
+    return n - sd.n_extra if recipe.transfer_from == "registry" else n
+
+
 def source_units(sd: SeedData, recipe: ResponseRecipe) -> FleetBatchData:
-    """The units whose rows a new unit's network trains on: every training unit (`extra_units`
-    included), or the registry's own (`recipe.transfer_from`)."""
-    if recipe.transfer_from == "registry" and sd.n_extra:
-        return sd.train.subset(range(sd.train.n_units - sd.n_extra))
-    return sd.train
+    """Those units' rows (`n_sources`): `sd.train` itself, or a copy of the registry's own units."""
+    n = n_sources(sd, recipe)
+    return sd.train if n == sd.train.n_units else sd.train.subset(range(n))
 
 
 class Bands(NamedTuple):
