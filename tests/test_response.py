@@ -479,3 +479,36 @@ def test_extra_units_train_the_response_model_and_the_registrys_units_carry_over
     result = calibrate_unit(run, units["test"][0], fleet, tmp_path / "cal", budget_seconds=40,
                             method="response")
     assert result.response_check is not None and (tmp_path / "cal" / "model.safetensors").is_file()
+
+
+def test_every_new_unit_starts_from_the_pooled_network_the_run_saved(fleet, tmp_path):
+    """`inverse_start: pooled`: the run trains one network on the source rows as measured and
+    saves it beside the response model; the benchmark and `anytip calibrate` start each new
+    unit's network from it (its scalers too), and calibrate names the file when it is missing
+    or of another shape."""
+    from anytip.models.io import save_models
+    from anytip.models.mlp import BatchedMLP, MLPConfig
+    from anytip.models.scaler import Scaler
+
+    over = [*SECONDS, RESPONSE.replace("}", ", inverse_start: pooled, inverse_lr: 0.003}"),
+            "options.adapters=[input_affine+film]", "options.fits=[{}]"]
+    run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    assert any(r["method"] == "response@spread" for r in rows)
+    start_file = run / "models" / "response_seed0_start.safetensors"
+    start = load_models(start_file)
+    assert start.meta["unit_ids"] == ["pooled"] and start.model.n_models == 1
+    recipe = load_response(run / "models" / "response_seed0.safetensors").meta["recipe"]
+    assert recipe["inverse_start"] == "pooled" and recipe["inverse_lr"] == 0.003
+    unit = _held_out(run)
+    calibrate_unit(run, unit, fleet, tmp_path / "cal", budget_seconds=40, method="response")
+    mine = load_models(tmp_path / "cal")
+    assert torch.equal(mine.in_scaler.mean, start.in_scaler.mean)
+    assert torch.equal(mine.out_scaler.std, start.out_scaler.std)
+    save_models(start_file, BatchedMLP(1, MLPConfig(sizes=(8, 16, 5))), Scaler.identity(1, 8),
+                Scaler.identity(1, 5), {})
+    with pytest.raises(AnytipError, match="response_seed0_start.safetensors: 1 network"):
+        calibrate_unit(run, unit, fleet, tmp_path / "b", budget_seconds=40, method="response")
+    start_file.unlink()
+    with pytest.raises(AnytipError, match="response_seed0_start"):
+        calibrate_unit(run, unit, fleet, tmp_path / "c", budget_seconds=40, method="response")

@@ -68,3 +68,17 @@ def test_synthetic_fleet_is_seeded_and_physical():
     assert a.X_train.shape == (2, 450, 8) and a.n_val.tolist() == [50, 50]
     assert 1e3 < a.X_train.abs().max() < 2e5  # Pa
     assert a.Y_train[..., 2].min() > 0  # Fz pushes in
+
+
+def test_batches_are_the_rows_steps_draws():
+    """Gathering an epoch at once hands each step the rows `steps` names for it."""
+    n = torch.tensor([40, 15, 32])
+    X = torch.randn(3, 40, 2)
+    Y = torch.arange(120.0).view(3, 40, 1)
+    a = UnitSampler(n, batch_size=8, seed=4, device=torch.device("cpu"))
+    b = UnitSampler(n, batch_size=8, seed=4, device=torch.device("cpu"))
+    rows_of = torch.arange(3)[:, None]
+    steps = list(a.steps(12))  # two epochs and a bit
+    for (step, idx), (again, (x, y)) in zip(steps, b.batches(12, X, Y), strict=True):
+        assert step == again and x.shape == (3, 8, 2) and y.shape == (3, 8, 1)
+        assert torch.equal(x, X[rows_of, idx]) and torch.equal(y, Y[rows_of, idx])

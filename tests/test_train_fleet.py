@@ -1,7 +1,7 @@
 import pytest
 import torch
 
-from anytip.models import load_models
+from anytip.models import MLPConfig, load_models
 from anytip.train import FAST, PAPER, FleetBatchData, TrainRecipe, evaluate, train_fleet
 from anytip.train.synthetic import synthetic_fleet
 
@@ -90,3 +90,19 @@ def test_unit_history_and_progress(data):
 def test_default_recipes_are_valid():
     assert PAPER.schedule == "constant" and PAPER.lr == 1e-3
     assert FAST.schedule in ("onecycle", "cosine") and FAST.batch_size >= 256
+
+
+def test_a_fleet_starts_from_a_trained_network(data, fit):
+    """`init`: every unit begins at model 0 of a trained fleet, scalers included; a network of
+    another shape is refused."""
+    still = QUICK.model_copy(update={"lr": 1e-12, "epochs": 1, "keep_best": False})
+    started = train_fleet(data, recipe=still, seed=9, init=fit)
+    for p, q in zip(started.model.parameters(), fit.model.parameters(), strict=True):
+        for u in range(3):
+            torch.testing.assert_close(p[u], q[0], atol=1e-6, rtol=0)
+    for mine, theirs in ((started.in_scaler, fit.in_scaler), (started.out_scaler, fit.out_scaler)):
+        assert torch.equal(mine.mean[2], theirs.mean[0]) and torch.equal(mine.std[1], theirs.std[0])
+    scratch = train_fleet(data, recipe=still, seed=9)
+    assert started.history[0]["val_loss"][0] < scratch.history[0]["val_loss"][0] / 3
+    with pytest.raises(ValueError, match="start network"):
+        train_fleet(data, MLPConfig(sizes=(8, 16, 5)), recipe=still, init=fit)

@@ -31,6 +31,7 @@ from anytip.models.io import (
     RESPONSE_FORMAT,
     SHARED_FORMAT,
     LoadedShared,
+    load_models,
     load_response,
     load_shared,
     model_paths,
@@ -50,6 +51,7 @@ from anytip.train.response import (
     calibrate_by_response,
     plan_residual,
     source_rows,
+    start_network_path,
 )
 from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_loss, plan_residuals
 from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
@@ -588,10 +590,18 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     training = _training_rows(registry, units, arrays.runs[0].sensor_model)
     X, Y = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
     shape = MLPConfig(**meta["shape"]) if isinstance(meta.get("shape"), dict) else MLPConfig()
+    # where the unit's network starts: one the benchmark trained once on the same source rows
+    start = load_models(start_network_path(path)) if recipe.inverse_start == "pooled" else None
+    if start is not None and (start.model.n_models, start.model.config.sizes, start.model.config.activation) \
+            != (1, shape.sizes, shape.activation):
+        got = start.model.config
+        raise AnytipError(f"{start_network_path(path)}: {start.model.n_models} network(s) of {got.sizes} "
+                          f"({got.activation}), where the response model's units get one {shape.sizes} "
+                          f"({shape.activation})")
     tick = time.perf_counter()
     source = source_rows(fit, training, recipe.source_rows, seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
-                                        [stream.unit], arrays.output_names)
+                                        [stream.unit], arrays.output_names, start=start)
     wall_s = time.perf_counter() - tick
     residual = plan_residual(fit, X, Y, codes[0])
     validation = _at_budget(_strategy_table(meta, "residual", strategy), budget)

@@ -154,6 +154,11 @@ class ResponseOptions(BaseModel):
                     "model (`extra_units` included), or the registry's own training units")
     inverse_epochs: int = Field(default=ResponseRecipe.inverse_epochs, ge=1, le=100_000)
     inverse_batch: int = Field(default=ResponseRecipe.inverse_batch, ge=1, le=2**20)
+    inverse_lr: float = Field(default=ResponseRecipe.inverse_lr, gt=0, le=10)
+    inverse_start: Literal["scratch", "pooled"] = Field(
+        default=ResponseRecipe.inverse_start,
+        description="where a new unit's network starts: random weights, or one network trained on the "
+                    "source rows as measured (train/response.py start_network)")
 
     def config(self) -> ResponseConfig:
         return ResponseConfig(self.code_dim, self.channel_dim, self.hidden, self.layers)

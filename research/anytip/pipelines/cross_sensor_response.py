@@ -37,6 +37,8 @@ from anytip.train.response import (
     calibrate_by_response,
     plan_residual,
     source_rows,
+    start_network,
+    start_network_path,
     train_response,
     training_digest,
 )
@@ -83,9 +85,13 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
         Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
         source = source_rows(fit, source_units(sd, recipe), recipe.source_rows, seed)
+        start = None
+        if recipe.inverse_start == "pooled":
+            start = start_network(source, ctx.spec.model, recipe, seed, arrays.output_names, ctx.progress)
+            start.save(start_network_path(response_path(ctx, seed)))
         nets, codes = calibrate_by_response(
             fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, recipe, seed,
-            [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress)
+            [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress, start)
         preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
                              [sd.evals[u].test_rows for u, _, _ in jobs])
         keyed = [(u, b, 0.0) for u, b, _ in jobs]

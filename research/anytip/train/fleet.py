@@ -18,7 +18,7 @@ from rich.progress import Progress
 from torch import Tensor
 
 from anytip.data.arrays import OUTPUT_NAMES
-from anytip.models.io import save_models
+from anytip.models.io import LoadedModels, save_models
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
 from anytip.train.data import FleetBatchData, UnitSampler
@@ -89,20 +89,29 @@ class BestSnapshot:
 
 def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: TrainRecipe = FAST,
                 seed: int = 0, device: torch.device | str | None = None,
-                progress: bool = False) -> FitResult:
-    """Fit one MLP per unit of `data`, all at once. Scalers are fit on training rows only."""
+                progress: bool = False, init: FitResult | LoadedModels | None = None) -> FitResult:
+    """Fit one MLP per unit of `data`, all at once. Scalers are fit on training rows only.
+
+    `init`: a trained network (model 0 of a FitResult or a saved per-unit file, of the same shape)
+    every unit starts from, with its scalers, instead of random weights and scalers fitted on its
+    own rows."""
     start = time.perf_counter()
     config = config or MLPConfig()
     device = torch.device(device) if device is not None else data.device
     data = data.to(device)
     U = data.n_units
 
-    in_scaler = Scaler.fit(data.X_train, data.n_train)
-    out_scaler = Scaler.fit(data.Y_train, data.n_train)
+    if init is None:
+        in_scaler = Scaler.fit(data.X_train, data.n_train)
+        out_scaler = Scaler.fit(data.Y_train, data.n_train)
+        model = BatchedMLP(U, config, seed=seed).to(device)
+    else:
+        if init.model.config.sizes != config.sizes or init.model.config.activation != config.activation:
+            raise ValueError(f"the start network is {init.model.config.sizes}, not {config.sizes}")
+        in_scaler, out_scaler = (s.take([0] * U).to(device) for s in (init.in_scaler, init.out_scaler))
+        model = BatchedMLP.from_plain([init.model.to_plain(0)] * U, config).to(device)
     X, Y = in_scaler.transform(data.X_train), out_scaler.transform(data.Y_train)  # once, up front
-    rows_of = torch.arange(U, device=device)[:, None]  # (U, 1): pairs with (U, B) row indices
 
-    model = BatchedMLP(U, config, seed=seed).to(device)
     opt = make_optimizer(model.parameters(), recipe)
     sampler = UnitSampler(data.n_train, recipe.batch_size, seed, device)
     steps_per_epoch = sampler.steps_per_epoch
@@ -114,10 +123,10 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     train_s, loss_sum, n_loss = 0.0, torch.zeros(U, device=device), 0
     bar = ProgressBar(progress, total, f"fleet of {U} ({recipe.name})")
     tick = time.perf_counter()
-    for step, idx in sampler.steps(total):
+    for step, (x, y) in sampler.batches(total, X, Y):
         lr = lr_at(step, total, recipe)
         set_lr(opt, lr)
-        loss_u = ((model(X[rows_of, idx]) - Y[rows_of, idx]) ** 2).mean(dim=(1, 2))  # (U,)
+        loss_u = ((model(x) - y) ** 2).mean(dim=(1, 2))  # (U,)
         opt.zero_grad(set_to_none=True)
         loss_u.sum().backward()
         opt.step()

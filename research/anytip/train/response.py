@@ -29,7 +29,8 @@ import hashlib
 import json
 import time
 from collections.abc import Iterable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -38,7 +39,7 @@ from torch import Tensor
 
 from anytip.data.arrays import OUTPUT_NAMES
 from anytip.data.seeds import unit_seed
-from anytip.models.io import LoadedResponse
+from anytip.models.io import LoadedModels, LoadedResponse
 from anytip.models.mlp import MLPConfig
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.train.data import FleetBatchData, UnitSampler, UnitTensors, pad_rows
@@ -49,6 +50,8 @@ CODE_FITS = ("gauss_newton", "adam")  # how a new unit's codes are fitted (fit_c
 # whose rows a new unit's network is trained on: every unit the response model was trained on, or
 # the registry's own training units only (not the `extra_units` that helped train the response model)
 TRANSFER_FROM = ("all", "registry")
+# where a new unit's network starts: random weights, or the network of the source rows pooled
+INVERSE_STARTS = ("scratch", "pooled")
 RESPONSE_VAL_FRACTION = 0.1  # of a new unit's transferred rows: its network's early stopping
 
 
@@ -61,7 +64,9 @@ class ResponseRecipe:
     `code_rows` random rows at `code_lr`), how many rows of each training unit are transferred
     (`source_rows`) and from which units (`transfer_from`: every unit that trained the response
     model, or the registry's own training units), and how the new unit's network trains on them
-    (`inverse_epochs` of the fast recipe in batches of `inverse_batch` rows)."""
+    (`inverse_epochs` of the fast recipe in batches of `inverse_batch` rows at peak `inverse_lr`,
+    from random weights, `inverse_start: scratch`, or from one network trained on the source rows
+    as they were measured, `pooled`: `start_network`)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
@@ -77,6 +82,8 @@ class ResponseRecipe:
     transfer_from: str = "all"
     inverse_epochs: int = 40
     inverse_batch: int = 256
+    inverse_lr: float = FAST.lr
+    inverse_start: str = "scratch"
 
     @classmethod
     def from_saved(cls, saved: dict[str, Any]) -> ResponseRecipe:
@@ -94,6 +101,9 @@ class ResponseRecipe:
                                  f"{kind.__name__}")
         if recipe.code_fit not in CODE_FITS:
             raise ValueError(f"recipe.code_fit: {recipe.code_fit!r} is not one of {', '.join(CODE_FITS)}")
+        if recipe.inverse_start not in INVERSE_STARTS:
+            raise ValueError(f"recipe.inverse_start: {recipe.inverse_start!r} is not one of "
+                             f"{', '.join(INVERSE_STARTS)}")
         if recipe.transfer_from not in TRANSFER_FROM:
             raise ValueError(f"recipe.transfer_from: {recipe.transfer_from!r} is not one of "
                              f"{', '.join(TRANSFER_FROM)}")
@@ -348,24 +358,47 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
                           n_effective: list[float], shape: MLPConfig,
                           recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0,
                           ids: list[str] | None = None, output_names: tuple[str, ...] = OUTPUT_NAMES,
-                          progress: bool = False) -> tuple[FitResult, Tensor]:
+                          progress: bool = False,
+                          start: FitResult | LoadedModels | None = None) -> tuple[FitResult, Tensor]:
     """M new units' plain networks of `shape` (one batched fleet) and their codes (M, C, k).
 
     Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
     n_effective[m] rows; its network trained on the transferred source rows and its own
-    calibration rows (`unit_networks`)."""
+    calibration rows (`unit_networks`), from `start` (`start_network`) where the recipe's
+    `inverse_start` is `pooled`."""
+    if (start is None) != (recipe.inverse_start == "scratch"):
+        raise ValueError(f"inverse_start {recipe.inverse_start!r} with{'out' if start is None else ''} "
+                         "a start network")
     codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
     rows = ((torch.cat([transfer(fit, source, codes[m]), x.to(fit.device)]),
              torch.cat([source.Y, y.to(fit.device)])) for m, (x, y) in enumerate(zip(X, Y, strict=True)))
-    return unit_networks(rows, shape, recipe, seed, ids, output_names, fit.device, progress), codes
+    return unit_networks(rows, shape, recipe, seed, ids, output_names, fit.device, progress, start), codes
+
+
+def start_network_path(response_path: Path) -> Path:
+    """Where a response model's start network is saved: beside it, `<stem>_start.safetensors`."""
+    return response_path.with_name(response_path.name.removesuffix(".safetensors") + "_start.safetensors")
+
+
+def start_network(source: SourceRows, shape: MLPConfig, recipe: ResponseRecipe = ResponseRecipe(),
+                  seed: int = 0, output_names: tuple[str, ...] = OUTPUT_NAMES,
+                  progress: bool = False) -> FitResult:
+    """One plain network of `shape` on every source row as it was measured (the training units
+    pooled), trained from random weights as a unit's network is (`unit_networks`, peak lr FAST's):
+    where each new unit's network starts under `inverse_start: pooled`. It depends on the
+    response model's source rows alone, so a benchmark trains it once per seed and saves it."""
+    scratch = replace(recipe, inverse_lr=FAST.lr, inverse_start="scratch")
+    return unit_networks([(source.X, source.Y)], shape, scratch, seed, ["pooled"], output_names,
+                         source.X.device, progress)
 
 
 def unit_networks(rows: Iterable[tuple[Tensor, Tensor]], shape: MLPConfig,
                   recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0, ids: list[str] | None = None,
-                  output_names: tuple[str, ...] = OUTPUT_NAMES,
-                  device: torch.device | str = "cpu", progress: bool = False) -> FitResult:
+                  output_names: tuple[str, ...] = OUTPUT_NAMES, device: torch.device | str = "cpu",
+                  progress: bool = False, start: FitResult | LoadedModels | None = None) -> FitResult:
     """M plain networks of `shape`, one batched fleet, job m trained on its rows (X (n_m, C) Pa,
-    Y (n_m, D)) for `recipe.inverse_epochs` of the fast recipe; a random RESPONSE_VAL_FRACTION of
+    Y (n_m, D)) for `recipe.inverse_epochs` of the fast recipe at peak `recipe.inverse_lr`, from
+    random weights or from `start`'s network and scalers; a random RESPONSE_VAL_FRACTION of
     each job's rows validating (keep-best). `rows` may be a generator: each job's rows are then
     made only when its turn comes, and held once, in the padded fleet."""
     members = []
@@ -378,8 +411,9 @@ def unit_networks(rows: Iterable[tuple[Tensor, Tensor]], shape: MLPConfig,
         members.append(UnitTensors(xs[train], ys[train], xs[val], ys[val], ids[m] if ids else str(m)))
     data = FleetBatchData.from_units(members, device, output_names)
     del members  # the padded copy is all training needs; a large fleet's rows are held once
-    inverse = FAST.model_copy(update={"epochs": recipe.inverse_epochs, "batch_size": recipe.inverse_batch})
-    return train_fleet(data, shape, inverse, seed=seed, device=device, progress=progress)
+    inverse = FAST.model_copy(update={"epochs": recipe.inverse_epochs, "batch_size": recipe.inverse_batch,
+                                      "lr": recipe.inverse_lr})
+    return train_fleet(data, shape, inverse, seed=seed, device=device, progress=progress, init=start)
 
 
 def residual_rms(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> np.ndarray:
