@@ -79,26 +79,13 @@ def residual_nets(fit: ResponseFit, rows: list[tuple[Tensor, Tensor, Tensor, Ten
 
 def residual_of(nets: FitResult, k: int, labels: Tensor) -> Tensor:
     """(n, C) Pa: residual network k's output for labels (n, D)."""
-    out = []
-    with torch.no_grad():
-        for a in range(0, len(labels), 8192):
-            part = labels[a:a + 8192]
-            X = part[None].expand(nets.model.n_models, *part.shape)
-            out.append(predict(nets.model, nets.in_scaler, nets.out_scaler, X)[k])
-    return torch.cat(out)
+    in_scaler, out_scaler = nets.in_scaler.slice(k), nets.out_scaler.slice(k)
+    return predict(nets.model.model_slice(k), in_scaler, out_scaler, labels[None])[0]
 
 
 def split_rows(X: Tensor, Y: Tensor, val: np.ndarray) -> tuple[Tensor, Tensor, Tensor, Tensor]:
     fit = ~val
     return X[fit], Y[fit], X[val], Y[val]
-
-
-def press_folds(bounds: np.ndarray, every: int = 5) -> np.ndarray:
-    """(n,) bool: the rows of every `every`-th press (the plan's own held-out presses)."""
-    out = np.zeros(int(bounds[-1]), bool)
-    for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:], strict=True)):
-        out[a:b] = k % every == every // 2
-    return out
 
 
 @dataclass
@@ -135,8 +122,8 @@ def rows_of(arrays: FleetArrays, rows: np.ndarray) -> tuple[Tensor, Tensor]:
 class Responses:
     """Each arm's view of a new unit's response and of the training units' own responses."""
 
-    def __init__(self, fit: ResponseFit, sd: SeedData, new: NewUnits, source: SourceRows, arms: list[str],
-                 seed: int):
+    def __init__(self, fit: ResponseFit, sd: SeedData, arrays: FleetArrays, new: NewUnits, source: SourceRows,
+                 arms: list[str], seed: int):
         self.fit, self.new, self.source = fit, new, source
         self.source_fitted = {False: source.fitted}
         if {"source", "both", "plan_residual"} & set(arms):
@@ -151,9 +138,9 @@ class Responses:
             g = np.random.default_rng(seed)
             rows = [split_rows(x, y, g.random(len(x)) < 0.1) for x, y in new.whole_rows]
             self.whole_nets = residual_nets(fit, rows, new.codes_whole, seed)
-        if "plan_residual" in arms:  # early-stopped on every 5th press of the plan
-            rows = [split_rows(x, y, press_folds(p.bounds)) for (x, y), p in zip(new.plan_rows, new.plans,
-                                                                                 strict=True)]
+        if "plan_residual" in arms:  # early-stopped on every 5th press of the plan, from its 3rd
+            rows = [(*rows_of(arrays, fit_rows), *rows_of(arrays, check_rows))
+                    for fit_rows, check_rows in (p.split_presses(5, 2) for p in new.plans)]
             self.plan_nets = residual_nets(fit, rows, new.codes_plan, seed, epochs=300, patience=20)
 
     def unit(self, arm: str, m: int, labels: Tensor) -> Tensor:
@@ -181,7 +168,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, run: Path, seed: 
                           run / "models" / f"response_seed{seed}.safetensors")
     fit, recipe = ResponseFit.from_loaded(saved), opts.response.recipe()
     new = new_units(fit, sd, arrays, opts, budget, seed)
-    views = Responses(fit, sd, new, source_rows(fit, sd.train, recipe.source_rows, seed), arms, seed)
+    views = Responses(fit, sd, arrays, new, source_rows(fit, sd.train, recipe.source_rows, seed), arms, seed)
     jobs = [(u, arm, m) for m, u in enumerate(new.units) for arm in arms]
     rows = ((torch.cat([views.transferred(arm, m), new.plan_rows[m][0]]),
              torch.cat([views.source.Y, new.plan_rows[m][1]])) for _, arm, m in jobs)

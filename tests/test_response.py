@@ -512,3 +512,40 @@ def test_every_new_unit_starts_from_the_pooled_network_the_run_saved(fleet, tmp_
     start_file.unlink()
     with pytest.raises(AnytipError, match="response_seed0_start"):
         calibrate_unit(run, unit, fleet, tmp_path / "c", budget_seconds=40, method="response")
+
+
+def _script(name: str):
+    import importlib.util
+    import sys
+
+    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # its dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run, fleet, tmp_path, capsys):
+    """scripts/transfer_bounds.py: a row per unit and arm; arms that know the new unit alike give it
+    the same test-patch residual. scripts/fold_table.py: one table over runs, and a unit held out
+    in two runs is refused."""
+    bounds = _script("transfer_bounds")
+    out = tmp_path / "bounds.json"
+    assert bounds.main([str(response_run), "--registry", str(fleet.root), "--budget", "40",
+                        "--out", str(out)]) == 0
+    rows = json.loads(out.read_text())["rows"]
+    units = {r["unit"] for r in rows}
+    assert {(r["unit"], r["arm"]) for r in rows} == {(u, a) for u in units for a in bounds.ARMS}
+    by = {(r["unit"], r["arm"]): r for r in rows}
+    for u in units:
+        assert by[u, "plan"]["test_residual_pa"] == by[u, "source"]["test_residual_pa"] > 0
+        assert by[u, "oracle"]["test_residual_pa"] == by[u, "both"]["test_residual_pa"] > 0
+    held = [r for r in rows if r["role"] == "test"]
+    assert held and all(r["force_ratio"] > 0 and r["angle_ratio"] > 0 for r in held)
+    assert all(r["val_loss_mean"] > 0 for r in rows if r["role"] == "val")
+
+    table = _script("fold_table")
+    assert table.main([str(response_run)]) == 0
+    assert "| response@spread | 40 |" in capsys.readouterr().out
+    with pytest.raises(SystemExit, match="is held out in"):
+        table.main([str(response_run), str(response_run)])

@@ -44,6 +44,7 @@ from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
 from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.fleet import start_mismatch
 from anytip.train.metrics import predict, scores, target_key
 from anytip.train.response import (
     ResponseFit,
@@ -592,12 +593,12 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     shape = MLPConfig(**meta["shape"]) if isinstance(meta.get("shape"), dict) else MLPConfig()
     # where the unit's network starts: one the benchmark trained once on the same source rows
     start = load_models(start_network_path(path)) if recipe.inverse_start == "pooled" else None
-    if start is not None and (start.model.n_models, start.model.config.sizes, start.model.config.activation) \
-            != (1, shape.sizes, shape.activation):
-        got = start.model.config
-        raise AnytipError(f"{start_network_path(path)}: {start.model.n_models} network(s) of {got.sizes} "
-                          f"({got.activation}), where the response model's units get one {shape.sizes} "
-                          f"({shape.activation})")
+    if start is not None:
+        problem = start_mismatch(start, shape)
+        if problem is None and start.model.n_models != 1:
+            problem = f"{start.model.n_models} networks, where one starts every unit"
+        if problem:
+            raise AnytipError(f"{start_network_path(path)}: {problem}")
     tick = time.perf_counter()
     source = source_rows(fit, training, recipe.source_rows, seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,

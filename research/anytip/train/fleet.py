@@ -106,8 +106,9 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
         out_scaler = Scaler.fit(data.Y_train, data.n_train)
         model = BatchedMLP(U, config, seed=seed).to(device)
     else:
-        if init.model.config.sizes != config.sizes or init.model.config.activation != config.activation:
-            raise ValueError(f"the start network is {init.model.config.sizes}, not {config.sizes}")
+        problem = start_mismatch(init, config)
+        if problem:
+            raise ValueError(f"the start network: {problem}")
         in_scaler, out_scaler = (s.take([0] * U).to(device) for s in (init.in_scaler, init.out_scaler))
         model = BatchedMLP.from_plain([init.model.to_plain(0)] * U, config).to(device)
     X, Y = in_scaler.transform(data.X_train), out_scaler.transform(data.Y_train)  # once, up front
@@ -156,6 +157,15 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     return FitResult(model, in_scaler, out_scaler, history, list(data.unit_ids), recipe, seed,
                      time.perf_counter() - start, output_names=data.output_names,
                      extra={"steps": step + 1, "steps_per_epoch": steps_per_epoch})
+
+
+def start_mismatch(init: FitResult | LoadedModels, config: MLPConfig) -> str | None:
+    """Why `init`'s networks cannot start networks of `config` (another shape or activation), or None."""
+    got = init.model.config
+    if (got.sizes, got.activation) == (config.sizes, config.activation):
+        return None
+    return (f"{init.model.n_models} network(s) of {got.sizes} ({got.activation}), where one "
+            f"{config.sizes} ({config.activation}) is asked for")
 
 
 def _lap(tick: float, device: torch.device) -> float:

@@ -387,9 +387,8 @@ def start_network(source: SourceRows, shape: MLPConfig, recipe: ResponseRecipe =
     pooled), trained from random weights as a unit's network is (`unit_networks`, peak lr FAST's):
     where each new unit's network starts under `inverse_start: pooled`. It depends on the
     response model's source rows alone, so a benchmark trains it once per seed and saves it."""
-    scratch = replace(recipe, inverse_lr=FAST.lr, inverse_start="scratch")
-    return unit_networks([(source.X, source.Y)], shape, scratch, seed, ["pooled"], output_names,
-                         source.X.device, progress)
+    return unit_networks([(source.X, source.Y)], shape, replace(recipe, inverse_lr=FAST.lr), seed, ["pooled"],
+                         output_names, source.X.device, progress)
 
 
 def unit_networks(rows: Iterable[tuple[Tensor, Tensor]], shape: MLPConfig,
