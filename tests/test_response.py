@@ -428,11 +428,13 @@ def _write_lab_run(path: Path, serial: str, k: int, rng) -> None:
             d.attrs["components"] = comps
 
 
-def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_path):
+@pytest.mark.parametrize("start", ["scratch", "pooled"])
+def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_path, start):
     """Runs another lab might write (format version 2 from the spec alone: one kind of run per unit,
     no in_contact, temperature or protocol record, its own targets): the response method finds
     the presses, trains on the training units only and calibrates held-out units better than the
-    pooled model that ignores how units differ."""
+    pooled model that ignores how units differ, its networks started from random weights or from
+    the pooled start network."""
     import numpy as np
 
     files = tmp_path / "lab"
@@ -444,7 +446,7 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     reg.import_paths([files])
     over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
     over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 1500, source_rows: 2000, "
-             "inverse_epochs: 10}", "data.protocol=null",
+             f"inverse_epochs: 10, inverse_start: {start}}}", "data.protocol=null",
              "options.calibration_protocol=null", "options.budgets=[0,20]",
              "options.plan_strategies=[spread]"]
     run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
@@ -453,7 +455,9 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     mine = {r["unit"]: r for r in rows if r["method"] == "response@spread"}
     pooled = {r["unit"]: r for r in rows if r["method"] == "pooled"}
     assert set(mine) == set(prov["test"]) and all(r["presses"] >= 2 for r in mine.values())
-    assert load_response(run / "models" / "response_seed0.safetensors").meta["unit_ids"] == prov["train"]
+    meta = load_response(run / "models" / "response_seed0.safetensors").meta
+    assert meta["unit_ids"] == prov["train"] and meta["recipe"]["inverse_start"] == start
+    assert (run / "models" / "response_seed0_start.safetensors").is_file() == (start == "pooled")
     for key in ("u_rmse", "v_rmse", "fz_rmse"):  # the place is where units differ most
         assert np.mean([mine[u][key] for u in mine]) < np.mean([pooled[u][key] for u in mine]), key
 
