@@ -777,3 +777,21 @@ def test_calibrate_follows_the_plan_strategy_the_validation_units_chose(two_prot
     assert calibrate_strategy(opts, loss) == "spread"  # cover lacks a budget: no comparison
     assert calibrate_strategy(opts) == "spread"
     assert by_budget(loss, "cover") == {"8": 0.4}
+
+
+def test_a_test_set_of_one_patch_cannot_move_coverage_and_many_patches_can():
+    """`test_set_fields`: drawing a unit's test patches again moves its coverage by as much as the
+    patches differ; an exactly calibrated method leaves the band only when they do."""
+    from anytip.pipelines.cross_sensor_jobs import test_set_fields
+
+    rng = np.random.default_rng(0)
+    target = rng.normal(size=(400, 2))
+    pred = np.zeros_like(target)
+    one = test_set_fields(pred, target, np.array([1.645, 1.645]), np.zeros(400, int), ["a", "b"], 0.9, 0)
+    assert one["interval_test_patches"] == 1
+    assert one["a_fleet_coverage_sd"] < 1e-12 and one["a_exact_p_outside"] == 0
+    spread = target * np.repeat([0.5, 2.0], 200)[:, None]  # half the patches far wider than the other
+    two = test_set_fields(pred, spread, np.array([1.645, 1.645]), np.repeat(np.arange(4), 100), ["a", "b"],
+                          0.9, 0)
+    assert two["interval_test_patches"] == 4
+    assert two["a_fleet_coverage_sd"] > 0.05 and two["a_exact_p_outside"] > 0.2

@@ -46,6 +46,31 @@ def test_batched_forward_equals_per_unit_sequential(activation):
         torch.testing.assert_close(model.model_slice(u)(x[u : u + 1])[0], out[u], atol=1e-6, rtol=0)
 
 
+def _autograd_grads(model, x, y):
+    model.zero_grad(set_to_none=True)
+    loss = ((model(x) - y) ** 2).mean(dim=(1, 2))
+    loss.sum().backward()
+    return loss.detach(), [p.grad.clone() for p in model.parameters()]
+
+
+@pytest.mark.parametrize(("sizes", "activation", "output"), [((8, 12, 64, 64, 5), "relu", None),
+                                                             ((6, 3), "relu", None),
+                                                             ((8, 16, 5), "tanh", None),
+                                                             ((8, 16, 5), "relu", "tanh")])
+def test_mse_grads_equal_autograd_bit_for_bit(sizes, activation, output):
+    model = BatchedMLP(3, MLPConfig(sizes=sizes, activation=activation, output_activation=output), seed=2)
+    g = torch.Generator().manual_seed(0)
+    x, y = torch.randn(3, 64, sizes[0], generator=g), torch.randn(3, 64, sizes[-1], generator=g)
+    x[:, :8] = 0.0  # rows where a ReLU sits exactly at its kink
+    loss, grads = _autograd_grads(model, x, y)
+    for p in model.parameters():
+        p.grad = torch.full_like(p, 7.0)  # replaced, not added to
+    got = model.mse_grads(x, y)
+    assert torch.equal(got, loss) and not got.requires_grad
+    for p, want in zip(model.parameters(), grads, strict=True):
+        assert torch.equal(p.grad, want)
+
+
 def test_init_is_per_unit_seeded_and_default_like():
     a, b = BatchedMLP(3, CONFIG, seed=7), BatchedMLP(5, CONFIG, seed=7)
     for Wa, Wb in zip(a.weights, b.weights, strict=True):

@@ -199,6 +199,8 @@ def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
         assert all(0 <= r[f"{n}_coverage"] <= 1 and r[f"{n}_halfwidth"] > 0 for n in ("fx", "theta"))
         if "fx_fleet_coverage" in r:  # the validation unit's factor, applied
             assert r["fx_fleet_halfwidth"] != r["fx_halfwidth"]
+            assert r["interval_test_patches"] >= 1 and 0 <= r["fx_exact_p_outside"] <= 1
+            assert r["fx_fleet_coverage_sd"] >= 0
     record = saved.meta["intervals"]
     assert record["level"] == 0.8 and record["residuals"] == "plan"
     assert any(f > 0 for by_budget in record["fleet_factor_by_strategy"].values()
@@ -553,3 +555,42 @@ def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run,
     assert "| response@spread | 40 |" in capsys.readouterr().out
     with pytest.raises(SystemExit, match="is held out in"):
         table.main([str(response_run), str(response_run)])
+
+
+def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet, tmp_path):
+    """scripts/label_free_codes.py on a run with a pooled start: a row per unit and arm, and the joint
+    fit only keeps steps that lower its objective."""
+    over = [*SECONDS, RESPONSE.replace("}", ", inverse_start: pooled}"), "options.adapters=[]"]
+    run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
+    script = _script("label_free_codes")
+    out = tmp_path / "codes.json"
+    assert script.main([str(run), "--registry", str(fleet.root), "--out", str(out),
+                        "--rows", "256", "--iterations", "4", "--plan-seconds", "40"]) == 0
+    rows = json.loads(out.read_text())["rows"]
+    units = {r["unit"] for r in rows}
+    assert {(r["unit"], r["arm"]) for r in rows} == {(u, a) for u in units for a in script.ARMS}
+    for r in rows:
+        assert r["unlabeled_rows"] <= 256 and r["force_rmse_n"] > 0
+        assert all(b <= a for a, b in zip(r["objective"], r["objective"][1:], strict=False))
+    by = {(r["unit"], r["arm"]): r for r in rows}
+    for u in units:
+        assert by[u, "zero"]["test_residual_pa"] > 0 and "test_residual_pa" not in by[u, "pooled"]
+    held = [r for r in rows if r["role"] == "test"]
+    assert held and all(r["force_ratio"] > 0 for r in held)
+
+
+def test_transfer_check_scores_a_second_interval_from_residuals_the_network_never_saw(fleet, tmp_path):
+    """`intervals.transfer_check`: a network per unit on its transferred rows alone; its residuals on
+    the plan's rows give `transfer_` intervals with their own factor, and the validation units'
+    spread of log(needed / own) is recorded for both kinds."""
+    over = [*SECONDS, RESPONSE, "options.adapters=[]", "splits.n_val_units=2",
+            "options.intervals={folds: 3, level: 0.8, transfer_check: true}"]
+    run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
+    rows = [r for r in json.loads((run / "metrics.json").read_text())["results"] if "fx_fleet_coverage" in r]
+    assert rows and all(0 <= r["fx_transfer_coverage"] <= 1 and r["fx_transfer_halfwidth"] > 0 for r in rows)
+    assert any(r["fx_transfer_halfwidth"] != r["fx_fleet_halfwidth"] for r in rows)
+    spread = load_response(run / "models" / "response_seed0.safetensors").meta["intervals"]
+    kinds = spread["log_ratio_spread_by_strategy"]
+    assert set(kinds) == {"plan", "transfer"}
+    assert all(v >= 0 for by in kinds["transfer"].values() for b in by.values() for v in b.values())
+    assert "network of the transferred rows alone" in (run / "report.md").read_text()

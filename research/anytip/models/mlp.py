@@ -134,6 +134,40 @@ class BatchedMLP(nn.Module):
             x = ACTIVATIONS[self.config.output_activation](x)
         return x
 
+    def mse_grads(self, x: Tensor, y: Tensor) -> Tensor:
+        """Each model's mean squared error on x (U, B, in), y (U, B, out): (U,), detached, with the
+        gradients of its sum left in the weights' `.grad` (replacing what was there), as
+        `loss.sum().backward()` after `zero_grad` leaves them.
+
+        ReLU networks without an output activation (the deployed kind) get the chain rule written
+        out: the same products in the same order as autograd's, so the gradients are equal bit for
+        bit, without its per-operation bookkeeping, which is most of a tiny network's step on a CPU
+        core. Any other activation goes through autograd."""
+        if self.config.activation != "relu" or self.config.output_activation is not None:
+            for p in self.parameters():
+                p.grad = None
+            loss = ((self(x) - y) ** 2).mean(dim=(1, 2))
+            loss.sum().backward()
+            return loss.detach()
+        with torch.no_grad():
+            layers = list(zip(self.weights, self.biases, strict=True))  # one ParameterList lookup each
+            inputs, h = [], x
+            for k, (W, b) in enumerate(layers):
+                inputs.append(h)
+                h = torch.baddbmm(b, h, W)
+                if k < len(layers) - 1:
+                    h = torch.relu(h)
+            err = h - y
+            loss = (err**2).mean(dim=(1, 2))
+            g = err * (2 / (err.shape[1] * err.shape[2]))  # d loss_u / d output, rounded as autograd's
+            for k in range(len(layers) - 1, -1, -1):
+                (W, b), a = layers[k], inputs[k]
+                W.grad = torch.bmm(a.transpose(1, 2), g)
+                b.grad = g.sum(1, keepdim=True)
+                if k > 0:  # back through W and the ReLU that made a (autograd's own ReLU backward)
+                    g = torch.ops.aten.threshold_backward(torch.bmm(g, W.transpose(1, 2)), a, 0)
+        return loss
+
     def to_plain(self, i: int) -> Plain:
         """Model i as [(W (in, out), b (out,)), ...], detached copies on the model's device."""
         return [(W[i].detach().clone(), b[i, 0].detach().clone())

@@ -497,8 +497,9 @@ def plan_bands(shared: SharedFit, arrays: FleetArrays, sd: SeedData, opts: Optio
     bands = []
     for k, ((u, b, _), pred) in enumerate(at_chosen):
         if u in sd.split.test:
-            bands.append(interval_fields(by_job.get(k), pred, arrays.targets[sd.evals[u].test_rows], names,
-                                         level, fleet.get(b)))
+            test = sd.evals[u].test_rows
+            bands.append(interval_fields(by_job.get(k), pred, arrays.targets[test], names, level,
+                                         fleet.get(b), arrays.patch[test], k))
     by_plan = {(u, b): r for (u, b, _), r in zip(jobs, resid, strict=True)}
     return bands, {b: f.factor for b, f in fleet.items()}, by_plan
 

@@ -14,8 +14,10 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget, Plan, plan_for
 from anytip.models.scaler import Scaler
 from anytip.pipelines.cross_sensor_options import Options
+from anytip.report.cross_sensor import COVERAGE_BAND
 from anytip.train.shared_split import SeedData
 from anytip.uncertainty.conformal import coverage, fleet_factor, interval, residual_halfwidth
+from anytip.uncertainty.coverage_bootstrap import bootstrap_test_patches, exact_method_band
 
 Job = tuple[str, Budget, float]  # (unit, budget, prior strength)
 
@@ -65,11 +67,14 @@ def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndar
 
 class FleetWidths(NamedTuple):
     """What the validation units say about intervals at one budget, per output (D,): the fleet
-    factor (`uncertainty.conformal.fleet_factor`) and the typical half-width their test rows
-    needed (geometric mean; a new unit's plan unused), in the output's unit."""
+    factor (`uncertainty.conformal.fleet_factor`), the typical half-width their test rows
+    needed (geometric mean; a new unit's plan unused), in the output's unit, and the spread over
+    them of log(needed / own half-width) (how far one unit's own half-width, times the factor,
+    misses what its test rows need; NaN with one validation unit)."""
 
     factor: np.ndarray
     typical: np.ndarray
+    spread: np.ndarray
 
 
 def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
@@ -89,19 +94,32 @@ def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
             own.setdefault(b, []).append(half)
             needed.setdefault(b, []).append(test)
     return {b: FleetWidths(fleet_factor(np.stack(own[b]), np.stack(needed[b])),
-                           gmean(np.stack(needed[b]), axis=0)) for b in own}
+                           gmean(np.stack(needed[b]), axis=0),
+                           log_ratio_spread(np.stack(own[b]), np.stack(needed[b]))) for b in own}
+
+
+def log_ratio_spread(own: np.ndarray, needed: np.ndarray) -> np.ndarray:
+    """(D,): the sample standard deviation over units of log(needed / own), both (U, D); NaN for U < 2."""
+    if len(own) < 2:
+        return np.full(own.shape[1], np.nan)
+    return np.log(needed / own).std(0, ddof=1)
+
+
+EXACT_DRAWS = 200  # test-patch draws behind the spread of a unit's coverage (interval_fields)
 
 
 def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.ndarray,
-                    names: Sequence[str], level: float, fleet: FleetWidths | None = None) -> dict[str, Any]:
+                    names: Sequence[str], level: float, fleet: FleetWidths | None = None,
+                    patch: np.ndarray | None = None, seed: int = 0) -> dict[str, Any]:
     """A held-out unit's intervals from its own plan, scored on its test rows: the conformal
     half-width of each output (its unit: N or rad) from the plan's out-of-fold residuals
     (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Given
     what the validation units say (`fleet`), the same for the half-width times the fleet factor
     (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`), for their typical half-width, the
     plan unused (`<output>_typical_...`), and for the geometric mean of the two, the unit's
-    plan shrunk halfway to the fleet (`<output>_shrunk_...`). Empty for a plan too short to
-    cross-fit."""
+    plan shrunk halfway to the fleet (`<output>_shrunk_...`); given the test rows' patches
+    (m,) as well, how well the unit's test set decides its coverage (`test_set_fields`). Empty
+    for a plan too short to cross-fit."""
     if residuals is None:
         return {}
     half = residual_halfwidth(residuals, level)
@@ -111,7 +129,32 @@ def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.n
         out |= _band(pred, target, names, half * fleet.factor, "fleet_")
         out |= _band(pred, target, names, fleet.typical, "typical_")
         out |= _band(pred, target, names, np.sqrt(half * fleet.factor * fleet.typical), "shrunk_")
+        if patch is not None:
+            out |= test_set_fields(pred, target, half * fleet.factor, patch, names, level, seed)
     return out
+
+
+def test_set_fields(pred: np.ndarray, target: np.ndarray, half: np.ndarray, patch: np.ndarray,
+                    names: Sequence[str], level: float, seed: int) -> dict[str, Any]:
+    """How well one unit's test set decides the coverage of its interval pred +- half (D,): with its
+    test patches (m,) drawn again EXACT_DRAWS times, the spread of the coverage per output
+    (`<output>_fleet_coverage_sd`) and the chance that a method whose coverage is exactly `level`
+    for this unit lands outside level +- COVERAGE_BAND on such a test set (`<output>_exact_p_outside`;
+    `uncertainty.coverage_bootstrap.exact_method_band`)."""
+    lo, hi = interval(pred, half)
+    covered = (target >= lo) & (target <= hi)
+    draws = bootstrap_test_patches(covered, patch, EXACT_DRAWS, np.random.default_rng(seed))
+    band = exact_method_band(draws, covered.mean(0), level, (level - COVERAGE_BAND, level + COVERAGE_BAND))
+    return {"interval_test_patches": int(len(np.unique(patch))),
+            **{f"{n}_fleet_coverage_sd": float(v) for n, v in zip(names, band["sd"], strict=True)},
+            **{f"{n}_exact_p_outside": float(v) for n, v in zip(names, band["p_outside"], strict=True)}}
+
+
+def scaled_fields(residuals: np.ndarray, pred: np.ndarray, target: np.ndarray, names: Sequence[str],
+                  level: float, fleet: FleetWidths, prefix: str) -> dict[str, float]:
+    """`<output>_<prefix>halfwidth` and `<output>_<prefix>coverage`: the conformal half-width of
+    residuals (n, D) times the fleet factor, scored on the test rows (pred, target (m, D))."""
+    return _band(pred, target, names, residual_halfwidth(residuals, level) * fleet.factor, prefix)
 
 
 def _band(pred: np.ndarray, target: np.ndarray, names: Sequence[str], half: np.ndarray,

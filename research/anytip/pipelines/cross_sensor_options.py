@@ -121,6 +121,10 @@ class IntervalOptions(BaseModel):
 
     folds: int = Field(default=5, ge=2, le=100)
     level: float = Field(default=0.9, gt=0, lt=1, description="nominal coverage")
+    transfer_check: bool = Field(
+        default=False, description="response transfer: also train each unit a network on its transferred "
+        "rows alone, whose residuals on the plan's rows (which it never saw) give a second interval "
+        "(`transfer_` fields) beside the plan's own residuals (research log entry 28)")
 
 
 class ResponseOptions(BaseModel):

@@ -23,6 +23,7 @@ from anytip.pipelines.cross_sensor_jobs import (
     interval_fields,
     plan_of,
     plan_suffix,
+    scaled_fields,
     validation_factors,
     validation_losses,
 )
@@ -41,6 +42,8 @@ from anytip.train.response import (
     start_network_path,
     train_response,
     training_digest,
+    transfer,
+    unit_networks,
 )
 from anytip.train.shared_split import SeedData, predict_rows
 
@@ -98,10 +101,16 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         loss = validation_losses(keyed, preds, sd, arrays, set(sd.split.val),
                                  pooled_scaler(sd.train.Y_train, sd.train.n_train))
         val_loss = {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
-        bands = Bands({}, {})
+        bands = Bands({}, {}, {})
         if opts.intervals is not None:
+            checks = None
+            if opts.intervals.transfer_check:  # each unit's network again, on its transferred rows alone
+                alone = ((transfer(fit, source, codes[m]), source.Y) for m in range(len(jobs)))
+                checks = unit_networks(alone, ctx.spec.model, recipe, seed,
+                                       [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names,
+                                       fit.device, ctx.progress, start)
             bands = plan_bands(nets, arrays, sd, list(zip(keyed, preds, strict=True)),
-                               [p for _, _, p in jobs], opts.intervals.level)
+                               [p for _, _, p in jobs], opts.intervals.level, checks)
         for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)):
             own = plan_residual(fit, X[m], Y[m], codes[m])
             if u in sd.split.val:
@@ -120,9 +129,17 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         meta["intervals"] = {"level": opts.intervals.level, "residuals": INTERVAL_RESIDUALS,
                              "fleet_factor_by_strategy": by_strategy(
                                  {b: dict(zip(names, map(float, f), strict=True))
-                                  for b, f in bands.factors.items()})}
+                                  for b, f in bands.factors.items()}),
+                             "log_ratio_spread_by_strategy": {kind: by_strategy(
+                                 {b: _finite_by_name(names, f) for b, f in spread.items()})
+                                 for kind, spread in bands.spreads.items()}}
     save_response(response_path(ctx, seed), fit.model, fit.noise_var, fit.code_var, meta)
     return ResponseRows(rows, val_loss)
+
+
+def _finite_by_name(names: tuple[str, ...], values: np.ndarray) -> dict[str, float | None]:
+    """{output name: value}, None where it is not finite (JSON has no NaN)."""
+    return {n: float(v) if np.isfinite(v) else None for n, v in zip(names, values, strict=True)}
 
 
 def trained_response(ctx: Context, sd: SeedData, arrays: FleetArrays, opts: Options,
@@ -187,17 +204,21 @@ def source_units(sd: SeedData, recipe: ResponseRecipe) -> FleetBatchData:
 
 class Bands(NamedTuple):
     """Intervals of response-transferred units: each held-out job's interval fields by job index,
-    and the fleet factor (D,) per budget that the validation units learnt."""
+    the fleet factor (D,) per budget that the validation units learnt, and per residual kind
+    (`plan`, `transfer`) and budget the validation units' spread of log(needed / own half-width)
+    (D,) (`cross_sensor_jobs.FleetWidths`)."""
 
     fields: dict[int, dict[str, Any]]
     factors: dict[Budget, np.ndarray]
+    spreads: dict[str, dict[Budget, np.ndarray]]
 
 
 INTERVAL_RESIDUALS = "plan"  # what a response-transferred unit's intervals start from (plan_bands)
 
 
 def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
-               at: list[tuple[Job, np.ndarray]], plans: list[Plan], level: float) -> Bands:
+               at: list[tuple[Job, np.ndarray]], plans: list[Plan], level: float,
+               checks: FitResult | None = None) -> Bands:
     """Intervals from each unit's own plan: the conformal half-width of its network's residuals
     on the plan's rows (D,), times the fleet factor the validation units learnt at its budget (how
     much wider their test rows needed it; `uncertainty.conformal.fleet_factor`).
@@ -205,15 +226,31 @@ def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
     The plan's rows also trained the network, so its residuals there understate its error
     elsewhere; the fleet factor carries that back, as it carries the press-fold residuals of
     adapters (which would cost a response transfer a network per fold). `at`: ((unit, budget,
-    prior), test-row prediction) per job, in the order of `nets`' models and `plans`."""
-    fitted = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays, [p.rows for p in plans])
-    residuals = {m: f - arrays.targets[p.rows] for m, (f, p) in enumerate(zip(fitted, plans, strict=True))}
+    prior), test-row prediction) per job, in the order of `nets`' models and `plans`. `checks`:
+    each job's network trained on its transferred rows alone (`transfer_check`), whose residuals
+    on the plan's rows, which it never saw, give the `transfer_` fields with their own factor."""
+    residuals = _plan_residuals(nets, arrays, plans)
     fleet = validation_factors(at, residuals, sd, arrays, level)
     names = arrays.output_names
     fields = {m: interval_fields(residuals[m], pred, arrays.targets[sd.evals[u].test_rows], names, level,
-                                 fleet.get(b))
+                                 fleet.get(b), arrays.patch[sd.evals[u].test_rows], m)
               for m, ((u, b, _), pred) in enumerate(at) if u in sd.split.test}
-    return Bands(fields, {b: f.factor for b, f in fleet.items()})
+    spreads = {"plan": {b: f.spread for b, f in fleet.items()}}
+    if checks is not None:
+        unseen = _plan_residuals(checks, arrays, plans)
+        other = validation_factors(at, unseen, sd, arrays, level)
+        spreads["transfer"] = {b: f.spread for b, f in other.items()}
+        for m, ((u, b, _), pred) in enumerate(at):
+            if m in fields and fields[m] and b in other:
+                target = arrays.targets[sd.evals[u].test_rows]
+                fields[m] |= scaled_fields(unseen[m], pred, target, names, level, other[b], "transfer_")
+    return Bands(fields, {b: f.factor for b, f in fleet.items()}, spreads)
+
+
+def _plan_residuals(nets: FitResult, arrays: FleetArrays, plans: list[Plan]) -> dict[int, np.ndarray]:
+    """Job m's network's residuals (n_m, D) on its plan's rows."""
+    fitted = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays, [p.rows for p in plans])
+    return {m: f - arrays.targets[p.rows] for m, (f, p) in enumerate(zip(fitted, plans, strict=True))}
 
 
 def by_strategy(values: dict[Budget, Any]) -> dict[str, dict[str, Any]]:

@@ -127,11 +127,9 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     for step, (x, y) in sampler.batches(total, X, Y):
         lr = lr_at(step, total, recipe)
         set_lr(opt, lr)
-        loss_u = ((model(x) - y) ** 2).mean(dim=(1, 2))  # (U,)
-        opt.zero_grad(set_to_none=True)
-        loss_u.sum().backward()
+        loss_u = model.mse_grads(x, y)  # (U,), each unit's gradient in its weights' .grad
         opt.step()
-        loss_sum += loss_u.detach()
+        loss_sum += loss_u
         n_loss += 1
         bar.update(step + 1)
 
