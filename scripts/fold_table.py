@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import budget_of, ratio_text, summary, unit_ratios
+from anytip.report.cross_sensor import budget_of, exact_share, ratio_text, summary, unit_ratios
 from anytip.rundir import read_json
 
 BAND, FLOOR = (0.85, 0.95), 0.80  # the interval target: in the band, none below the floor
@@ -49,8 +49,8 @@ def coverage_cells(rows: list[dict[str, Any]]) -> str:
         return "| | | |"
     c = np.asarray(cov)
     share = np.mean((c >= BAND[0]) & (c <= BAND[1]))
-    exact = [1 - v for r in rows for k, v in r.items() if k.endswith("_exact_p_outside")]
-    decided = f"{np.mean(exact):.0%}" if len(exact) == len(cov) else ""
+    exact = exact_share(rows)
+    decided = "" if exact is None else f"{exact:.0%}"
     low = f"{c.min():.3f}, {int((c < FLOOR).sum())} below {FLOOR:.2f}"
     return f"| {share:.0%} of {len(c)} | {low} | {decided} |"
 

@@ -56,6 +56,7 @@ from anytip.train.metrics import scores
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
+    code_jacobian,
     evenly_spaced,
     fit_codes,
     residual_rms,
@@ -73,13 +74,9 @@ def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, T
     """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
     in c (n, C, D) and in each barometer's own code (n, C, k)."""
     mean, std = model.label_mean, model.label_std
-    n, (C, k) = len(c), codes.shape
     Jc = torch.func.vmap(torch.func.jacfwd(lambda ci: model(ci * std + mean, codes)))(c)
-    per_row = codes[None].expand(n, C, k).clone().requires_grad_(True)
-    with torch.enable_grad():
-        pred = model(c * std + mean, per_row)
-        pred.sum().backward()
-    return pred.detach(), Jc.detach(), per_row.grad
+    pred, Jz = code_jacobian(model, c * std + mean, codes)
+    return pred, Jc.detach(), Jz
 
 
 def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations: int = 30,

@@ -440,11 +440,20 @@ output's unit (N, rad).
 """
 
 
+def exact_share(rows: list[dict[str, Any]]) -> float | None:
+    """The share of fleet-factor unit-outputs that a method exactly calibrated for every unit would
+    put in the band on these rows' test sets: the mean of 1 - `<output>_exact_p_outside`
+    (`pipelines.cross_sensor_jobs.test_set_fields`); None unless every such unit-output has it."""
+    exact = [1 - v for r in rows for k, v in r.items() if k.endswith("_exact_p_outside")]
+    n = sum(k.endswith("_fleet_coverage") for r in rows for k in r)
+    return float(np.mean(exact)) if exact and len(exact) == n else None
+
+
 def _coverage_cells(rs: list[dict[str, Any]], names: list[str], prefix: str, level: float) -> list[Any]:
     cover = np.array([[r[f"{n}_{prefix}coverage"] for n in names] for r in rs])
     inside = np.abs(cover - level) <= COVERAGE_BAND + 1e-12
-    exact = [1 - r[f"{n}_exact_p_outside"] for r in rs for n in names if f"{n}_exact_p_outside" in r]
-    decided = f"{np.mean(exact):.0%}" if prefix == "fleet_" and len(exact) == cover.size else ""
+    exact = exact_share(rs) if prefix == "fleet_" else None
+    decided = "" if exact is None else f"{exact:.0%}"
     return [cover.size, f"{inside.mean():.0%}", decided, f"{cover.min():.3f}", f"{np.median(cover):.3f}",
             int(np.min([r["interval_test_rows"] for r in rs])),
             *(f"{np.mean([r[f'{n}_{prefix}halfwidth'] for r in rs]):.3g}" for n in names)]

@@ -237,8 +237,8 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
                            recipe: ResponseRecipe) -> Tensor:
     """(M, C, k) MAP codes by damped Gauss-Newton on `code_rows` evenly spaced rows of each job.
 
-    Pressure c depends on code c alone, and on row i's copy of it alone, so one backward pass
-    through per-row copies of the codes gives every row's Jacobian (M, n, C, k); each
+    Pressure c depends on code c alone, so every row's Jacobian (M, n, C, k) comes from one
+    backward pass (`code_jacobian`); each
     (job, barometer) then takes a Levenberg-Marquardt step of k numbers, kept where it lowers
     that problem's loss (the damping shrinks after a kept step and grows after a refused one)."""
     model, device = fit.model, fit.device
@@ -262,11 +262,8 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
     damping = torch.full((M, C), 1e-2, device=device)
     loss = loss_of(codes)
     for _ in range(recipe.code_iterations):
-        per_row = codes[:, None].expand(M, B, C, k).clone().requires_grad_(True)
-        pred = model(Yp, per_row)
-        pred.sum().backward()
-        J = per_row.grad  # (M, B, C, k): d pressure_c of row i / d code_c
-        resid = Xp - pred.detach()
+        pred, J = code_jacobian(model, Yp, codes[:, None])  # J (M, B, C, k)
+        resid = Xp - pred
         JW = J * row_w[..., None]
         H = torch.einsum("mbck,mbcj->mckj", JW, J) + torch.diag_embed(inv_spread.expand(M, C, k))
         g = torch.einsum("mbck,mbc->mck", JW, resid) - codes * inv_spread
@@ -279,6 +276,18 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
         loss = torch.where(kept, trial, loss)
         damping = torch.where(kept, damping / 3, damping * 4).clamp(1e-6, 1e6)
     return codes
+
+
+def code_jacobian(model: ResponseModel, labels: Tensor, codes: Tensor) -> tuple[Tensor, Tensor]:
+    """At labels (*, D) and codes broadcastable to (*, C, k): the pressures (*, C) Pa and each one's
+    derivative in its own barometer's code, d pressure_c / d code_c (*, C, k), detached. Pressure c
+    of a row depends on that row's copy of code c alone, so one backward pass through per-row
+    copies of the codes gives every row's Jacobian. The model's weights should not require grad."""
+    per_row = codes.expand(*labels.shape[:-1], *codes.shape[-2:]).clone().requires_grad_(True)
+    with torch.enable_grad():
+        pred = model(labels, per_row)
+        pred.sum().backward()
+    return pred.detach(), per_row.grad
 
 
 def _codes_by_adam(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
