@@ -35,6 +35,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -42,16 +43,19 @@ import torch
 from torch import Tensor
 
 from anytip.config import load_spec
+from anytip.data.arrays import FleetArrays
+from anytip.data.calibration import calibration_stream
 from anytip.data.plans import Budget
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
-from anytip.models.io import load_models, load_response
+from anytip.models.io import LoadedModels, load_models, load_response, load_shared
 from anytip.models.response import ResponseModel
-from anytip.pipelines.common import Context, load
-from anytip.pipelines.cross_sensor import min_units, prepare
+from anytip.pipelines.common import Context, load, load_extra
+from anytip.pipelines.cross_sensor import SeedData, min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import plan_of
-from anytip.pipelines.cross_sensor_options import parse_options
+from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
+from anytip.train.adapt import calibrate_and_fold
 from anytip.train.metrics import scores
 from anytip.train.response import (
     ResponseFit,
@@ -67,7 +71,8 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-ARMS = ("pooled", "zero", "joint", "stream_labels", "plan")
+ARMS = ("pooled", "input_stats", "zero", "joint", "encoder", "encoder_own", "stream_labels", "all_labels",
+        "plan")
 
 
 def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
@@ -129,8 +134,144 @@ def data_term(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> float:
         return float(((X - fit.model(Y, codes)) ** 2 / fit.noise_var).sum(-1).mean())
 
 
-def run(run_dir: Path, registry: Path, seconds: float, rows: int, iterations: int,
-        plan_seconds: float = 120.0) -> list[dict]:
+ENCODER_QUANTILES = (0.5, 0.75, 0.9, 0.97, 0.995)
+PA_FLOOR = 100.0  # Pa: a quantile below it is sensor noise, floored before its log
+ALPHAS = tuple(10.0 ** np.arange(-3, 5.5, 0.5))  # ridge penalties tried, times the unit count
+
+
+def stream_features(P: np.ndarray) -> np.ndarray:
+    """Label-free statistics of a unit's unlabeled pressures P (n, C) Pa, independent of row order:
+    each barometer's log quantiles (ENCODER_QUANTILES, floored at PA_FLOOR) and log standard
+    deviation, and the barometers' correlations; (C * 6 + C * (C - 1) / 2,)."""
+    q = np.log(np.maximum(np.quantile(P, ENCODER_QUANTILES, axis=0), PA_FLOOR))
+    sd = np.log(np.maximum(P.std(0), PA_FLOOR))
+    corr = np.nan_to_num(np.corrcoef(P.T))[np.triu_indices(P.shape[1], 1)]
+    return np.concatenate([q.ravel(), sd, corr])
+
+
+@dataclass(frozen=True)
+class CodeEncoder:
+    """Ridge regression from a unit's stream features (f,) to its codes (C, k), learnt across the
+    response model's training units; the penalty chosen by leave-one-unit-out error of the codes
+    whitened by the codes' prior spread. loo_r2: the share of that whitened code variance the
+    left-out predictions explain (0: no better than the fleet's mean code)."""
+
+    f_mean: np.ndarray
+    f_std: np.ndarray
+    z_mean: np.ndarray
+    weights: np.ndarray
+    scale: np.ndarray
+    alpha: float
+    loo_r2: float
+
+    @classmethod
+    def fit(cls, F: np.ndarray, Z: np.ndarray, code_var: np.ndarray) -> CodeEncoder:
+        """F (n, f) features, Z (n, C, k) codes, code_var (k,)."""
+        n = len(F)
+        f_mean, f_std = F.mean(0), np.maximum(F.std(0), 1e-9)
+        scale = np.sqrt(code_var)
+        Y = (Z / scale).reshape(n, -1)
+        z_mean = Y.mean(0)
+        U, S, Vt = np.linalg.svd((F - f_mean) / f_std, full_matrices=False)
+        Yc = Y - z_mean
+        best = (np.inf, 0.0)
+        for a in ALPHAS:
+            d = S**2 / (S**2 + a * n)
+            h = (U**2 * d).sum(1) + 1 / n
+            loo = (Yc - U @ (d[:, None] * (U.T @ Yc))) / (1 - h)[:, None]
+            best = min(best, (float((loo**2).mean()), a * n))
+        err, alpha = best
+        weights = Vt.T @ ((S / (S**2 + alpha))[:, None] * (U.T @ Yc))
+        return cls(f_mean, f_std, z_mean, weights, scale, alpha, 1 - err / float((Yc**2).mean()))
+
+    def __call__(self, features: np.ndarray) -> Tensor:
+        y = self.z_mean + ((features - self.f_mean) / self.f_std) @ self.weights
+        return torch.from_numpy((y.reshape(-1, len(self.scale)) * self.scale).astype(np.float32))
+
+
+def encoders(fit: ResponseFit, feats: dict[str, np.ndarray], own: list[str]) -> dict[str, CodeEncoder]:
+    """`encoder`: learnt on every unit of the response model; `encoder_own`: on the registry's own
+    training units only."""
+    ids = fit.unit_ids
+    Z, var = fit.model.codes.detach().cpu().numpy(), fit.code_var.cpu().numpy()
+    mine = [ids.index(u) for u in own]
+    return {"encoder": CodeEncoder.fit(np.stack([feats[u] for u in ids]), Z, var),
+            "encoder_own": CodeEncoder.fit(np.stack([feats[u] for u in own]), Z[mine], var)}
+
+
+def training_features(ctx: Context, arrays: FleetArrays, opts: Options, ids: list[str],
+                      seconds: float) -> dict[str, np.ndarray]:
+    """Stream features of the response model's training units (the run's extra units included),
+    from their streams' first `seconds`, as a new unit's are read."""
+    extra = None
+    if opts.extra_units is not None and not set(ids) <= set(arrays.units):
+        extra = load_extra(ctx, opts.extra_units.registry, opts.extra_units.data(), arrays)
+    feats = {}
+    for u in ids:
+        a = arrays if u in arrays.units else extra
+        if a is None:
+            raise AnytipError(f"response model unit {u!r} is in neither the registry nor the extra units")
+        stream = calibration_stream(a, u, opts.calibration_protocol, interleave=opts.calibration_interleave)
+        feats[u] = stream_features(a.pressure[stream.unlabeled(seconds)])
+    return feats
+
+
+def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, arrays: FleetArrays,
+               sd: SeedData, opts: Options, u: str, args: Settings, coders: dict[str, CodeEncoder], seed: int
+               ) -> tuple[dict[str, Tensor], dict]:
+    """Unit u's codes of each network arm, and what its fits found."""
+    arms, rows = args.arms, args.rows
+    ev, n_eff = sd.evals[u], args.seconds * opts.rig.effective_hz
+    unlabeled = ev.stream.unlabeled(args.seconds)
+    stream = unlabeled[evenly_spaced(len(unlabeled), rows).numpy()]
+    X, Y = torch.from_numpy(arrays.pressure[stream]), torch.from_numpy(arrays.targets[stream])
+    zero = torch.zeros(fit.model.n_channels, fit.model.config.code_dim)
+    labelled = fit_codes(fit, [X], [Y], [n_eff], recipe, seed)[0]
+    codes = {"zero": zero, "stream_labels": labelled}
+    found = {"unlabeled_rows": int(len(stream)), "data_term_truth": data_term(fit, X, Y, labelled),
+             "code_rms_truth": float(labelled.pow(2).mean().sqrt())}
+    feats = stream_features(arrays.pressure[unlabeled])
+    for name, coder in coders.items():
+        codes[name] = coder(feats)
+        found[f"code_rms_{name}_off_truth"] = float((codes[name] - labelled).pow(2).mean().sqrt())
+    if "all_labels" in arms:
+        whole = ev.stream.rows[evenly_spaced(len(ev.stream.rows), rows).numpy()]
+        Xa, Ya = torch.from_numpy(arrays.pressure[whole]), torch.from_numpy(arrays.targets[whole])
+        all_eff = float(ev.stream.seconds[-1]) * opts.rig.effective_hz
+        codes["all_labels"] = fit_codes(fit, [Xa], [Ya], [all_eff], recipe, seed)[0]
+        for name in coders:
+            off = codes[name] - codes["all_labels"]
+            found[f"code_rms_{name}_off_all"] = float(off.pow(2).mean().sqrt())
+        found["code_rms_zero_off_all"] = float(codes["all_labels"].pow(2).mean().sqrt())
+    if "joint" in arms:
+        Y0 = predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [stream])[0]
+        Y0 = torch.from_numpy(Y0)
+        codes["joint"], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations)
+        std = fit.model.label_std
+        found |= {"data_term_joint": data_term(fit, X, contacts, codes["joint"]),
+                  "data_term_start": data_term(fit, X, Y0, zero), "objective": trace,
+                  "code_rms_joint_off_truth": float((codes["joint"] - labelled).pow(2).mean().sqrt()),
+                  "contact_error_start": float(((Y0 - Y) / std).pow(2).mean().sqrt()),
+                  "contact_error_joint": float(((contacts - Y) / std).pow(2).mean().sqrt())}
+    if "plan" in arms:
+        plan = plan_of(sd, u, Budget(args.plan_seconds, "seconds", opts.plan_strategies[0]), opts, seed)
+        Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
+        codes["plan"] = fit_codes(fit, [Xp], [Yp], [plan.n_effective], recipe, seed)[0]
+    return {a: c for a, c in codes.items() if a in arms}, found
+
+@dataclass(frozen=True)
+class Settings:
+    """What the command line chose: the arms, seconds of unlabeled stream, rows fitted, joint-fit
+    steps, the `plan` arm's robot-seconds."""
+
+    arms: tuple[str, ...] = ARMS
+    seconds: float = 600.0
+    rows: int = 4096
+    iterations: int = 30
+    plan_seconds: float = 120.0
+
+
+def run(run_dir: Path, registry: Path, args: Settings) -> list[dict]:
     spec = load_spec(run_dir / "config.yaml", ["options.adapters=[]"])
     ctx = Context(spec, Registry(registry, create=False), run_dir, torch.device("cpu"), False, {})
     opts = parse_options(ctx)
@@ -139,7 +280,8 @@ def run(run_dir: Path, registry: Path, seconds: float, rows: int, iterations: in
     arrays = load(ctx, min_units(ctx))
     refs = {(r["seed"], r["unit"]): r for r in read_json(run_dir / "metrics.json")["results"]
             if r["method"] == "per_unit"}
-    out = []
+    out: list[dict] = []
+    feats: dict[str, np.ndarray] = {}
     for seed in spec.all_seeds:
         sd = prepare(ctx, arrays, opts, seed)  # the run's split; its extra units are not needed here
         recorded = read_json(run_dir / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
@@ -149,64 +291,78 @@ def run(run_dir: Path, registry: Path, seconds: float, rows: int, iterations: in
         saved = load_response(path)
         fit, recipe = ResponseFit.from_loaded(saved), ResponseRecipe.from_saved(saved.meta["recipe"])
         start = load_models(start_network_path(path))
-        n_eff = seconds * opts.rig.effective_hz
+        coders: dict[str, CodeEncoder] = {}
+        if {"encoder", "encoder_own"} & set(args.arms):
+            missing = [u for u in fit.unit_ids if u not in feats]
+            feats |= training_features(ctx, arrays, opts, missing, args.seconds)
+            coders = encoders(fit, feats, [u for u in fit.unit_ids if u in sd.split.train])
+            for name, c in coders.items():
+                print(f"seed {seed} {name}: penalty {c.alpha:.3g}, leave-one-unit-out R^2 {c.loo_r2:.3f}",
+                      flush=True)
         units = [*sd.split.val, *sd.split.test]
         codes: dict[tuple[str, str], Tensor] = {}
         found: dict[str, dict] = {}
         for u in units:
-            ev = sd.evals[u]
-            stream = ev.stream.unlabeled(seconds)
-            stream = stream[evenly_spaced(len(stream), rows).numpy()]
-            X, Y = torch.from_numpy(arrays.pressure[stream]), torch.from_numpy(arrays.targets[stream])
-            Y0 = torch.from_numpy(predict_rows(start.model, start.in_scaler, start.out_scaler, arrays,
-                                               [stream])[0])
-            zero = torch.zeros(fit.model.n_channels, fit.model.config.code_dim)
-            labelled = fit_codes(fit, [X], [Y], [n_eff], recipe, seed)[0]
-            joint, contacts, trace = joint_fit(fit, X, Y0, n_eff, iterations)
-            plan = plan_of(sd, u, Budget(plan_seconds, "seconds", opts.plan_strategies[0]), opts, seed)
-            Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
-            planned = fit_codes(fit, [Xp], [Yp], [plan.n_effective], recipe, seed)[0]
-            codes |= {(u, "zero"): zero, (u, "joint"): joint, (u, "stream_labels"): labelled,
-                      (u, "plan"): planned}
-            std = fit.model.label_std
-            found[u] = {"unlabeled_rows": int(len(stream)), "data_term_truth": data_term(fit, X, Y, labelled),
-                        "data_term_joint": data_term(fit, X, contacts, joint),
-                        "data_term_start": data_term(fit, X, Y0, zero), "objective": trace,
-                        "code_rms_truth": float(labelled.pow(2).mean().sqrt()),
-                        "code_rms_joint_off_truth": float((joint - labelled).pow(2).mean().sqrt()),
-                        "contact_error_start": float(((Y0 - Y) / std).pow(2).mean().sqrt()),
-                        "contact_error_joint": float(((contacts - Y) / std).pow(2).mean().sqrt())}
+            mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed)
+            codes |= {(u, a): c for a, c in mine.items()}
+            found[u] |= {f"{n}_penalty": c.alpha for n, c in coders.items()}
+            found[u] |= {f"{n}_loo_r2": c.loo_r2 for n, c in coders.items()}
             said = ", ".join(f"{k} {v:.3g}" for k, v in found[u].items() if k != "objective")
             print(f"seed {seed} {u}: {said}", flush=True)
-        ids = [str(u) for u in saved.meta.get("source_unit_ids", [])]
-        if not ids or not set(ids) <= set(sd.train.unit_ids):
-            raise AnytipError(f"{path}: its source units are not the registry's training units of seed "
-                              f"{seed} (a model that transfers extra units' rows)")
-        source = source_rows(fit, sd.train.subset([sd.train.unit_ids.index(u) for u in ids]),
-                             recipe.source_rows, seed)
-        jobs = list(codes)
-        nets = unit_networks(((transfer(fit, source, codes[j]), source.Y) for j in jobs), spec.model, recipe,
-                             seed, [f"{u}/{a}" for u, a in jobs], arrays.output_names, start=start)
-        preds = dict(zip(jobs, predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
-                                            [sd.evals[u].test_rows for u, _ in jobs]), strict=True))
-        preds |= {(u, "pooled"): predict_rows(start.model, start.in_scaler, start.out_scaler, arrays,
-                                              [sd.evals[u].test_rows])[0] for u in units}
+        preds = arm_predictions(ctx, arrays, sd, fit, recipe, start, saved.meta, codes, args, seed)
         for u in units:
             test = sd.evals[u].test_rows
             Xt, Yt = torch.from_numpy(arrays.pressure[test]), torch.from_numpy(arrays.targets[test])
-            for arm in ARMS:
+            for arm in args.arms:
                 row = {"seed": seed, "unit": u, "arm": arm, "role": "val" if u in sd.split.val else "test",
                        **scores(preds[u, arm], Yt.numpy(), arrays.layout), **found[u]}
-                if arm != "pooled":
+                if (u, arm) in codes:
                     rms = residual_rms(fit, Xt, Yt, codes[u, arm])
                     row["test_residual_pa"] = float((rms**2).mean() ** 0.5)
                 if (seed, u) in refs:
                     row["force_ratio"] = row["force_rmse_n"] / refs[seed, u]["force_rmse_n"]
                     row["angle_ratio"] = row["angle_rmse_rad"] / refs[seed, u]["angle_rmse_rad"]
                 out.append(row)
-        for arm in ARMS:
+        for arm in args.arms:
             print(f"seed {seed} {arm:>14}: {summary(out, arm)}", flush=True)
     return out
+
+
+def arm_predictions(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit, recipe: ResponseRecipe,
+                    start: LoadedModels, meta: dict, codes: dict[tuple[str, str], Tensor], args: Settings,
+                    seed: int) -> dict[tuple[str, str], np.ndarray]:
+    """Every (unit, arm)'s predictions on the unit's test rows: a network trained on the rows
+    transferred by the arm's codes, the pooled start network itself, or the run's shared model
+    without adapters scaled by the unit's unlabeled input statistics (`input_stats`, today's
+    zero-shot method)."""
+    units = [*sd.split.val, *sd.split.test]
+    tests = [sd.evals[u].test_rows for u in units]
+    preds: dict[tuple[str, str], np.ndarray] = {}
+    if codes:
+        ids = [str(u) for u in meta.get("source_unit_ids", [])]
+        if not ids or not set(ids) <= set(sd.train.unit_ids):
+            raise AnytipError(f"{ctx.run_dir}: its response model's source units are not the registry's "
+                              f"training units of seed {seed} (a model that transfers extra units' rows)")
+        source = source_rows(fit, sd.train.subset([sd.train.unit_ids.index(u) for u in ids]),
+                             recipe.source_rows, seed)
+        jobs = list(codes)
+        nets = unit_networks(((transfer(fit, source, codes[j]), source.Y) for j in jobs), ctx.spec.model,
+                             recipe, seed, [f"{u}/{a}" for u, a in jobs], arrays.output_names, start=start)
+        preds |= dict(zip(jobs, predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
+                                             [sd.evals[u].test_rows for u, _ in jobs]), strict=True))
+    if "pooled" in args.arms:
+        found = predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, tests)
+        preds |= {(u, "pooled"): p for u, p in zip(units, found, strict=True)}
+    if "input_stats" in args.arms:
+        shared = load_shared(ctx.run_dir / "models" / f"shared_none_seed{seed}.safetensors")
+        unlabeled = [torch.from_numpy(arrays.pressure[sd.evals[u].stream.unlabeled(args.seconds)])
+                     for u in units]
+        empty_x, empty_y = torch.zeros(0, arrays.pressure.shape[1]), torch.zeros(0, arrays.targets.shape[1])
+        model, stats = calibrate_and_fold(shared, unlabeled, [empty_x] * len(units), [empty_y] * len(units),
+                                          [0] * len(units), [0.0] * len(units), seed=seed)
+        found = predict_rows(model, stats, shared.out_scaler, arrays, tests)
+        preds |= {(u, "input_stats"): p for u, p in zip(units, found, strict=True)}
+    return preds
 
 
 def summary(rows: list[dict], arm: str) -> str:
@@ -231,10 +387,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rows", type=int, default=4096, help="evenly spaced rows of them fitted")
     parser.add_argument("--iterations", type=int, default=30, help="damped Gauss-Newton steps")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
+    parser.add_argument("--arms", default=",".join(ARMS), help=f"comma-separated, of {', '.join(ARMS)}")
     args = parser.parse_args(argv)
+    arms = tuple(a.strip() for a in args.arms.split(",") if a.strip())
+    unknown = sorted(set(arms) - set(ARMS))
+    if unknown or not arms:
+        parser.error(f"--arms {args.arms!r}: expected some of {', '.join(ARMS)}")
     torch.set_num_threads(1)
     try:
-        rows = run(args.run, args.registry, args.seconds, args.rows, args.iterations, args.plan_seconds)
+        rows = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
+                                                     args.plan_seconds))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
