@@ -1,5 +1,5 @@
 """A new unit's codes without labels: what its unlabeled stream tells response transfer (research
-log entry 27).
+log entries 27 and 30).
 
 Zero-shot calibration may read a new unit's pressures in ordinary use (the first `--seconds` of its
 stream, labels unread). Response transfer needs the unit's codes. Without labels, each unlabeled
@@ -19,7 +19,16 @@ from the run's pooled start network:
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
-  run's own strategy), for comparison: the labeled method without the unit's rows in its network.
+  run's own strategy), for comparison: the labeled method without the unit's rows in its network;
+- `input_stats`: no codes; the run's shared model without adapters, scaled by the unit's unlabeled
+  input statistics (the benchmark's zero-shot method);
+- `encoder`: codes predicted from order-free statistics of the unlabeled stream (`stream_features`)
+  by ridge regression learnt across the response model's units (`CodeEncoder`); `encoder_own`: learnt
+  on the registry's own training units; `encoder_more`: also on the units of `--encoder-units`,
+  whose codes the frozen response model fits from their whole streams;
+- `all_labels`: codes fitted on the labels of the unit's whole stream (what a perfect encoder gives);
+- `toward_all_<t>`: the encoder's codes moved a share t of the way to `all_labels`' (an encoder whose
+  code error is 1 - t of this one's).
 
     python scripts/label_free_codes.py reports/cross_sensor_response_start/fleet24_seed1 \\
         --registry data/fleet24 --out reports/cross_sensor_label_free_codes/fleet24_seed1.json
@@ -42,15 +51,15 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from anytip.config import load_spec
-from anytip.data.arrays import FleetArrays
+from anytip.config import DataConfig, load_spec
+from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.plans import Budget
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, load_response, load_shared
 from anytip.models.response import ResponseModel
-from anytip.pipelines.common import Context, load, load_extra
+from anytip.pipelines.common import Context, load, load_extra, select_runs
 from anytip.pipelines.cross_sensor import SeedData, min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import plan_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
@@ -71,8 +80,25 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-ARMS = ("pooled", "input_stats", "zero", "joint", "encoder", "encoder_own", "stream_labels", "all_labels",
-        "plan")
+ARMS = ("pooled", "input_stats", "zero", "joint", "encoder", "encoder_own", "encoder_more", "stream_labels",
+        "all_labels", "plan")
+TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
+
+
+def arm_names(text: str) -> tuple[str, ...]:
+    """The arms of `--arms` (comma-separated), each of ARMS or toward_all_<t> with 0 < t < 1 (which
+    needs encoder and all_labels)."""
+    arms = tuple(a.strip() for a in text.split(",") if a.strip())
+    for a in arms:
+        t = a[len(TOWARD):] if a.startswith(TOWARD) else None
+        ok = a in ARMS or (t is not None and t.replace(".", "", 1).isdigit() and 0 < float(t) < 1)
+        if not ok:
+            raise ValueError(f"arm {a!r}: expected one of {', '.join(ARMS)} or {TOWARD}<t>, 0 < t < 1")
+    if any(a.startswith(TOWARD) for a in arms) and not {"encoder", "all_labels"} <= set(arms):
+        raise ValueError(f"{TOWARD}<t> arms need the encoder and all_labels arms")
+    if not arms:
+        raise ValueError("no arm")
+    return arms
 
 
 def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
@@ -189,14 +215,32 @@ class CodeEncoder:
         return torch.from_numpy((y.reshape(-1, len(self.scale)) * self.scale).astype(np.float32))
 
 
-def encoders(fit: ResponseFit, feats: dict[str, np.ndarray], own: list[str]) -> dict[str, CodeEncoder]:
+def learning_curve(F: np.ndarray, Z: np.ndarray, code_var: np.ndarray,
+                   sizes: tuple[int, ...] = (36, 72, 108, 144), draws: int = 8,
+                   seed: int = 0) -> dict[str, list[float]]:
+    """The encoder's leave-one-unit-out R^2 learnt from random subsets of n units (n in `sizes`, and
+    all), `draws` subsets each: {n: [R^2 of each draw]}."""
+    g = np.random.default_rng(seed)
+    out = {}
+    for n in [m for m in sizes if m < len(F)] + [len(F)]:
+        picks = [g.choice(len(F), n, replace=False) for _ in range(draws)] if n < len(F) else [np.arange(n)]
+        out[str(n)] = [CodeEncoder.fit(F[i], Z[i], code_var).loo_r2 for i in picks]
+    return out
+
+
+def encoders(fit: ResponseFit, feats: dict[str, np.ndarray], own: list[str],
+             more: tuple[np.ndarray, np.ndarray] | None = None) -> dict[str, CodeEncoder]:
     """`encoder`: learnt on every unit of the response model; `encoder_own`: on the registry's own
-    training units only."""
+    training units only; `encoder_more`: on every unit of the response model and the encoder-only
+    units `more` (features (m, f), codes (m, C, k))."""
     ids = fit.unit_ids
     Z, var = fit.model.codes.detach().cpu().numpy(), fit.code_var.cpu().numpy()
-    mine = [ids.index(u) for u in own]
-    return {"encoder": CodeEncoder.fit(np.stack([feats[u] for u in ids]), Z, var),
-            "encoder_own": CodeEncoder.fit(np.stack([feats[u] for u in own]), Z[mine], var)}
+    F, mine = np.stack([feats[u] for u in ids]), [ids.index(u) for u in own]
+    out = {"encoder": CodeEncoder.fit(F, Z, var),
+           "encoder_own": CodeEncoder.fit(F[mine], Z[mine], var)}
+    if more is not None:
+        out["encoder_more"] = CodeEncoder.fit(np.concatenate([F, more[0]]), np.concatenate([Z, more[1]]), var)
+    return out
 
 
 def training_features(ctx: Context, arrays: FleetArrays, opts: Options, ids: list[str],
@@ -214,6 +258,39 @@ def training_features(ctx: Context, arrays: FleetArrays, opts: Options, ids: lis
         stream = calibration_stream(a, u, opts.calibration_protocol, interleave=opts.calibration_interleave)
         feats[u] = stream_features(a.pressure[stream.unlabeled(seconds)])
     return feats
+
+
+def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: ResponseFit,
+                       recipe: ResponseRecipe, root: Path, args: Settings, seed: int, chunk: int = 32
+                       ) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """Units of another registry (`--encoder-units`) that only teach the encoder: their ids, stream
+    features (m, f) and codes (m, C, k), fitted by the frozen response model on `args.rows` evenly
+    spaced labeled rows of each unit's whole stream (as the `all_labels` arm fits a unit's). No
+    network or response model trains on them. Read `chunk` units at a time to bound memory."""
+    registry = Registry(root, create=False)
+    model = ctx.provenance["sensor_model"]
+    _, records = select_runs(registry, DataConfig(sensor_model=model, protocol=None), ctx.spec.seed)
+    units = sorted({r.unit for r in records})
+    clash = sorted(set(units) & (set(like.units) | set(fit.unit_ids)))
+    if clash:
+        raise AnytipError(f"--encoder-units {root}: {len(clash)} of its units are the run's own "
+                          f"({', '.join(clash[:4])})")
+    feats, codes = [], []
+    for a in range(0, len(units), chunk):
+        part = set(units[a : a + chunk])
+        arrays = load_arrays(registry, [r for r in records if r.unit in part])
+        X, Y, n_eff = [], [], []
+        for u in arrays.units:
+            stream = calibration_stream(arrays, u, opts.calibration_protocol,
+                                        interleave=opts.calibration_interleave)
+            feats.append(stream_features(arrays.pressure[stream.unlabeled(args.seconds)]))
+            whole = stream.rows[evenly_spaced(len(stream.rows), args.rows).numpy()]
+            X.append(torch.from_numpy(arrays.pressure[whole]))
+            Y.append(torch.from_numpy(arrays.targets[whole]))
+            n_eff.append(float(stream.seconds[-1]) * opts.rig.effective_hz)
+        codes.append(fit_codes(fit, X, Y, n_eff, recipe, seed).numpy())
+        print(f"encoder units: {min(a + chunk, len(units))} of {len(units)}", flush=True)
+    return units, np.stack(feats), np.concatenate(codes)
 
 
 def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, arrays: FleetArrays,
@@ -243,6 +320,10 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
             off = codes[name] - codes["all_labels"]
             found[f"code_rms_{name}_off_all"] = float(off.pow(2).mean().sqrt())
         found["code_rms_zero_off_all"] = float(codes["all_labels"].pow(2).mean().sqrt())
+    for arm in arms:
+        if arm.startswith(TOWARD):  # an encoder whose code error is (1 - t) of this one's
+            t = float(arm[len(TOWARD):])
+            codes[arm] = codes["encoder"] + t * (codes["all_labels"] - codes["encoder"])
     if "joint" in arms:
         Y0 = predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [stream])[0]
         Y0 = torch.from_numpy(Y0)
@@ -269,9 +350,15 @@ class Settings:
     rows: int = 4096
     iterations: int = 30
     plan_seconds: float = 120.0
+    encoder_units: Path | None = None
 
 
-def run(run_dir: Path, registry: Path, args: Settings) -> list[dict]:
+Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
+
+
+def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curves]:
+    """Every (unit, arm)'s row, and per seed the encoder's R^2 by training-unit count (with
+    --encoder-units)."""
     spec = load_spec(run_dir / "config.yaml", ["options.adapters=[]"])
     ctx = Context(spec, Registry(registry, create=False), run_dir, torch.device("cpu"), False, {})
     opts = parse_options(ctx)
@@ -282,6 +369,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> list[dict]:
             if r["method"] == "per_unit"}
     out: list[dict] = []
     feats: dict[str, np.ndarray] = {}
+    curves: Curves = {}
     for seed in spec.all_seeds:
         sd = prepare(ctx, arrays, opts, seed)  # the run's split; its extra units are not needed here
         recorded = read_json(run_dir / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
@@ -292,10 +380,20 @@ def run(run_dir: Path, registry: Path, args: Settings) -> list[dict]:
         fit, recipe = ResponseFit.from_loaded(saved), ResponseRecipe.from_saved(saved.meta["recipe"])
         start = load_models(start_network_path(path))
         coders: dict[str, CodeEncoder] = {}
-        if {"encoder", "encoder_own"} & set(args.arms):
+        if {"encoder", "encoder_own", "encoder_more"} & set(args.arms):
             missing = [u for u in fit.unit_ids if u not in feats]
             feats |= training_features(ctx, arrays, opts, missing, args.seconds)
-            coders = encoders(fit, feats, [u for u in fit.unit_ids if u in sd.split.train])
+            more = None
+            if args.encoder_units is not None:
+                _, Fm, Zm = encoder_only_units(ctx, arrays, opts, fit, recipe, args.encoder_units, args, seed)
+                more = (Fm, Zm)
+                F = np.concatenate([np.stack([feats[u] for u in fit.unit_ids]), Fm])
+                curve = learning_curve(F, np.concatenate([fit.model.codes.detach().cpu().numpy(), Zm]),
+                                       fit.code_var.cpu().numpy())
+                print(f"seed {seed} encoder R^2 by units: "
+                      + ", ".join(f"{n}: {np.mean(r):.3f}" for n, r in curve.items()), flush=True)
+                curves[str(seed)] = curve
+            coders = encoders(fit, feats, [u for u in fit.unit_ids if u in sd.split.train], more)
             for name, c in coders.items():
                 print(f"seed {seed} {name}: penalty {c.alpha:.3g}, leave-one-unit-out R^2 {c.loo_r2:.3f}",
                       flush=True)
@@ -325,7 +423,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> list[dict]:
                 out.append(row)
         for arm in args.arms:
             print(f"seed {seed} {arm:>14}: {summary(out, arm)}", flush=True)
-    return out
+    return out, curves
 
 
 def arm_predictions(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit, recipe: ResponseRecipe,
@@ -351,8 +449,8 @@ def arm_predictions(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: Respon
         preds |= dict(zip(jobs, predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
                                              [sd.evals[u].test_rows for u, _ in jobs]), strict=True))
     if "pooled" in args.arms:
-        found = predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, tests)
-        preds |= {(u, "pooled"): p for u, p in zip(units, found, strict=True)}
+        preds |= {(u, "pooled"): predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [t])[0]
+                  for u, t in zip(units, tests, strict=True)}
     if "input_stats" in args.arms:
         shared = load_shared(ctx.run_dir / "models" / f"shared_none_seed{seed}.safetensors")
         unlabeled = [torch.from_numpy(arrays.pressure[sd.evals[u].stream.unlabeled(args.seconds)])
@@ -387,21 +485,30 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rows", type=int, default=4096, help="evenly spaced rows of them fitted")
     parser.add_argument("--iterations", type=int, default=30, help="damped Gauss-Newton steps")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
-    parser.add_argument("--arms", default=",".join(ARMS), help=f"comma-separated, of {', '.join(ARMS)}")
+    parser.add_argument("--encoder-units", type=Path, default=None,
+                        help="a registry whose units only teach the encoder (arm encoder_more)")
+    parser.add_argument("--arms", default=",".join(a for a in ARMS if a != "encoder_more"),
+                        help=f"comma-separated, of {', '.join(ARMS)} and {TOWARD}<t> (default: all but "
+                             "encoder_more)")
     args = parser.parse_args(argv)
-    arms = tuple(a.strip() for a in args.arms.split(",") if a.strip())
-    unknown = sorted(set(arms) - set(ARMS))
-    if unknown or not arms:
-        parser.error(f"--arms {args.arms!r}: expected some of {', '.join(ARMS)}")
+    try:
+        arms = arm_names(args.arms)
+    except ValueError as e:
+        parser.error(f"--arms {args.arms!r}: {e}")
+    if ("encoder_more" in arms) != (args.encoder_units is not None):
+        parser.error("the encoder_more arm and --encoder-units go together")
     torch.set_num_threads(1)
     try:
-        rows = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
-                                                     args.plan_seconds))
+        rows, curves = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
+                                                             args.plan_seconds, args.encoder_units))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps({"run": str(args.run), "seconds": args.seconds, "rows": rows}, indent=1))
+    found = {"run": str(args.run), "seconds": args.seconds, "rows": rows}
+    if curves:
+        found["encoder_r2_by_units"] = curves
+    args.out.write_text(json.dumps(found, indent=1))
     return 0
 
 

@@ -6,6 +6,7 @@ import shutil
 from dataclasses import asdict, replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 import torch
 
@@ -568,7 +569,8 @@ def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet,
                         "--rows", "256", "--iterations", "4", "--plan-seconds", "40"]) == 0
     rows = json.loads(out.read_text())["rows"]
     units = {r["unit"] for r in rows}
-    assert {(r["unit"], r["arm"]) for r in rows} == {(u, a) for u in units for a in script.ARMS}
+    arms = [a for a in script.ARMS if a != "encoder_more"]  # that one needs --encoder-units
+    assert {(r["unit"], r["arm"]) for r in rows} == {(u, a) for u in units for a in arms}
     for r in rows:
         assert r["unlabeled_rows"] <= 256 and r["force_rmse_n"] > 0
         assert all(b <= a for a, b in zip(r["objective"], r["objective"][1:], strict=False))
@@ -577,6 +579,57 @@ def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet,
         assert by[u, "zero"]["test_residual_pa"] > 0 and "test_residual_pa" not in by[u, "pooled"]
     held = [r for r in rows if r["role"] == "test"]
     assert held and all(r["force_ratio"] > 0 for r in held)
+
+
+def test_the_code_encoder_recovers_a_linear_map_and_knows_when_features_say_nothing():
+    """CodeEncoder (scripts/label_free_codes.py): codes that are a linear function of the features
+    are predicted for a new unit and explained almost wholly when left out; codes unrelated to the
+    features are explained not at all, and the prediction falls back towards the fleet's mean."""
+    script = _script("label_free_codes")
+    g = np.random.default_rng(0)
+    F = g.normal(size=(120, 6))
+    W = g.normal(size=(6, 2 * 3))
+    var = np.array([0.5, 1.0, 2.0])
+    Z = (F @ W).reshape(120, 2, 3) * np.sqrt(var)
+    enc = script.CodeEncoder.fit(F, Z, var)
+    assert enc.loo_r2 > 0.99
+    new = g.normal(size=6)
+    np.testing.assert_allclose(enc(new).numpy(), ((new @ W).reshape(2, 3) * np.sqrt(var)), atol=0.05)
+    noise = script.CodeEncoder.fit(F, g.normal(size=(120, 2, 3)), var)
+    assert noise.loo_r2 < 0.05
+    assert float(noise(new).abs().max()) < 0.5
+
+
+def test_label_free_codes_learns_the_encoder_from_units_that_only_teach_it(fleet, tmp_path):
+    """--encoder-units: another registry's units teach the `encoder_more` arm only (their codes fitted
+    by the frozen response model); a toward_all_<t> arm lies between the encoder's codes and the
+    whole stream's; a unit shared with the run's registry, or the arm without the registry, is refused."""
+    over = [*SECONDS, RESPONSE.replace("}", ", inverse_start: pooled}"), "options.adapters=[]"]
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
+    more = Registry(tmp_path / "more")
+    simulate_into(more, FleetConfig(), 3, seed=12, protocols=(QUICK,))
+    script = _script("label_free_codes")
+    out = tmp_path / "codes.json"
+    args = [str(run), "--registry", str(fleet.root), "--out", str(out), "--rows", "256"]
+    arms = "input_stats,encoder,encoder_more,all_labels,toward_all_0.5"
+    assert script.main([*args, "--arms", arms, "--encoder-units", str(more.root)]) == 0
+    rows = json.loads(out.read_text())["rows"]
+    assert {r["arm"] for r in rows} == set(arms.split(","))
+    by = {(r["unit"], r["arm"]): r for r in rows}
+    for u in {r["unit"] for r in rows}:
+        assert by[u, "toward_all_0.5"]["test_residual_pa"] > 0 and by[u, "input_stats"]["force_rmse_n"] > 0
+        assert "code_rms_encoder_more_off_all" in by[u, "encoder_more"]
+    curve = json.loads(out.read_text())["encoder_r2_by_units"]["0"]
+    assert curve and all(len(r) == 1 and r[0] <= 1 for r in curve.values())
+    with pytest.raises(SystemExit):
+        script.main([*args, "--arms", "encoder_more"])
+    with pytest.raises(SystemExit):
+        script.main([*args, "--arms", "encoder,toward_all_0.5"])
+    assert script.main([*args, "--arms", "encoder,encoder_more", "--encoder-units", str(fleet.root)]) == 2
 
 
 def test_transfer_check_scores_a_second_interval_from_residuals_the_network_never_saw(fleet, tmp_path):
