@@ -53,7 +53,7 @@ from torch import Tensor
 
 from anytip.config import DataConfig, load_spec
 from anytip.data.arrays import FleetArrays, load_arrays
-from anytip.data.calibration import calibration_stream
+from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Budget
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
@@ -260,6 +260,16 @@ def training_features(ctx: Context, arrays: FleetArrays, opts: Options, ids: lis
     return feats
 
 
+def whole_stream(arrays: FleetArrays, stream: CalibrationStream, rows: int, hz: float
+                 ) -> tuple[Tensor, Tensor, float]:
+    """`rows` evenly spaced labeled rows of a unit's whole stream: pressures (n, C) Pa, labels (n, D)
+    and the effective row count of its robot time at `hz` (what the `all_labels` codes are fitted
+    on)."""
+    whole = stream.rows[evenly_spaced(len(stream.rows), rows).numpy()]
+    n_eff = float(stream.seconds[-1]) * hz
+    return torch.from_numpy(arrays.pressure[whole]), torch.from_numpy(arrays.targets[whole]), n_eff
+
+
 def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: ResponseFit,
                        recipe: ResponseRecipe, root: Path, args: Settings, seed: int, chunk: int = 32
                        ) -> tuple[list[str], np.ndarray, np.ndarray]:
@@ -284,10 +294,10 @@ def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: Resp
             stream = calibration_stream(arrays, u, opts.calibration_protocol,
                                         interleave=opts.calibration_interleave)
             feats.append(stream_features(arrays.pressure[stream.unlabeled(args.seconds)]))
-            whole = stream.rows[evenly_spaced(len(stream.rows), args.rows).numpy()]
-            X.append(torch.from_numpy(arrays.pressure[whole]))
-            Y.append(torch.from_numpy(arrays.targets[whole]))
-            n_eff.append(float(stream.seconds[-1]) * opts.rig.effective_hz)
+            x, y, eff = whole_stream(arrays, stream, args.rows, opts.rig.effective_hz)
+            X.append(x)
+            Y.append(y)
+            n_eff.append(eff)
         codes.append(fit_codes(fit, X, Y, n_eff, recipe, seed).numpy())
         print(f"encoder units: {min(a + chunk, len(units))} of {len(units)}", flush=True)
     return units, np.stack(feats), np.concatenate(codes)
@@ -307,14 +317,12 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
     codes = {"zero": zero, "stream_labels": labelled}
     found = {"unlabeled_rows": int(len(stream)), "data_term_truth": data_term(fit, X, Y, labelled),
              "code_rms_truth": float(labelled.pow(2).mean().sqrt())}
-    feats = stream_features(arrays.pressure[unlabeled])
+    feats = stream_features(arrays.pressure[unlabeled]) if coders else None
     for name, coder in coders.items():
         codes[name] = coder(feats)
         found[f"code_rms_{name}_off_truth"] = float((codes[name] - labelled).pow(2).mean().sqrt())
     if "all_labels" in arms:
-        whole = ev.stream.rows[evenly_spaced(len(ev.stream.rows), rows).numpy()]
-        Xa, Ya = torch.from_numpy(arrays.pressure[whole]), torch.from_numpy(arrays.targets[whole])
-        all_eff = float(ev.stream.seconds[-1]) * opts.rig.effective_hz
+        Xa, Ya, all_eff = whole_stream(arrays, ev.stream, rows, opts.rig.effective_hz)
         codes["all_labels"] = fit_codes(fit, [Xa], [Ya], [all_eff], recipe, seed)[0]
         for name in coders:
             off = codes[name] - codes["all_labels"]
@@ -339,6 +347,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
         codes["plan"] = fit_codes(fit, [Xp], [Yp], [plan.n_effective], recipe, seed)[0]
     return {a: c for a, c in codes.items() if a in arms}, found
+
 
 @dataclass(frozen=True)
 class Settings:
