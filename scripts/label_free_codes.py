@@ -65,7 +65,7 @@ from anytip.pipelines.cross_sensor_jobs import plan_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
 from anytip.train.adapt import calibrate_and_fold
-from anytip.train.metrics import scores
+from anytip.train.metrics import ratio_fields, scores
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
@@ -427,8 +427,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
                     rms = residual_rms(fit, Xt, Yt, codes[u, arm])
                     row["test_residual_pa"] = float((rms**2).mean() ** 0.5)
                 if (seed, u) in refs:
-                    row["force_ratio"] = row["force_rmse_n"] / refs[seed, u]["force_rmse_n"]
-                    row["angle_ratio"] = row["angle_rmse_rad"] / refs[seed, u]["angle_rmse_rad"]
+                    row |= ratio_fields(row, refs[seed, u], arrays.layout)
                 out.append(row)
         for arm in args.arms:
             print(f"seed {seed} {arm:>14}: {summary(out, arm)}", flush=True)
@@ -475,11 +474,12 @@ def arm_predictions(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: Respon
 def summary(rows: list[dict], arm: str) -> str:
     """The held-out units' mean force / angle ratio and every unit's mean test-patch residual."""
     mine = [r for r in rows if r["arm"] == arm]
-    held = [r for r in mine if "force_ratio" in r]
+    held = [r for r in mine if any(k.endswith("_ratio") for k in r)]
     text = "no held-out unit"
     if held:
-        text = (f"held-out force {np.mean([r['force_ratio'] for r in held]):.2f}x / angle "
-                f"{np.mean([r['angle_ratio'] for r in held]):.2f}x ({len(held)} units)")
+        ratios = [k for k in held[0] if k.endswith("_ratio")]
+        text = "held-out " + " / ".join(f"{k.removesuffix('_ratio')} {np.mean([r[k] for r in held]):.2f}x"
+                                        for k in ratios) + f" ({len(held)} units)"
     if "test_residual_pa" in mine[0]:
         text += f"; test-patch residual {np.mean([r['test_residual_pa'] for r in mine]):.0f} Pa"
     return text

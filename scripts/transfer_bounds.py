@@ -50,7 +50,7 @@ from anytip.rundir import read_json
 from anytip.train.adapt import pooled_scaler
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import FitResult, train_fleet
-from anytip.train.metrics import predict, scores
+from anytip.train.metrics import predict, ratio_fields, scores
 from anytip.train.recipe import FAST
 from anytip.train.response import ResponseFit, SourceRows, fit_codes, respond, source_rows, unit_networks
 from anytip.train.shared_split import SeedData, predict_rows
@@ -187,8 +187,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, run: Path, seed: 
                "test_residual_pa": float((Xt - views.unit(arm, m, Yt)).pow(2).mean().sqrt()),
                **scores(pred, Yt.numpy(), arrays.layout)}
         if u in refs:
-            row["force_ratio"] = row["force_rmse_n"] / refs[u]["force_rmse_n"]
-            row["angle_ratio"] = row["angle_rmse_rad"] / refs[u]["angle_rmse_rad"]
+            row |= ratio_fields(row, refs[u], arrays.layout)
         else:
             row["val_loss_mean"] = float(np.mean(val[(budget, float(ARMS.index(arm)))]))
         out.append(row)
@@ -202,8 +201,9 @@ def summary(rows: list[dict], arm: str) -> str:
     mine = [r for r in rows if r["arm"] == arm]
     held = [r for r in mine if r["role"] == "test"]
     val = [r["val_loss_mean"] for r in mine if r["role"] == "val"]
-    return (f"val loss {np.mean(val):.4f}  held-out force {np.mean([r['force_ratio'] for r in held]):.2f}x "
-            f"angle {np.mean([r['angle_ratio'] for r in held]):.2f}x  test residual "
+    ratios = [k for k in held[0] if k.endswith("_ratio")] if held else []
+    said = "  ".join(f"{k.removesuffix('_ratio')} {np.mean([r[k] for r in held]):.2f}x" for k in ratios)
+    return (f"val loss {np.mean(val):.4f}  held-out {said}  test residual "
             f"{np.mean([r['test_residual_pa'] for r in mine]):.0f} Pa")
 
 

@@ -463,6 +463,12 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     assert (run / "models" / "response_seed0_start.safetensors").is_file() == (start == "pooled")
     for key in ("u_rmse", "v_rmse", "fz_rmse"):  # the place is where units differ most
         assert np.mean([mine[u][key] for u in mine]) < np.mean([pooled[u][key] for u in mine]), key
+    if start == "pooled":  # the label-free script reads such a run too, its own targets' ratios
+        out = tmp_path / "codes.json"
+        assert _script("label_free_codes").main([str(run), "--registry", str(reg.root), "--out", str(out),
+                                                 "--rows", "256", "--iterations", "3"]) == 0
+        held = [r for r in json.loads(out.read_text())["rows"] if r["role"] == "test"]
+        assert held and all(r["place_ratio"] > 0 and r["force_ratio"] > 0 for r in held)
 
 
 def test_extra_units_train_the_response_model_and_the_registrys_units_carry_over(fleet, tmp_path):

@@ -19,7 +19,7 @@ from anytip.train import (
     rmse_per_output,
     time_to_target,
 )
-from anytip.train.metrics import binned_rmse, region_rmse, rmse
+from anytip.train.metrics import binned_rmse, ratio_fields, region_rmse, rmse, scores
 from anytip.train.timing import select_units
 
 
@@ -104,3 +104,14 @@ def test_region_rmse_puts_each_row_in_its_cell_of_the_sensing_region():
     assert grid.shape == (len(t_edges) - 1, len(p_edges) - 1) == (12, 24)
     assert grid[0, 0] == pytest.approx(np.sqrt(5.0)) and grid[-1, -1] == pytest.approx(2.0)
     assert np.isfinite(grid).sum() == 2  # theta 60 deg lies outside the region
+
+
+def test_ratio_fields_divide_each_targets_rmse_by_the_reference():
+    """The fingertip's targets give `force_ratio` and `angle_ratio`; each is the model's RMSE over the
+    reference's on the same rows."""
+    target = np.zeros((4, 5))
+    ours, ref = target.copy(), target.copy()
+    ours[:, 0], ref[:, 0] = 2.0, 1.0  # force: 2 N against 1 N on fx
+    ours[:, 3], ref[:, 3] = 0.1, 0.4  # angle: 0.1 against 0.4 rad on theta
+    ratios = ratio_fields(scores(ours, target), scores(ref, target))
+    assert ratios == pytest.approx({"force_ratio": 2.0, "angle_ratio": 0.25})

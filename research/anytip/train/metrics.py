@@ -75,6 +75,14 @@ def target_keys(layout: dict[str, TargetLayout]) -> list[str]:
     return [target_key(name) for name in layout]
 
 
+def ratio_fields(row: dict[str, float], reference: dict[str, float],
+                 layout: dict[str, TargetLayout] = V1_LAYOUT) -> dict[str, float]:
+    """Each target's RMSE in `row` over the same in `reference` (`scores` of one unit's test rows by
+    two models), keyed by the stem of its result key: `force_ratio` and `angle_ratio` on the
+    fingertip, `<name>_ratio` elsewhere."""
+    return {key.split("_rmse")[0] + "_ratio": row[key] / reference[key] for key in target_keys(layout)}
+
+
 def scores(pred: np.ndarray, target: np.ndarray,
            layout: dict[str, TargetLayout] = V1_LAYOUT) -> dict[str, float]:
     """RMSE of one unit's rows (n, D): per component (`fx_rmse`, ...) and per target over its
