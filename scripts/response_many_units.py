@@ -1,0 +1,270 @@
+"""Response models trained on a run's training units and hundreds to thousands more simulated units,
+on a GPU (research log entry 31).
+
+Entry 25 trained the response model on a registry's 16 training units and 128 more simulated
+units (`options.extra_units`) and took the 120 s ratio from 1.31x to 1.15x; its cost grows with the
+units (35 min for 144 units on 2 CPU cores). This script trains, for each seed of finished
+cross_sensor runs, response models with the run's recipe on the seed's training units and on the
+first N units of a simulated fleet, for each N of `--extra`, and saves them in the layout
+`scripts/transfer_bounds.py --response-model` reads (the registry's own training units keep
+their codes, so a new unit's rows are transferred from them as in the run):
+
+    OMP_NUM_THREADS=1 python scripts/response_many_units.py \\
+        reports/cross_sensor_response_extra/fleet88_seed0 reports/cross_sensor_response_extra/fleet88_seed1 \\
+        --registry-seed 40 --registry-protocols full,short,quick --extra-seed 8 --extra 128,1024 \\
+        --workers 16 --device cuda --out build/many_units
+
+Nothing is read from the run's registry: the script needs only the runs' specs and splits. The
+registry's training units are simulated again from their fleet seed and protocols (their ids,
+SIM<seed>-<index>, give the index; the default fleet), and the extra units are units 0..N-1 of the
+default fleet of `--extra-seed` (the units `anytip data simulate --units N --seed S --protocols
+full` writes). Each worker process simulates its units, writes them to a registry of its own and
+reads them back through `load_arrays` (the checked read path), then builds each unit's fitting and
+validation rows as the pipeline's `training_units` does. The per-unit SHA-256 of the registry
+units' rows is written beside the models, so the rows can be compared with the run's registry.
+
+Extra units keep at most `--max-rows` fitting rows (random, default 120,000 of about 330,000; the
+recipe's 20,000 steps draw 3-28 rows of each unit per step) and a tenth as many validation rows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import sys
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict, dataclass, replace
+from multiprocessing import get_context
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from anytip.config import load_spec
+from anytip.data.arrays import OUTPUT_NAMES, load_arrays
+from anytip.data.registry import Registry
+from anytip.data.seeds import unit_seed
+from anytip.data.simulated import as_run
+from anytip.errors import AnytipError
+from anytip.models.io import save_response
+from anytip.pipelines.common import Context
+from anytip.pipelines.cross_sensor_options import Options, parse_options
+from anytip.rundir import read_json
+from anytip.sensor import simulate as sim
+from anytip.sensor.fleet import FleetConfig
+from anytip.sensor.variation import draw_unit
+from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.response import ResponseRecipe, train_response
+from anytip.train.shared_split import Roles, training_units
+
+Rows = tuple[str, np.ndarray, np.ndarray, np.ndarray, np.ndarray]  # unit, X_fit, Y_fit, X_val, Y_val
+Key = tuple[int, int]  # (fold, position in its training list); fold -1: an extra unit, in every fold
+
+
+@dataclass(frozen=True)
+class Task:
+    """One unit to simulate (`SIM<seed>-<index>`, these protocols) and the training-list slots it fills."""
+
+    seed: int
+    index: int
+    protocols: str
+    keys: tuple[Key, ...]
+
+
+@dataclass(frozen=True)
+class Fold:
+    """A seed of a finished run: its training units, options and unit roles."""
+
+    name: str
+    seed: int
+    train: list[str]
+    opts: Options
+    roles: Roles
+
+
+def unit_index(unit: str, seed: int) -> int:
+    """The index of a simulated unit `SIM<seed>-<index>`."""
+    prefix = f"SIM{seed}-"
+    if not unit.startswith(prefix) or not unit[len(prefix):].isdigit():
+        raise AnytipError(f"unit {unit!r} is not a unit of simulated fleet seed {seed} (SIM{seed}-<index>)")
+    return int(unit[len(prefix):])
+
+
+def simulate_units(root: Path, tasks: list[Task]) -> Registry:
+    """Each task's unit of the default fleet simulated into a new registry at `root`, one unit per
+    transaction, as `anytip data simulate` writes it."""
+    registry, config = Registry(root), FleetConfig()
+    for t in tasks:
+        unit = draw_unit(config, sim.unit_rng(t.seed, t.index))
+        runs, first = [], 0
+        for name in t.protocols.split(","):
+            protocol = sim.get_protocol(name)
+            made = sim.simulate_unit(unit, protocol, t.seed, t.index, None, config.run, first)
+            runs += [as_run(r) for r in made]
+            first += len(protocol.orientations_deg)
+        registry.add_runs(runs)
+    return registry
+
+
+def shard(tasks: list[Task], roles: Roles, seed: int, max_rows: int | None) -> list[tuple[Key, Rows]]:
+    """A worker: its units simulated, written and read back, and each unit's rows for each of its
+    slots (the position in a training list seeds its validation rows, as in the pipeline)."""
+    torch.set_num_threads(1)
+    out = []
+    with tempfile.TemporaryDirectory() as tmp:
+        registry = simulate_units(Path(tmp) / "registry", tasks)
+        arrays = load_arrays(registry, registry.list_runs())
+        for t in tasks:
+            unit = f"SIM{t.seed}-{t.index:03d}"
+            for key in t.keys:
+                members, _, _ = training_units(arrays, [unit], roles, None, False, seed, first_index=key[1])
+                m = members[0]
+                rows = [a.numpy() for a in (m.X_train, m.Y_train, m.X_val, m.Y_val)]
+                if max_rows is not None:
+                    rows = capped(rows, max_rows, unit_seed(seed, key[1], "many units rows"))
+                out.append((key, (unit, *rows)))
+    return out
+
+
+def capped(rows: list[np.ndarray], max_rows: int, seed: int) -> list[np.ndarray]:
+    """At most `max_rows` random fitting rows and a tenth as many validation rows."""
+    g = np.random.default_rng(seed)
+    fit = np.sort(g.permutation(len(rows[0]))[:max_rows])
+    val = np.sort(g.permutation(len(rows[2]))[:max(1, max_rows // 10)])
+    return [rows[0][fit], rows[1][fit], rows[2][val], rows[3][val]]
+
+
+def rows_digest(rows: Rows) -> str:
+    """SHA-256 (hex) of a unit's id and its four row arrays."""
+    h = hashlib.sha256(rows[0].encode())
+    for a in rows[1:]:
+        h.update(np.ascontiguousarray(a).data)
+    return h.hexdigest()
+
+
+def gather(tasks: list[Task], roles: Roles, seed: int, workers: int, max_rows: int | None) -> dict[Key, Rows]:
+    """{slot: rows} of every task, simulated by `workers` processes."""
+    parts = [tasks[k::workers] for k in range(workers) if tasks[k::workers]]
+    with ProcessPoolExecutor(len(parts), mp_context=get_context("spawn")) as pool:
+        done = pool.map(shard, parts, [roles] * len(parts), [seed] * len(parts), [max_rows] * len(parts))
+        return {key: rows for part in done for key, rows in part}
+
+
+def folds_of(runs: list[Path]) -> list[Fold]:
+    """Each seed of each run, with its training units from the run's provenance."""
+    folds = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for run_dir in runs:
+            spec = load_spec(run_dir / "config.yaml", ["options.adapters=[]"])
+            ctx = Context(spec, Registry(Path(tmp) / "none"), run_dir, torch.device("cpu"), False,
+                          {"spec_file": str(run_dir / "config.yaml")})
+            opts = parse_options(ctx)
+            if opts.response is None:
+                raise AnytipError(f"{run_dir}: its spec has no options.response")
+            s = spec.splits
+            roles = Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction,
+                          s.val_fraction, s.unit_folds, opts.unlabeled_s)
+            units = read_json(run_dir / "provenance.json")["cross_sensor"]
+            folds += [Fold(run_dir.name, seed, units[f"seed{seed}"]["units"]["train"], opts, roles)
+                      for seed in spec.all_seeds]
+    return folds
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+", type=Path, help="finished cross_sensor runs with options.response")
+    parser.add_argument("--registry-seed", type=int, required=True, help="the runs' registry's fleet seed")
+    parser.add_argument("--registry-protocols", default="full,short,quick")
+    parser.add_argument("--extra-seed", type=int, default=8)
+    parser.add_argument("--extra", default="128,1024", help="comma-separated counts of extra units")
+    parser.add_argument("--rows-per-step", default="", help="comma-separated rows_per_step to train with "
+                        "besides the run's, at the largest count")
+    parser.add_argument("--max-rows", type=int, default=120_000)
+    parser.add_argument("--steps", type=int, default=None, help="response model steps (default: the run's)")
+    parser.add_argument("--workers", type=int, default=16)
+    parser.add_argument("--device", default="cuda" if torch.cuda.is_available() else "cpu")
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args(argv)
+    try:
+        run(args)
+    except AnytipError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def run(args: argparse.Namespace) -> None:
+    start = time.perf_counter()
+    counts = sorted(int(n) for n in args.extra.split(","))
+    folds = folds_of(args.runs)
+    slots: dict[str, list[Key]] = {}
+    for k, fold in enumerate(folds):
+        for position, unit in enumerate(fold.train):
+            slots.setdefault(unit, []).append((k, position))
+    tasks = [Task(args.registry_seed, unit_index(u, args.registry_seed), args.registry_protocols, tuple(keys))
+             for u, keys in slots.items()]
+    first = max(len(f.train) for f in folds)  # extra units follow the training units, the same in every fold
+    extra_ids = sorted(f"SIM{args.extra_seed}-{i:03d}" for i in range(counts[-1]))
+    extra_tasks = [Task(args.extra_seed, unit_index(u, args.extra_seed), "full", ((-1, first + j),))
+                   for j, u in enumerate(extra_ids)]
+    got = {}
+    for seed in sorted({f.seed for f in folds}):  # a registry unit's rows depend on its fold's seed
+        mine = [replace(t, keys=tuple(k for k in t.keys if folds[k[0]].seed == seed)) for t in tasks]
+        got |= gather([t for t in mine if t.keys], folds[0].roles, seed, args.workers, None)
+    extra = gather(extra_tasks, folds[0].roles, folds[0].seed, args.workers, args.max_rows)
+    log = {"simulate_s": time.perf_counter() - start, "torch": torch.__version__, "device": args.device,
+           "gpu": torch.cuda.get_device_name() if torch.cuda.is_available() else None,
+           "registry_rows_sha256": {}, "models": []}
+    print(f"simulated {len(tasks)} registry units and {len(extra_tasks)} extra units in "
+          f"{log['simulate_s']:.0f} s", flush=True)
+    args.out.mkdir(parents=True, exist_ok=True)
+    for k, fold in enumerate(folds):
+        own = [got[(k, p)] for p in range(len(fold.train))]
+        log["registry_rows_sha256"][f"{fold.name}_seed{fold.seed}"] = {r[0]: rows_digest(r) for r in own}
+        recipe = fold.opts.response.recipe()
+        for n in counts:
+            more = [extra[(-1, first + extra_ids.index(u))] for u in sorted(_first_ids(args, n))]
+            members = [UnitTensors(*(torch.from_numpy(a) for a in r[1:]), unit_id=r[0]) for r in own + more]
+            data = FleetBatchData.from_units(members, args.device, OUTPUT_NAMES)
+            steps = [recipe.rows_per_step] + ([int(r) for r in args.rows_per_step.split(",") if r]
+                                              if n == counts[-1] else [])
+            for rps in steps:
+                name = f"{fold.name}_seed{fold.seed}_extra{n}_rps{rps}"
+                asked = replace(recipe, rows_per_step=rps, steps=args.steps or recipe.steps)
+                trained = train_one(data, fold, asked, args.out / name)
+                log["models"].append(trained)
+                (args.out / "log.json").write_text(json.dumps(log, indent=1))
+            del data
+    print(f"done in {time.perf_counter() - start:.0f} s", flush=True)
+
+
+def _first_ids(args: argparse.Namespace, n: int) -> list[str]:
+    """The ids of units 0..n-1 of the extra fleet."""
+    return [f"SIM{args.extra_seed}-{i:03d}" for i in range(n)]
+
+
+def train_one(data: FleetBatchData, fold: Fold, recipe: ResponseRecipe, path: Path) -> dict[str, Any]:
+    """A response model trained on `data` and saved at `path` (.safetensors and .json), with the
+    metadata `ResponseFit.from_loaded` and `transfer_bounds.py` read; its wall time."""
+    assert fold.opts.response is not None
+    t = time.perf_counter()
+    fit = train_response(data, [0, 1, 2], fold.opts.response.config(), recipe, fold.seed, data.device)
+    if data.device.type == "cuda":
+        torch.cuda.synchronize()
+    wall = time.perf_counter() - t
+    meta = {"unit_ids": fit.unit_ids, "source_unit_ids": list(fold.train), "seed": fold.seed,
+            "output_names": list(OUTPUT_NAMES), "recipe": asdict(recipe), "wall_s": wall,
+            "training_digest": None, "device": str(data.device)}
+    save_response(path.with_suffix(".safetensors"), fit.model.cpu(), fit.noise_var.cpu(), fit.code_var.cpu(),
+                  meta)
+    print(f"{path.name}: {data.n_units} units, {recipe.steps} steps of {recipe.rows_per_step} rows, "
+          f"{wall:.0f} s", flush=True)
+    return {"file": path.name, "units": data.n_units, "rows_per_step": recipe.rows_per_step, "wall_s": wall}
+
+
+if __name__ == "__main__":
+    sys.exit(main())
