@@ -24,6 +24,16 @@ be trained again, on the run's own training units (and its `extra_units`), with 
 
 A retrained model is saved as soon as it is trained: the same command on an OUT that an
 interruption left without metrics.json reuses it, as `anytip run` does in place.
+
+`--response-model FILE` (`{seed}` replaced by the seed) takes each seed's response model from
+elsewhere: one trained on the seed's training units and on units this machine does not hold (many
+simulated units trained on a GPU by `scripts/response_many_units.py`). It must have learnt every
+training unit of the split and no validation or held-out unit; the run's `extra_units` are not
+read (they only trained the run's response model), and a new unit's rows are transferred from the
+registry's own training units (`transfer_from: registry`):
+
+    python scripts/rescore_response.py RUN_DIR --registry data/fleet88 --out OUT \
+        --response-model 'build/many_units/fleet88_seed{seed}_extra1024.safetensors'
 """
 
 from __future__ import annotations
@@ -46,17 +56,23 @@ from anytip.pipelines.common import Context, load, load_extra
 from anytip.pipelines.cross_sensor import min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import validation_by_method
 from anytip.pipelines.cross_sensor_options import Options, parse_options
-from anytip.pipelines.cross_sensor_response import METHOD, response_rows
+from anytip.pipelines.cross_sensor_response import METHOD, check_trained_on, response_rows
 from anytip.rundir import check_run_dir, code_version, read_json, write_config, write_json, write_metrics
 from anytip.runner import rewrite_report
 from anytip.train.metrics import target_key
 from anytip.train.response import TRAINING_FIELDS, ResponseFit, ResponseRecipe
 
 
-def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False) -> Path:
+def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False,
+            response_model: str | None = None) -> Path:
     """The run's references and its units calibrated again by response transfer, in `out`; with
     `retrain`, each seed's response model is trained again on the run's training units with the
-    options given (otherwise the run's own models are reused)."""
+    options given; with `response_model` (a file name, `{seed}` replaced), each seed's model is
+    read from there (otherwise the run's own models are reused)."""
+    if retrain and response_model:
+        raise AnytipError("--retrain and --response-model exclude each other")
+    if response_model:  # the extra units trained that model; they are not read here
+        overrides = [*overrides, "options.extra_units=null"]
     spec = load_spec(run / "config.yaml", [*overrides, "options.adapters=[]"])
     old = read_json(run / "provenance.json")
     ctx = Context(spec, Registry(registry, create=False), out, torch.device("cpu"), False,
@@ -67,13 +83,26 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
     arrays = load(ctx, min_units(ctx))
     if ctx.provenance["selection_content_hash"] != old.get("selection_content_hash"):
         raise AnytipError(f"{registry}: its runs differ from those {run} was run on")
-    saved = {} if retrain else {s: load_response(run / "models" / f"response_seed{s}.safetensors")
-                                for s in spec.all_seeds}
+    if response_model and opts.response.transfer_from != "registry":
+        raise AnytipError("--response-model: a new unit's rows come from the registry's own training units; "
+                          "set options.response.transfer_from=registry")
+    paths = {s: Path(response_model.format(seed=s)) if response_model else
+             run / "models" / f"response_seed{s}.safetensors" for s in spec.all_seeds}
+    saved = {} if retrain else {s: load_response(paths[s]) for s in spec.all_seeds}
     for seed, model in saved.items():
         try:
             _check_same_model(model.model.config, model.meta.get("recipe", {}), opts, seed)
         except (TypeError, ValueError) as e:  # a recipe in the model's header that no run wrote
-            raise AnytipError(f"{run / 'models' / f'response_seed{seed}.safetensors'}: {e}") from None
+            raise AnytipError(f"{paths[seed]}: {e}") from None
+        units = old.get("cross_sensor", {}).get(f"seed{seed}", {}).get("units")
+        roles = ("train", "val", "test")
+        if not isinstance(units, dict) or not all(isinstance(units.get(k), list) for k in roles):
+            raise AnytipError(f"{run / 'provenance.json'}: no unit split recorded for seed {seed}")
+        try:
+            check_trained_on([str(u) for u in model.meta.get("unit_ids", [])], units["train"],
+                             [*units["val"], *units["test"]], seed)
+        except AnytipError as e:
+            raise AnytipError(f"{paths[seed]}: {e}") from None
     check_run_dir(out)  # an interrupted rescoring (no metrics yet) resumes in place
     (out / "models").mkdir(parents=True, exist_ok=True)
     write_config(out, public_config(spec))
@@ -92,12 +121,17 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         fit = ResponseFit.from_loaded(saved[seed]) if seed in saved else None
         got = response_rows(ctx, arrays, sd, opts, seed, fit)
         base = {"seed": seed, "split": rows[0]["split"], "n_train_units": len(sd.split.train)}
+        # units the response model learnt beside the registry's training units (the run's extra units,
+        # or those of a model trained elsewhere), as a run's rows record them
+        n_extra = sd.n_extra if fit is None else len(fit.unit_ids) - (sd.train.n_units - sd.n_extra)
+        if n_extra:
+            base["n_extra_units"] = n_extra
         rows += [dict(base, **r) for r in got.rows]
         ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
             "units": sd.split.to_json(), "val_loss": validation_by_method(METHOD, got.val_loss)}
         print(f"seed {seed}: {len(got.rows)} held-out rows ({time.perf_counter() - start:.0f} s)", flush=True)
     ctx.provenance.update(rescored_from=str(run), overrides=overrides, seeds=spec.all_seeds,
-                          retrained=retrain, code=code_version(),
+                          retrained=retrain, response_model=response_model, code=code_version(),
                           wall_s=round(time.perf_counter() - start, 2))
     keys = [target_key(name) for name in ctx.provenance["targets"]]
     write_metrics(out, rows, keys, spec=spec.name, pipeline=spec.pipeline)
@@ -126,10 +160,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--retrain", action="store_true",
                         help="train each seed's response model again on the run's training units with the "
                              "options given (otherwise the run's own response models are reused)")
+    parser.add_argument("--response-model", help="each seed's response model from this file ({seed} is "
+                        "replaced by the seed) instead of the run's")
     args = parser.parse_args(argv)
     torch.set_num_threads(1)
     try:
-        print(f"report: {rescore(args.run, args.registry, args.out, args.overrides, args.retrain)}")
+        out = rescore(args.run, args.registry, args.out, args.overrides, args.retrain, args.response_model)
+        print(f"report: {out}")
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2

@@ -18,10 +18,11 @@ Nothing is read from the run's registry: the script needs only the runs' specs a
 registry's training units are simulated again from their fleet seed and protocols (their ids,
 SIM<seed>-<index>, give the index; the default fleet), and the extra units are units 0..N-1 of the
 default fleet of `--extra-seed` (the units `anytip data simulate --units N --seed S --protocols
-full` writes). Each worker process simulates its units, writes them to a registry of its own and
-reads them back through `load_arrays` (the checked read path), then builds each unit's fitting and
-validation rows as the pipeline's `training_units` does. The per-unit SHA-256 of the registry
-units' rows is written beside the models, so the rows can be compared with the run's registry.
+full` writes; `--extra-protocols`). Each worker process simulates its units, writes them to a
+registry of its own and reads them back through `load_arrays` (the checked read path), then builds
+each unit's fitting and validation rows as the pipeline's `training_units` does. The SHA-256 of
+each registry unit's rows goes to `log.json` beside the models, to compare with the run's registry
+(on fleet88 they were equal bit for bit).
 
 Extra units keep at most `--max-rows` fitting rows (random, default 120,000 of about 330,000; the
 recipe's 20,000 steps draw 3-28 rows of each unit per step) and a tenth as many validation rows.
@@ -181,6 +182,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--registry-protocols", default="full,short,quick")
     parser.add_argument("--extra-seed", type=int, default=8)
     parser.add_argument("--extra", default="128,1024", help="comma-separated counts of extra units")
+    parser.add_argument("--extra-protocols", default="full")
     parser.add_argument("--rows-per-step", default="", help="comma-separated rows_per_step to train with "
                         "besides the run's, at the largest count")
     parser.add_argument("--max-rows", type=int, default=120_000)
@@ -197,54 +199,62 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def run(args: argparse.Namespace) -> None:
-    start = time.perf_counter()
-    counts = sorted(int(n) for n in args.extra.split(","))
-    folds = folds_of(args.runs)
+def extra_ids(seed: int, n: int) -> list[str]:
+    """Units 0..n-1 of the extra fleet, sorted as a registry lists them."""
+    return sorted(f"SIM{seed}-{i:03d}" for i in range(n))
+
+
+def registry_rows(folds: list[Fold], args: argparse.Namespace) -> dict[Key, Rows]:
+    """Every fold's training units' rows, each unit simulated once (its rows for each fold's seed
+    and position)."""
     slots: dict[str, list[Key]] = {}
     for k, fold in enumerate(folds):
         for position, unit in enumerate(fold.train):
             slots.setdefault(unit, []).append((k, position))
     tasks = [Task(args.registry_seed, unit_index(u, args.registry_seed), args.registry_protocols, tuple(keys))
              for u, keys in slots.items()]
-    first = max(len(f.train) for f in folds)  # extra units follow the training units, the same in every fold
-    extra_ids = sorted(f"SIM{args.extra_seed}-{i:03d}" for i in range(counts[-1]))
-    extra_tasks = [Task(args.extra_seed, unit_index(u, args.extra_seed), "full", ((-1, first + j),))
-                   for j, u in enumerate(extra_ids)]
-    got = {}
-    for seed in sorted({f.seed for f in folds}):  # a registry unit's rows depend on its fold's seed
+    got: dict[Key, Rows] = {}
+    for seed in sorted({f.seed for f in folds}):  # the validation rows depend on the fold's seed
         mine = [replace(t, keys=tuple(k for k in t.keys if folds[k[0]].seed == seed)) for t in tasks]
         got |= gather([t for t in mine if t.keys], folds[0].roles, seed, args.workers, None)
-    extra = gather(extra_tasks, folds[0].roles, folds[0].seed, args.workers, args.max_rows)
-    log = {"simulate_s": time.perf_counter() - start, "torch": torch.__version__, "device": args.device,
-           "gpu": torch.cuda.get_device_name() if torch.cuda.is_available() else None,
-           "registry_rows_sha256": {}, "models": []}
-    print(f"simulated {len(tasks)} registry units and {len(extra_tasks)} extra units in "
+    return got
+
+
+def run(args: argparse.Namespace) -> None:
+    start = time.perf_counter()
+    counts = sorted(int(n) for n in args.extra.split(","))
+    folds = folds_of(args.runs)
+    own = registry_rows(folds, args)
+    first = max(len(f.train) for f in folds)  # extra units follow the training units, the same in every fold
+    ids = extra_ids(args.extra_seed, counts[-1])
+    tasks = [Task(args.extra_seed, unit_index(u, args.extra_seed), args.extra_protocols, ((-1, first + j),))
+             for j, u in enumerate(ids)]
+    extra = {rows[0]: rows for rows in gather(tasks, folds[0].roles, folds[0].seed, args.workers,
+                                              args.max_rows).values()}
+    log: dict[str, Any] = {"simulate_s": time.perf_counter() - start, "torch": torch.__version__,
+                           "device": args.device,
+                           "gpu": torch.cuda.get_device_name() if torch.cuda.is_available() else None,
+                           "registry_rows_sha256": {}, "models": []}
+    print(f"simulated {len(own)} registry unit slots and {len(extra)} extra units in "
           f"{log['simulate_s']:.0f} s", flush=True)
     args.out.mkdir(parents=True, exist_ok=True)
+    log_path = args.out / f"log_{'_'.join(f'{f.name}-seed{f.seed}' for f in folds)}.json"
     for k, fold in enumerate(folds):
-        own = [got[(k, p)] for p in range(len(fold.train))]
-        log["registry_rows_sha256"][f"{fold.name}_seed{fold.seed}"] = {r[0]: rows_digest(r) for r in own}
+        rows = [own[(k, p)] for p in range(len(fold.train))]
+        log["registry_rows_sha256"][f"{fold.name}_seed{fold.seed}"] = {r[0]: rows_digest(r) for r in rows}
         recipe = fold.opts.response.recipe()
         for n in counts:
-            more = [extra[(-1, first + extra_ids.index(u))] for u in sorted(_first_ids(args, n))]
-            members = [UnitTensors(*(torch.from_numpy(a) for a in r[1:]), unit_id=r[0]) for r in own + more]
+            members = [UnitTensors(*(torch.from_numpy(a) for a in r[1:]), unit_id=r[0])
+                       for r in rows + [extra[u] for u in extra_ids(args.extra_seed, n)]]
             data = FleetBatchData.from_units(members, args.device, OUTPUT_NAMES)
-            steps = [recipe.rows_per_step] + ([int(r) for r in args.rows_per_step.split(",") if r]
-                                              if n == counts[-1] else [])
-            for rps in steps:
-                name = f"{fold.name}_seed{fold.seed}_extra{n}_rps{rps}"
+            more = [int(r) for r in args.rows_per_step.split(",") if r] if n == counts[-1] else []
+            for rps in [recipe.rows_per_step, *more]:
                 asked = replace(recipe, rows_per_step=rps, steps=args.steps or recipe.steps)
-                trained = train_one(data, fold, asked, args.out / name)
-                log["models"].append(trained)
-                (args.out / "log.json").write_text(json.dumps(log, indent=1))
+                name = f"{fold.name}_seed{fold.seed}_extra{n}_rps{rps}"
+                log["models"].append(train_one(data, fold, asked, args.out / name))
+                log_path.write_text(json.dumps(log, indent=1))
             del data
     print(f"done in {time.perf_counter() - start:.0f} s", flush=True)
-
-
-def _first_ids(args: argparse.Namespace, n: int) -> list[str]:
-    """The ids of units 0..n-1 of the extra fleet."""
-    return [f"SIM{args.extra_seed}-{i:03d}" for i in range(n)]
 
 
 def train_one(data: FleetBatchData, fold: Fold, recipe: ResponseRecipe, path: Path) -> dict[str, Any]:

@@ -1,6 +1,7 @@
 """Calibration by response transfer: the response model, a new unit's codes, the transfer of rows,
 the saved model file, and the cross_sensor method `response` end to end on tiny fleets."""
 
+import importlib
 import json
 import shutil
 from dataclasses import asdict, replace
@@ -492,6 +493,81 @@ def test_extra_units_train_the_response_model_and_the_registrys_units_carry_over
     result = calibrate_unit(run, units["test"][0], fleet, tmp_path / "cal", budget_seconds=40,
                             method="response")
     assert result.response_check is not None and (tmp_path / "cal" / "model.safetensors").is_file()
+    # a response model trained elsewhere, on units this machine does not hold: rescoring takes it
+    # without reading them, and gives the run's rows back where it is the run's own model
+    rescore = _script("rescore_response")
+    model = str(run / "models" / "response_seed{seed}.safetensors")
+    shutil.rmtree(extra.root)
+    out = tmp_path / "elsewhere"
+    assert rescore.main([str(run), "--registry", str(fleet.root), "--out", str(out), "--response-model",
+                         model]) == 0
+    mine = [r for r in json.loads((run / "metrics.json").read_text())["results"]
+            if r["method"].startswith("response@") or r["method"] == "per_unit"]
+    assert json.loads((out / "metrics.json").read_text())["results"] == mine
+    crafted = tmp_path / "crafted"  # a model that learnt a held-out unit is refused
+    shutil.copytree(run / "models", crafted)
+    header = json.loads((crafted / "response_seed0.json").read_text())
+    header["meta"]["unit_ids"][-1] = units["test"][0]
+    (crafted / "response_seed0.json").write_text(json.dumps(header))
+    assert rescore.main([str(run), "--registry", str(fleet.root), "--out", str(tmp_path / "leak"),
+                         "--response-model", str(crafted / "response_seed{seed}.safetensors")]) == 2
+    assert rescore.main([str(run), "--registry", str(fleet.root), "--out", str(tmp_path / "all"),
+                         "--response-model", model, "--set", "options.response.transfer_from=all"]) == 2
+    assert not (tmp_path / "leak").exists() and not (tmp_path / "all").exists()
+
+
+def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_rescore(tmp_path, monkeypatch):
+    """scripts/response_many_units.py simulates a run's training units again (from their fleet seed)
+    and more units beside them, in worker processes through registries of their own: the training
+    units' rows equal the pipeline's bit for bit, its models learn them and the extra units, and
+    rescoring takes such a model without the extra units on this machine."""
+    from anytip.config import load_spec
+    from anytip.data.simulated import simulate_into
+    from anytip.pipelines.common import Context, load
+    from anytip.pipelines.cross_sensor import min_units, prepare
+    from anytip.pipelines.cross_sensor_options import parse_options
+    from anytip.sensor.fleet import FleetConfig
+
+    registry = Registry(tmp_path / "reg")
+    simulate_into(registry, FleetConfig(), 8, seed=21, protocols=("short",))
+    over = [*SECONDS, RESPONSE.replace("}", ", transfer_from: registry}"), "options.fits=[{}]",
+            "options.adapters=[input_affine+film]", "options.plan_strategies=[spread]"]
+    run = run_experiment(SPEC, registry, out=tmp_path / "run", overrides=over, progress=False)
+    monkeypatch.syspath_prepend(str(REPO / "scripts"))  # its worker processes import it by name
+    many = importlib.import_module("response_many_units")
+    out = tmp_path / "many"
+    assert many.main([str(run), "--registry-seed", "21", "--registry-protocols", "short", "--extra-seed",
+                      "22", "--extra", "2", "--extra-protocols", "short", "--workers", "2", "--device", "cpu",
+                      "--steps", "30", "--max-rows", "300", "--out", str(out)]) == 0
+    digests = json.loads(next(out.glob("log_*.json")).read_text())["registry_rows_sha256"]["run_seed0"]
+    spec = load_spec(run / "config.yaml", ["options.adapters=[]"])
+    ctx = Context(spec, registry, tmp_path / "x", torch.device("cpu"), False, {})
+    sd = prepare(ctx, load(ctx, min_units(ctx)), parse_options(ctx), 0)
+    for k in range(sd.train.n_units):
+        r = sd.train.unit(k)
+        rows = (r.unit_id, *(t.numpy() for t in (r.X_train, r.Y_train, r.X_val, r.Y_val)))
+        assert many.rows_digest(rows) == digests[r.unit_id]
+    model = out / "run_seed0_extra2_rps4096.safetensors"
+    assert load_response(model).meta["unit_ids"] == [*sd.train.unit_ids, "SIM22-000", "SIM22-001"]
+    rescore = _script("rescore_response")
+    again = tmp_path / "rescored"
+    assert rescore.main([str(run), "--registry", str(registry.root), "--out", str(again), "--response-model",
+                         str(model), "--set", "options.response.steps=30"]) == 0
+    rows = [r for r in json.loads((again / "metrics.json").read_text())["results"]
+            if r["method"].startswith("response@")]
+    assert rows and all(r["n_extra_units"] == 2 for r in rows)
+    assert rescore.main([str(run), "--registry", str(registry.root), "--out", str(tmp_path / "other"),
+                         "--response-model", str(model)]) == 2  # trained with other steps than the spec's
+
+
+def _script(name: str):
+    """A script of scripts/ as a module."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def test_every_new_unit_starts_from_the_pooled_network_the_run_saved(fleet, tmp_path):
@@ -541,7 +617,7 @@ def _script(name: str):
 def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run, fleet, tmp_path, capsys):
     """scripts/transfer_bounds.py: a row per unit and arm; arms that know the new unit alike give it
     the same test-patch residual. scripts/fold_table.py: one table over runs, and a unit held out
-    in two runs is refused."""
+    in two runs is refused. scripts/response_model_table.py: a table of such rows, and pairs."""
     bounds = _script("transfer_bounds")
     out = tmp_path / "bounds.json"
     assert bounds.main([str(response_run), "--registry", str(fleet.root), "--budget", "40",
@@ -562,6 +638,11 @@ def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run,
     assert "| response@spread | 40 |" in capsys.readouterr().out
     with pytest.raises(SystemExit, match="is held out in"):
         table.main([str(response_run), str(response_run)])
+
+    models = _script("response_model_table")  # a model's rows against themselves: every paired ratio is 1
+    assert models.main([str(out), "--pair", "bounds:bounds"]) == 0
+    printed = capsys.readouterr().out
+    assert "| bounds | oracle |" in printed and "force_ratio 1.000 [1.000, 1.000]" in printed
 
 
 def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet, tmp_path):

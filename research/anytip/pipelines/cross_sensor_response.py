@@ -5,6 +5,7 @@ method. The response model is trained once per seed on the training units and sa
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -75,9 +76,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     digest = None  # a model handed in was trained elsewhere: its file records no digest
     if fit is None:
         fit, digest = trained_response(ctx, sd, arrays, opts, seed)
-    if fit.unit_ids != list(sd.train.unit_ids):
-        raise AnytipError(f"seed {seed}: the response model was trained on other units than this split's "
-                          f"training units ({', '.join(fit.unit_ids[:4])} ...)")
+    check_trained_on(fit.unit_ids, sd.train.unit_ids, [*sd.split.val, *sd.split.test], seed)
     budgets = [b for b in budget_list(opts) if b.amount > 0]
     jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in [*sd.split.val, *sd.split.test] for b in budgets]
     jobs = [j for j in jobs if len(j[2].rows)]
@@ -161,6 +160,22 @@ def trained_response(ctx: Context, sd: SeedData, arrays: FleetArrays, opts: Opti
     save_response(path, fit.model, fit.noise_var, fit.code_var,
                   response_meta(ctx, sd, arrays, recipe, seed, fit, digest))
     return fit, digest
+
+
+def check_trained_on(learnt: Sequence[str], train: Sequence[str], new: Sequence[str], seed: int) -> None:
+    """A response model that learnt the units `learnt` can calibrate a split's units only if it
+    learnt every training unit of the split (their codes carry the rows over) and none of its
+    validation or held-out units (`new`). A model trained elsewhere may have learnt more units
+    (many simulated ones, say) beside them."""
+    known = set(learnt)
+    missing = [u for u in train if u not in known]
+    if missing:
+        raise AnytipError(f"seed {seed}: the response model was not trained on the split's training units "
+                          f"{', '.join(missing[:4])}{' ...' if len(missing) > 4 else ''}")
+    seen = [u for u in new if u in known]
+    if seen:
+        raise AnytipError(f"seed {seed}: the response model was trained on validation or held-out units "
+                          f"{', '.join(seen[:4])}{' ...' if len(seen) > 4 else ''}")
 
 
 def response_path(ctx: Context, seed: int) -> Path:
