@@ -53,11 +53,11 @@ from anytip.data.simulated import as_run
 from anytip.errors import AnytipError
 from anytip.models.io import save_response
 from anytip.pipelines.common import Context
+from anytip.pipelines.cross_sensor import roles_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
 from anytip.sensor import simulate as sim
 from anytip.sensor.fleet import FleetConfig
-from anytip.sensor.variation import draw_unit
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.response import ResponseRecipe, train_response
 from anytip.train.shared_split import Roles, training_units
@@ -100,14 +100,8 @@ def simulate_units(root: Path, tasks: list[Task]) -> Registry:
     transaction, as `anytip data simulate` writes it."""
     registry, config = Registry(root), FleetConfig()
     for t in tasks:
-        unit = draw_unit(config, sim.unit_rng(t.seed, t.index))
-        runs, first = [], 0
-        for name in t.protocols.split(","):
-            protocol = sim.get_protocol(name)
-            made = sim.simulate_unit(unit, protocol, t.seed, t.index, None, config.run, first)
-            runs += [as_run(r) for r in made]
-            first += len(protocol.orientations_deg)
-        registry.add_runs(runs)
+        runs = sim.fleet_unit_runs(config, t.seed, t.index, t.protocols.split(","))
+        registry.add_runs([as_run(r) for r in runs])
     return registry
 
 
@@ -120,7 +114,7 @@ def shard(tasks: list[Task], roles: Roles, seed: int, max_rows: int | None) -> l
         registry = simulate_units(Path(tmp) / "registry", tasks)
         arrays = load_arrays(registry, registry.list_runs())
         for t in tasks:
-            unit = f"SIM{t.seed}-{t.index:03d}"
+            unit = sim.unit_sensor_id(t.seed, t.index)
             for key in t.keys:
                 members, _, _ = training_units(arrays, [unit], roles, None, False, seed, first_index=key[1])
                 m = members[0]
@@ -166,10 +160,7 @@ def folds_of(runs: list[Path]) -> list[Fold]:
             opts = parse_options(ctx)
             if opts.response is None:
                 raise AnytipError(f"{run_dir}: its spec has no options.response")
-            s = spec.splits
-            roles = Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction,
-                          s.val_fraction, s.unit_folds, opts.unlabeled_s)
-            units = read_json(run_dir / "provenance.json")["cross_sensor"]
+            units, roles = read_json(run_dir / "provenance.json")["cross_sensor"], roles_of(ctx, opts)
             folds += [Fold(run_dir.name, seed, units[f"seed{seed}"]["units"]["train"], opts, roles)
                       for seed in spec.all_seeds]
     return folds
@@ -201,7 +192,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def extra_ids(seed: int, n: int) -> list[str]:
     """Units 0..n-1 of the extra fleet, sorted as a registry lists them."""
-    return sorted(f"SIM{seed}-{i:03d}" for i in range(n))
+    return sorted(sim.unit_sensor_id(seed, i) for i in range(n))
 
 
 def registry_rows(folds: list[Fold], args: argparse.Namespace) -> dict[Key, Rows]:

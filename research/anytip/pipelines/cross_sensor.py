@@ -100,11 +100,15 @@ def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             extra: FleetArrays | None = None) -> SeedData:
     """The seed's unit roles and tensors (`anytip.train.shared_split`) for this spec; `extra`:
     training-only units of `options.extra_units`."""
+    return prepare_seed(arrays, roles_of(ctx, opts), opts.calibration_protocol, opts.calibration_interleave,
+                        seed, ctx.device, extra)
+
+
+def roles_of(ctx: Context, opts: Options) -> Roles:
+    """The spec's unit roles and row fractions, as `prepare_seed` takes them."""
     s = ctx.spec.splits
-    roles = Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction, s.val_fraction,
-                  s.unit_folds, opts.unlabeled_s)
-    return prepare_seed(arrays, roles, opts.calibration_protocol, opts.calibration_interleave, seed,
-                        ctx.device, extra)
+    return Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction, s.val_fraction,
+                 s.unit_folds, opts.unlabeled_s)
 
 
 def shared_shape(ctx: Context, opts: Options) -> MLPConfig:

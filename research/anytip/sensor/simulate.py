@@ -186,11 +186,18 @@ def simulate_fleet(
     in turn. Unit ids are SIM{seed}-{index:03d}; deterministic from `seed`."""
     protocols = [get_protocol(p) for p in protocols]
     for index in range(n_units):
-        unit = draw_unit(config, unit_rng(seed, index))
-        first = 0
-        for protocol in protocols:
-            yield from simulate_unit(unit, protocol, seed, index, None, config.run, first)
-            first += len(protocol.orientations_deg)
+        yield from fleet_unit_runs(config, seed, index, protocols)
+
+
+def fleet_unit_runs(config: FleetConfig, seed: int, index: int,
+                    protocols: Iterable[str | Protocol]) -> list[SimulatedRun]:
+    """Unit `index` of the fleet `simulate_fleet` draws from `config` and `seed`, with its runs of
+    each protocol in turn: the same runs, bit for bit, whatever other units are simulated."""
+    unit = draw_unit(config, unit_rng(seed, index))
+    runs: list[SimulatedRun] = []
+    for protocol in map(get_protocol, protocols):
+        runs += simulate_unit(unit, protocol, seed, index, None, config.run, len(runs))
+    return runs
 
 
 def regenerate(simulator_json: dict[str, Any] | str) -> SimulatedRun:
