@@ -14,9 +14,14 @@ their codes, so a new unit's rows are transferred from them as in the run):
         --registry-seed 40 --registry-protocols full,short,quick --extra-seed 8 --extra 128,1024 \\
         --workers 16 --device cuda --out build/many_units
 
+`--models 128:32768,1024:32768` names each model as extra units and rows per step instead (research
+log entry 33). `--registry-fleet FILE` gives the fleet config the registry's units were simulated
+with (`anytip data simulate --fleet FILE`; default: the default fleet), e.g. other16's
+`configs/fleets/other_elastomer.yaml`.
+
 Nothing is read from the run's registry: the script needs only the runs' specs and splits. The
 registry's training units are simulated again from their fleet seed and protocols (their ids,
-SIM<seed>-<index>, give the index; the default fleet), and the extra units are units 0..N-1 of the
+SIM<seed>-<index>, give the index; `--registry-fleet`), and the extra units are units 0..N-1 of the
 default fleet of `--extra-seed` (the units `anytip data simulate --units N --seed S --protocols
 full` writes; `--extra-protocols`). Each worker process simulates its units, writes them to a
 registry of its own and reads them back through `load_arrays` (the checked read path), then builds
@@ -57,7 +62,7 @@ from anytip.pipelines.cross_sensor import roles_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
 from anytip.sensor import simulate as sim
-from anytip.sensor.fleet import FleetConfig
+from anytip.sensor.fleet import FleetConfig, load_fleet_config
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.response import ResponseRecipe, train_response
 from anytip.train.shared_split import Roles, training_units
@@ -68,8 +73,10 @@ Key = tuple[int, int]  # (fold, position in its training list); fold -1: an extr
 
 @dataclass(frozen=True)
 class Task:
-    """One unit to simulate (`SIM<seed>-<index>`, these protocols) and the training-list slots it fills."""
+    """One unit to simulate (`SIM<seed>-<index>` of `fleet`, these protocols) and the training-list
+    slots it fills."""
 
+    fleet: FleetConfig
     seed: int
     index: int
     protocols: str
@@ -96,11 +103,11 @@ def unit_index(unit: str, seed: int) -> int:
 
 
 def simulate_units(root: Path, tasks: list[Task]) -> Registry:
-    """Each task's unit of the default fleet simulated into a new registry at `root`, one unit per
+    """Each task's unit of its fleet simulated into a new registry at `root`, one unit per
     transaction, as `anytip data simulate` writes it."""
-    registry, config = Registry(root), FleetConfig()
+    registry = Registry(root)
     for t in tasks:
-        runs = sim.fleet_unit_runs(config, t.seed, t.index, t.protocols.split(","))
+        runs = sim.fleet_unit_runs(t.fleet, t.seed, t.index, t.protocols.split(","))
         registry.add_runs([as_run(r) for r in runs])
     return registry
 
@@ -171,11 +178,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("runs", nargs="+", type=Path, help="finished cross_sensor runs with options.response")
     parser.add_argument("--registry-seed", type=int, required=True, help="the runs' registry's fleet seed")
     parser.add_argument("--registry-protocols", default="full,short,quick")
+    parser.add_argument("--registry-fleet", type=Path, default=None,
+                        help="fleet config YAML of the registry's units (default: the default fleet)")
     parser.add_argument("--extra-seed", type=int, default=8)
     parser.add_argument("--extra", default="128,1024", help="comma-separated counts of extra units")
     parser.add_argument("--extra-protocols", default="full")
     parser.add_argument("--rows-per-step", default="", help="comma-separated rows_per_step to train with "
                         "besides the run's, at the largest count")
+    parser.add_argument("--models", default="", help="comma-separated EXTRA:ROWS_PER_STEP models to train "
+                        "(instead of --extra and --rows-per-step)")
     parser.add_argument("--max-rows", type=int, default=120_000)
     parser.add_argument("--steps", type=int, default=None, help="response model steps (default: the run's)")
     parser.add_argument("--workers", type=int, default=16)
@@ -195,6 +206,22 @@ def extra_ids(seed: int, n: int) -> list[str]:
     return sorted(sim.unit_sensor_id(seed, i) for i in range(n))
 
 
+def models_of(args: argparse.Namespace, recipe_rows: int) -> dict[int, list[int]]:
+    """{extra units: [rows per step, ...]} to train: `--models`, or the recipe's rows per step at
+    each count of `--extra` and `--rows-per-step`'s at the largest."""
+    if args.models:
+        try:
+            pairs = [tuple(int(v) for v in m.split(":")) for m in args.models.split(",")]
+        except ValueError:
+            pairs = [()]
+        if any(len(p) != 2 or min(p) < 0 for p in pairs):
+            raise AnytipError(f"--models {args.models!r}: want comma-separated EXTRA:ROWS_PER_STEP pairs")
+        return {n: [r for m, r in pairs if m == n] for n in sorted({p[0] for p in pairs})}
+    counts = sorted(int(n) for n in args.extra.split(","))
+    more = [int(r) for r in args.rows_per_step.split(",") if r]
+    return {n: [recipe_rows, *(more if n == counts[-1] else [])] for n in counts}
+
+
 def registry_rows(folds: list[Fold], args: argparse.Namespace) -> dict[Key, Rows]:
     """Every fold's training units' rows, each unit simulated once (its rows for each fold's seed
     and position)."""
@@ -202,8 +229,9 @@ def registry_rows(folds: list[Fold], args: argparse.Namespace) -> dict[Key, Rows
     for k, fold in enumerate(folds):
         for position, unit in enumerate(fold.train):
             slots.setdefault(unit, []).append((k, position))
-    tasks = [Task(args.registry_seed, unit_index(u, args.registry_seed), args.registry_protocols, tuple(keys))
-             for u, keys in slots.items()]
+    fleet = load_fleet_config(args.registry_fleet) if args.registry_fleet else FleetConfig()
+    tasks = [Task(fleet, args.registry_seed, unit_index(u, args.registry_seed), args.registry_protocols,
+                  tuple(keys)) for u, keys in slots.items()]
     got: dict[Key, Rows] = {}
     for seed in sorted({f.seed for f in folds}):  # the validation rows depend on the fold's seed
         mine = [replace(t, keys=tuple(k for k in t.keys if folds[k[0]].seed == seed)) for t in tasks]
@@ -213,13 +241,14 @@ def registry_rows(folds: list[Fold], args: argparse.Namespace) -> dict[Key, Rows
 
 def run(args: argparse.Namespace) -> None:
     start = time.perf_counter()
-    counts = sorted(int(n) for n in args.extra.split(","))
     folds = folds_of(args.runs)
+    wanted = models_of(args, folds[0].opts.response.recipe().rows_per_step)
+    counts = sorted(wanted)
     own = registry_rows(folds, args)
     first = max(len(f.train) for f in folds)  # extra units follow the training units, the same in every fold
     ids = extra_ids(args.extra_seed, counts[-1])
-    tasks = [Task(args.extra_seed, unit_index(u, args.extra_seed), args.extra_protocols, ((-1, first + j),))
-             for j, u in enumerate(ids)]
+    tasks = [Task(FleetConfig(), args.extra_seed, unit_index(u, args.extra_seed), args.extra_protocols,
+                  ((-1, first + j),)) for j, u in enumerate(ids)]
     extra = {rows[0]: rows for rows in gather(tasks, folds[0].roles, folds[0].seed, args.workers,
                                               args.max_rows).values()}
     log: dict[str, Any] = {"simulate_s": time.perf_counter() - start, "torch": torch.__version__,
@@ -238,8 +267,7 @@ def run(args: argparse.Namespace) -> None:
             members = [UnitTensors(*(torch.from_numpy(a) for a in r[1:]), unit_id=r[0])
                        for r in rows + [extra[u] for u in extra_ids(args.extra_seed, n)]]
             data = FleetBatchData.from_units(members, args.device, OUTPUT_NAMES)
-            more = [int(r) for r in args.rows_per_step.split(",") if r] if n == counts[-1] else []
-            for rps in [recipe.rows_per_step, *more]:
+            for rps in wanted[n]:
                 asked = replace(recipe, rows_per_step=rps, steps=args.steps or recipe.steps)
                 name = f"{fold.name}_seed{fold.seed}_extra{n}_rps{rps}"
                 log["models"].append(train_one(data, fold, asked, args.out / name))
