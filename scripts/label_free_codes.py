@@ -1,9 +1,12 @@
 """A new unit's codes without labels: what its unlabeled stream tells response transfer (research
-log entries 27 and 30).
+log entries 27, 30 and 35).
 
 Zero-shot calibration may read a new unit's pressures in ordinary use (the first `--seconds` of its
-stream, labels unread). Response transfer needs the unit's codes. Without labels, each unlabeled
-row's contact is unknown too, so the codes and every row's contact are fitted together: the MAP of
+stream, labels unread; with `--unlabeled spread`, `--seconds` of contact as random whole presses from
+anywhere in the stream outside the unit's test patches, `anytip.data.plans.ordinary_use`, for the
+new units and for every unit the encoders learn from: research log entry 35). Response transfer
+needs the unit's codes. Without labels, each unlabeled row's contact is unknown too, so the codes
+and every row's contact are fitted together: the MAP of
 
     sum_i w |x_i - G(c_i; z)|^2_W / 2 + w lam |c_i - c0_i|^2 / 2 + |z|^2_{1/code_var} / 2
 
@@ -21,7 +24,8 @@ from the run's pooled start network:
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
   run's own strategy), for comparison: the labeled method without the unit's rows in its network;
 - `input_stats`: no codes; the run's shared model without adapters, scaled by the unit's unlabeled
-  input statistics (the benchmark's zero-shot method);
+  input statistics (the benchmark's zero-shot method; always the stream's first `--seconds`, as its
+  shared model's training units were scaled);
 - `encoder`: codes predicted from order-free statistics of the unlabeled stream (`stream_features`)
   by ridge regression learnt across the response model's units (`CodeEncoder`); `encoder_own`: learnt
   on the registry's own training units; `encoder_more`: also on the units of `--encoder-units`,
@@ -44,6 +48,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -54,8 +59,9 @@ from torch import Tensor
 from anytip.config import DataConfig, load_spec
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Budget
+from anytip.data.plans import Budget, Presses, find_presses, ordinary_use
 from anytip.data.registry import Registry
+from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, load_response, load_shared
 from anytip.models.response import ResponseModel
@@ -243,10 +249,22 @@ def encoders(fit: ResponseFit, feats: dict[str, np.ndarray], own: list[str],
     return out
 
 
+def unlabeled_rows(arrays: FleetArrays, stream: CalibrationStream, unit: str, args: Settings, seed: int,
+                   presses: Presses | None = None) -> np.ndarray:
+    """A unit's unlabeled rows: its stream's first `args.seconds` (`first`), or `args.seconds` of
+    contact as whole presses drawn at random from `presses` (default: every press of the stream),
+    seeded by the unit's id (`spread`)."""
+    if args.unlabeled == "first":
+        return stream.unlabeled(args.seconds)
+    if presses is None:
+        presses = find_presses(arrays, unit, stream.outside(arrays))
+    return ordinary_use(presses, args.seconds, unit_seed(seed, zlib.crc32(unit.encode()), "ordinary use"))
+
+
 def training_features(ctx: Context, arrays: FleetArrays, opts: Options, ids: list[str],
-                      seconds: float) -> dict[str, np.ndarray]:
+                      args: Settings, seed: int) -> dict[str, np.ndarray]:
     """Stream features of the response model's training units (the run's extra units included),
-    from their streams' first `seconds`, as a new unit's are read."""
+    from their unlabeled rows, read as a new unit's are."""
     extra = None
     if opts.extra_units is not None and not set(ids) <= set(arrays.units):
         extra = load_extra(ctx, opts.extra_units.registry, opts.extra_units.data(), arrays)
@@ -256,7 +274,7 @@ def training_features(ctx: Context, arrays: FleetArrays, opts: Options, ids: lis
         if a is None:
             raise AnytipError(f"response model unit {u!r} is in neither the registry nor the extra units")
         stream = calibration_stream(a, u, opts.calibration_protocol, interleave=opts.calibration_interleave)
-        feats[u] = stream_features(a.pressure[stream.unlabeled(seconds)])
+        feats[u] = stream_features(a.pressure[unlabeled_rows(a, stream, u, args, seed)])
     return feats
 
 
@@ -293,7 +311,7 @@ def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: Resp
         for u in arrays.units:
             stream = calibration_stream(arrays, u, opts.calibration_protocol,
                                         interleave=opts.calibration_interleave)
-            feats.append(stream_features(arrays.pressure[stream.unlabeled(args.seconds)]))
+            feats.append(stream_features(arrays.pressure[unlabeled_rows(arrays, stream, u, args, seed)]))
             x, y, eff = whole_stream(arrays, stream, args.rows, opts.rig.effective_hz)
             X.append(x)
             Y.append(y)
@@ -309,7 +327,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
     """Unit u's codes of each network arm, and what its fits found."""
     arms, rows = args.arms, args.rows
     ev, n_eff = sd.evals[u], args.seconds * opts.rig.effective_hz
-    unlabeled = ev.stream.unlabeled(args.seconds)
+    unlabeled = unlabeled_rows(arrays, ev.stream, u, args, seed, ev.presses)
     stream = unlabeled[evenly_spaced(len(unlabeled), rows).numpy()]
     X, Y = torch.from_numpy(arrays.pressure[stream]), torch.from_numpy(arrays.targets[stream])
     zero = torch.zeros(fit.model.n_channels, fit.model.config.code_dim)
@@ -360,6 +378,7 @@ class Settings:
     iterations: int = 30
     plan_seconds: float = 120.0
     encoder_units: Path | None = None
+    unlabeled: str = "first"
 
 
 Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
@@ -391,7 +410,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
         coders: dict[str, CodeEncoder] = {}
         if {"encoder", "encoder_own", "encoder_more"} & set(args.arms):
             missing = [u for u in fit.unit_ids if u not in feats]
-            feats |= training_features(ctx, arrays, opts, missing, args.seconds)
+            feats |= training_features(ctx, arrays, opts, missing, args, seed)
             more = None
             if args.encoder_units is not None:
                 _, Fm, Zm = encoder_only_units(ctx, arrays, opts, fit, recipe, args.encoder_units, args, seed)
@@ -491,6 +510,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--registry", type=Path, required=True, help="the registry the run read")
     parser.add_argument("--out", type=Path, required=True, help="JSON file for the rows")
     parser.add_argument("--seconds", type=float, default=600.0, help="seconds of unlabeled stream read")
+    parser.add_argument("--unlabeled", choices=("first", "spread"), default="first",
+                        help="the stream's first --seconds, or --seconds of contact as random whole presses "
+                             "from anywhere in it (ordinary use spread over the dome)")
     parser.add_argument("--rows", type=int, default=4096, help="evenly spaced rows of them fitted")
     parser.add_argument("--iterations", type=int, default=30, help="damped Gauss-Newton steps")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
@@ -509,12 +531,13 @@ def main(argv: list[str] | None = None) -> int:
     torch.set_num_threads(1)
     try:
         rows, curves = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
-                                                             args.plan_seconds, args.encoder_units))
+                                                             args.plan_seconds, args.encoder_units,
+                                                             args.unlabeled))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    found = {"run": str(args.run), "seconds": args.seconds, "rows": rows}
+    found = {"run": str(args.run), "seconds": args.seconds, "unlabeled": args.unlabeled, "rows": rows}
     if curves:
         found["encoder_r2_by_units"] = curves
     args.out.write_text(json.dumps(found, indent=1))

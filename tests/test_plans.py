@@ -8,7 +8,7 @@ import pytest
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.catalog import RunRecord
-from anytip.data.plans import Budget, RigTiming, find_presses, plan_for, select_presses
+from anytip.data.plans import Budget, RigTiming, find_presses, ordinary_use, plan_for, select_presses
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.errors import AnytipError
@@ -98,6 +98,22 @@ def test_spread_covers_the_target_space_better_than_the_first_presses():
     spread, first = (select_presses(presses, 15.0, strategy=s) for s in ("spread", "first"))
     assert spread.presses == first.presses
     assert radius(spread.rows) < radius(first.rows)
+
+
+def test_ordinary_use_is_whole_presses_from_every_orientation_up_to_its_contact_seconds():
+    """Unlabeled ordinary use: random whole presses, contact seconds only (no moves or re-mounts
+    charged), reaching both orientations where the first presses of the stream reach one."""
+    arrays = fleet()
+    presses = find_presses(arrays, "U1")
+    press_s = PRESS_ROWS / RATE
+    rows = ordinary_use(presses, 10 * press_s, seed=3)
+    assert len(rows) == 10 * PRESS_ROWS  # ten presses fit: no rig time was charged
+    whole = [set(presses.rows_of(k)) for k in range(len(presses))]
+    assert all(w <= set(rows) or not w & set(rows) for w in whole)
+    assert set(arrays.run[rows]) == {0, 1}
+    assert np.array_equal(rows, ordinary_use(presses, 10 * press_s, seed=3))
+    assert not np.array_equal(np.sort(rows), np.sort(ordinary_use(presses, 10 * press_s, seed=4)))
+    assert len(ordinary_use(presses, 0.0, seed=3)) == 0
 
 
 def covering_radius(presses, plan) -> float:

@@ -712,6 +712,15 @@ def test_label_free_codes_learns_the_encoder_from_units_that_only_teach_it(fleet
         assert "code_rms_encoder_more_off_all" in by[u, "encoder_more"]
     curve = json.loads(out.read_text())["encoder_r2_by_units"]["0"]
     assert curve and all(len(r) == 1 and r[0] <= 1 for r in curve.values())
+    spread = tmp_path / "spread.json"  # ordinary use spread over the stream, for new and teaching units alike
+    assert script.main([str(run), "--registry", str(fleet.root), "--out", str(spread), "--rows", "256",
+                        "--arms", arms, "--encoder-units", str(more.root), "--unlabeled", "spread",
+                        "--seconds", "20"]) == 0
+    found = json.loads(spread.read_text())
+    assert found["unlabeled"] == "spread" and {r["arm"] for r in found["rows"]} == set(arms.split(","))
+    again = {(r["unit"], r["arm"]): r for r in found["rows"]}
+    assert any(again[k]["code_rms_encoder_off_truth"] != by[k]["code_rms_encoder_off_truth"]
+               for k in by if k[1] == "encoder")
     with pytest.raises(SystemExit):
         script.main([*args, "--arms", "encoder_more"])
     with pytest.raises(SystemExit):

@@ -210,6 +210,14 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
     return _plan(presses, chosen, rig)
 
 
+def ordinary_use(presses: Presses, seconds: float, seed: int) -> np.ndarray:
+    """Row indices of a unit's ordinary use after mounting, read without labels: whole presses
+    drawn in a seeded random order from anywhere among `presses` until `seconds` of contact, so
+    the contacts spread over what the presses cover. Ordinary use costs no rig time (no moves,
+    no re-mounts); the seconds are contact seconds."""
+    return select_presses(presses, seconds, RigTiming(move_s=0.0, remount_s=0.0), "random", seed).rows
+
+
 def _spread(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:
     z = presses.summary
     jitter = np.random.default_rng(seed).random(len(presses)) * 1e-9
