@@ -10,6 +10,10 @@ the share of unit-outputs whose fleet-factor interval covers [0.85, 0.95] of its
 lowest coverage and how many fall below 0.80, and the share that a method whose coverage is exactly
 0.90 for every unit would put in that band on the same test sets (their test patches drawn again:
 how far the test sets can decide the target).
+
+`--against B1 B2 ...` compares the runs with other runs of the same held-out units and references
+(e.g. a rescoring): per (method, budget), the geometric mean over units of each unit's force and
+angle RMSE in the runs over its RMSE in B, with a 95% bootstrap interval over units.
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import budget_of, exact_share, ratio_text, summary, unit_ratios
+from anytip.report.cross_sensor import budget_of, exact_share, mean_interval, ratio_text, summary, unit_ratios
 from anytip.rundir import read_json
 
 BAND, FLOOR = (0.85, 0.95), 0.80  # the issue's interval target: in the band, none below the floor
@@ -71,11 +75,39 @@ def table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]]) -> str:
+    """Per (method, budget) both hold: the geometric mean over units of rows' RMSE over against's,
+    force and angle [95%]; the units' references must be the same in both."""
+    refs = {r["unit"]: r["force_rmse_n"] for r in rows if r["method"] == "per_unit"}
+    other = {r["unit"]: r["force_rmse_n"] for r in against if r["method"] == "per_unit"}
+    if any(other.get(u) != f for u, f in refs.items()):
+        sys.exit("--against: the runs' per-unit references differ; pair runs of the same units and "
+                 "references")
+    b = {(r["method"], budget_of(r), r["unit"]): r for r in against if r["method"] != "per_unit"}
+    lines = []
+    for method, budget in sorted({(r["method"], budget_of(r)) for r in rows if r["method"] != "per_unit"}):
+        mine = [(r, b[method, budget, r["unit"]]) for r in rows
+                if r["method"] == method and budget_of(r) == budget and (method, budget, r["unit"]) in b]
+        if not mine:
+            continue
+        cells = []
+        for key in ("force_rmse_n", "angle_rmse_rad"):
+            logs = [float(np.log(x[key] / y[key])) for x, y in mine]
+            m, lo, hi = (float(np.exp(v)) for v in mean_interval(logs))
+            cells.append(f"{m:.3f} [{lo:.3f}, {hi:.3f}]")
+        lines.append(f"{method} {budget:g} s, {len(mine)} units: force x{cells[0]}, angle x{cells[1]}")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", type=Path, nargs="+", help="finished cross_sensor run directories")
+    parser.add_argument("--against", type=Path, nargs="+", default=[], help="runs to pair the runs with")
     args = parser.parse_args(argv)
-    print(table(rows_of(args.runs)))
+    rows = rows_of(args.runs)
+    print(table(rows))
+    if args.against:
+        print("\n" + paired(rows, rows_of(args.against)))
     return 0
 
 

@@ -9,7 +9,11 @@ Per file and arm: the validation units' mean standardised MSE (the decision's st
 held-out units' force and angle ratio to their references, mean over units with a 95% bootstrap
 interval over units, and the mean test-patch pressure residual of the held-out units. A pair
 `A:B` (file stems; `+` joins files, e.g. both folds) gives, over the held-out units both hold,
-the geometric mean of A's ratio over B's per unit with its 95% bootstrap interval.
+the geometric mean of A's ratio over B's per unit with its 95% bootstrap interval; a side
+`STEMS@ARM` takes that arm's rows only, so two arms pair (`x@encoder:x@input_stats`).
+
+Rows of `scripts/label_free_codes.py` (research log entry 35) have no validation loss: their
+validation cell is the validation units' mean force and angle RMSE.
 """
 
 from __future__ import annotations
@@ -38,34 +42,54 @@ def line(name: str, rows: list[dict[str, Any]]) -> str:
     for arm in sorted({r["arm"] for r in rows}):
         mine = [r for r in rows if r["arm"] == arm]
         held = [r for r in mine if r["role"] == "test"]
-        val = [r["val_loss_mean"] for r in mine if r["role"] == "val"]
         cells = [ratio_text(mean_interval([r[k] for r in held])) for k in KEYS[:2]]
-        out.append(f"| {name} | {arm} | {np.mean(val):.4f} | {len(held)} | {' | '.join(cells)} | "
-                   f"{np.mean([r['test_residual_pa'] for r in held]):,.0f} Pa |")
+        residual = [r["test_residual_pa"] for r in held if "test_residual_pa" in r]
+        out.append(f"| {name} | {arm} | {validation(mine)} | {len(held)} | {' | '.join(cells)} | "
+                   f"{f'{np.mean(residual):,.0f} Pa' if residual else '-'} |")
     return "\n".join(out)
+
+
+def validation(rows: list[dict[str, Any]]) -> str:
+    """The validation units' mean standardised MSE, or their mean force and angle RMSE."""
+    val = [r for r in rows if r["role"] == "val"]
+    if all("val_loss_mean" in r for r in val):
+        return f"{np.mean([r['val_loss_mean'] for r in val]):.4f}"
+    force, angle = (np.mean([r[k] for r in val]) for k in ("force_rmse_n", "angle_rmse_rad"))
+    return f"{force:.3f} N / {angle:.4f} rad"
+
+
+def side(files: dict[str, list[dict[str, Any]]], text: str) -> list[dict[str, Any]]:
+    """The rows a pair's side names: `STEM+STEM...`, optionally `@ARM` (that arm's rows, arm unset)."""
+    stems, _, arm = text.partition("@")
+    rows = [r for stem in stems.split("+") for r in files[stem]]
+    return [r | {"arm": ""} for r in rows if r["arm"] == arm] if arm else rows
 
 
 def paired(a: list[dict[str, Any]], b: list[dict[str, Any]], key: str) -> str:
     """The geometric mean over shared held-out units of a's `key` over b's, [95% interval]."""
-    ra = {(r["unit"], r["arm"]): r[key] for r in a if r["role"] == "test"}
-    rb = {(r["unit"], r["arm"]): r[key] for r in b if r["role"] == "test"}
+    ra = {(r["unit"], r["arm"]): r[key] for r in a if r["role"] == "test" and key in r}
+    rb = {(r["unit"], r["arm"]): r[key] for r in b if r["role"] == "test" and key in r}
     logs = [float(np.log(ra[k] / rb[k])) for k in ra if k in rb]
+    if not logs:
+        return "-"
     m, lo, hi = (float(np.exp(v)) for v in mean_interval(logs))
     return f"{m:.3f} [{lo:.3f}, {hi:.3f}] ({len(logs)} units)"
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("rows", type=Path, nargs="+", help="transfer_bounds.py JSON files")
-    parser.add_argument("--pair", action="append", default=[], help="A:B, file stems joined by +")
+    parser.add_argument("rows", type=Path, nargs="+",
+                        help="JSON files of transfer_bounds.py or label_free_codes.py")
+    parser.add_argument("--pair", action="append", default=[],
+                        help="A:B, file stems joined by +, each optionally @ARM")
     args = parser.parse_args(argv)
     files = rows_of(args.rows)
-    print("| model | arm | validation loss | held-out units | force ratio [95%] | angle ratio [95%] | "
+    print("| model | arm | validation | held-out units | force ratio [95%] | angle ratio [95%] | "
           "test residual |\n|---|---|---|---|---|---|---|")
     for name, rows in files.items():
         print(line(name, rows))
     for pair in args.pair:
-        a, b = ([r for stem in side.split("+") for r in files[stem]] for side in pair.split(":"))
+        a, b = (side(files, text) for text in pair.split(":"))
         print(f"\n{pair}: " + "; ".join(f"{k} {paired(a, b, k)}" for k in KEYS))
     return 0
 

@@ -617,7 +617,8 @@ def _script(name: str):
 def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run, fleet, tmp_path, capsys):
     """scripts/transfer_bounds.py: a row per unit and arm; arms that know the new unit alike give it
     the same test-patch residual. scripts/fold_table.py: one table over runs, and a unit held out
-    in two runs is refused. scripts/response_model_table.py: a table of such rows, and pairs."""
+    in two runs is refused, and a run against itself is paired at 1. scripts/response_model_table.py:
+    a table of such rows, and pairs."""
     bounds = _script("transfer_bounds")
     out = tmp_path / "bounds.json"
     assert bounds.main([str(response_run), "--registry", str(fleet.root), "--budget", "40",
@@ -638,6 +639,9 @@ def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run,
     assert "| response@spread | 40 |" in capsys.readouterr().out
     with pytest.raises(SystemExit, match="is held out in"):
         table.main([str(response_run), str(response_run)])
+    assert table.main([str(response_run), "--against", str(response_run)]) == 0  # a run against itself
+    said = capsys.readouterr().out
+    assert "response@spread 40 s" in said and "force x1.000 [1.000, 1.000]" in said
 
     models = _script("response_model_table")  # a model's rows against themselves: every paired ratio is 1
     assert models.main([str(out), "--pair", "bounds:bounds"]) == 0
