@@ -1,6 +1,7 @@
 """Calibration by response transfer: the response model, a new unit's codes, the transfer of rows,
 the saved model file, and the cross_sensor method `response` end to end on tiny fleets."""
 
+import argparse
 import importlib
 import json
 import shutil
@@ -547,6 +548,9 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
         r = sd.train.unit(k)
         rows = (r.unit_id, *(t.numpy() for t in (r.X_train, r.Y_train, r.X_val, r.Y_val)))
         assert many.rows_digest(rows) == digests[r.unit_id]
+    check = _script("response_rows_check")  # the same comparison as a command
+    log = next(out.glob("log_*.json"))
+    assert check.main([str(run), "--registry", str(registry.root), "--log", str(log)]) == 0
     model = out / "run_seed0_extra2_rps4096.safetensors"
     assert load_response(model).meta["unit_ids"] == [*sd.train.unit_ids, "SIM22-000", "SIM22-001"]
     rescore = _script("rescore_response")
@@ -558,16 +562,6 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     assert rows and all(r["n_extra_units"] == 2 for r in rows)
     assert rescore.main([str(run), "--registry", str(registry.root), "--out", str(tmp_path / "other"),
                          "--response-model", str(model)]) == 2  # trained with other steps than the spec's
-
-
-def _script(name: str):
-    """A script of scripts/ as a module."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(name, REPO / "scripts" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_every_new_unit_starts_from_the_pooled_network_the_run_saved(fleet, tmp_path):
@@ -603,7 +597,21 @@ def test_every_new_unit_starts_from_the_pooled_network_the_run_saved(fleet, tmp_
         calibrate_unit(run, unit, fleet, tmp_path / "c", budget_seconds=40, method="response")
 
 
+def test_response_many_units_names_its_models_as_extra_units_and_rows_per_step():
+    """--models EXTRA:ROWS_PER_STEP lists each model; without it, the recipe's rows per step at each
+    count of --extra and --rows-per-step's at the largest; a malformed list is refused by name."""
+    many = _script("response_many_units")
+    args = argparse.Namespace(models="128:32768,1024:32768,128:4096", extra="128,1024", rows_per_step="")
+    assert many.models_of(args, 4096) == {128: [32768, 4096], 1024: [32768]}
+    args = argparse.Namespace(models="", extra="128,1024", rows_per_step="32768")
+    assert many.models_of(args, 4096) == {128: [4096], 1024: [4096, 32768]}
+    for bad in ("128", "128:x", "128:1:2", "-1:4096"):
+        with pytest.raises(AnytipError, match="--models"):
+            many.models_of(argparse.Namespace(models=bad, extra="", rows_per_step=""), 4096)
+
+
 def _script(name: str):
+    """A script of scripts/ as a module."""
     import importlib.util
     import sys
 
