@@ -253,7 +253,7 @@ def unlabeled_rows(arrays: FleetArrays, stream: CalibrationStream, unit: str, ar
                    presses: Presses | None = None) -> np.ndarray:
     """A unit's unlabeled rows: its stream's first `args.seconds` (`first`), or `args.seconds` of
     contact as whole presses drawn at random from `presses` (default: every press of the stream),
-    seeded by the unit's id (`spread`)."""
+    seeded by the run's seed and the unit's id (`spread`)."""
     if args.unlabeled == "first":
         return stream.unlabeled(args.seconds)
     if presses is None:
@@ -399,6 +399,8 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
     feats: dict[str, np.ndarray] = {}
     curves: Curves = {}
     for seed in spec.all_seeds:
+        if args.unlabeled == "spread":
+            feats = {}  # the presses drawn depend on the seed
         sd = prepare(ctx, arrays, opts, seed)  # the run's split; its extra units are not needed here
         recorded = read_json(run_dir / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
         if sd.split.to_json() != recorded:
