@@ -25,9 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import budget_of, exact_share, mean_interval, ratio_text, summary, unit_ratios
+from anytip.report.cross_sensor import budget_of, exact_share, paired_text, ratio_text, summary, unit_ratios
 from anytip.rundir import read_json
 
+RMSE_KEYS = ("force_rmse_n", "angle_rmse_rad")
 BAND, FLOOR = (0.85, 0.95), 0.80  # the interval target: in the band, none below the floor
 
 
@@ -90,12 +91,8 @@ def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]]) -> str:
                 if r["method"] == method and budget_of(r) == budget and (method, budget, r["unit"]) in b]
         if not mine:
             continue
-        cells = []
-        for key in ("force_rmse_n", "angle_rmse_rad"):
-            logs = [float(np.log(x[key] / y[key])) for x, y in mine]
-            m, lo, hi = (float(np.exp(v)) for v in mean_interval(logs))
-            cells.append(f"{m:.3f} [{lo:.3f}, {hi:.3f}]")
-        lines.append(f"{method} {budget:g} s, {len(mine)} units: force x{cells[0]}, angle x{cells[1]}")
+        force, angle = (paired_text([x[k] / y[k] for x, y in mine]) for k in RMSE_KEYS)
+        lines.append(f"{method} {budget:g} s, {len(mine)} units: force x{force}, angle x{angle}")
     return "\n".join(lines)
 
 

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import mean_interval, ratio_text
+from anytip.report.cross_sensor import mean_interval, paired_text, ratio_text
 from anytip.rundir import read_json
 
 KEYS = ("force_ratio", "angle_ratio", "test_residual_pa")
@@ -69,11 +69,8 @@ def paired(a: list[dict[str, Any]], b: list[dict[str, Any]], key: str) -> str:
     """The geometric mean over shared held-out units of a's `key` over b's, [95% interval]."""
     ra = {(r["unit"], r["arm"]): r[key] for r in a if r["role"] == "test" and key in r}
     rb = {(r["unit"], r["arm"]): r[key] for r in b if r["role"] == "test" and key in r}
-    logs = [float(np.log(ra[k] / rb[k])) for k in ra if k in rb]
-    if not logs:
-        return "-"
-    m, lo, hi = (float(np.exp(v)) for v in mean_interval(logs))
-    return f"{m:.3f} [{lo:.3f}, {hi:.3f}] ({len(logs)} units)"
+    ratios = [ra[k] / rb[k] for k in ra if k in rb]
+    return f"{paired_text(ratios)} ({len(ratios)} units)" if ratios else "-"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -6,7 +6,7 @@ script logged for the rows it simulated again.
         --registry data/fleet88 --log reports/cross_sensor_response_gpu/entry33/log_call2_fleet88_seed1.json
 
 Prints, for each seed of the run the log holds, how many training units' rows are equal; exits 1 if
-any differs.
+any differs or the log holds none of the run's seeds.
 """
 
 from __future__ import annotations
@@ -36,10 +36,11 @@ def digest(unit: UnitTensors) -> str:
 
 
 def check(run: Path, registry: Path, log: Path) -> bool:
-    """True if every training unit of every seed the log holds has the logged rows."""
+    """True if the log holds a seed of the run and every training unit of every such seed has the
+    logged rows."""
     logged = read_json(log)["registry_rows_sha256"]
     spec = load_spec(run / "config.yaml", ["options.adapters=[]"])
-    same = True
+    same, checked = True, 0
     with tempfile.TemporaryDirectory() as tmp:
         ctx = Context(spec, Registry(registry, create=False), Path(tmp), torch.device("cpu"), False, {})
         opts, arrays = parse_options(ctx), load(ctx, min_units(ctx))
@@ -53,7 +54,8 @@ def check(run: Path, registry: Path, log: Path) -> bool:
             equal = sum(digest(r) == want.get(r.unit_id) for r in rows)
             print(f"{run.name} seed {seed}: {equal} of {len(rows)} training units' rows equal")
             same &= equal == len(rows)
-    return same
+            checked += 1
+    return same and checked > 0
 
 
 def main(argv: list[str] | None = None) -> int:

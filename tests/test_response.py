@@ -551,6 +551,8 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     check = _script("response_rows_check")  # the same comparison as a command
     log = next(out.glob("log_*.json"))
     assert check.main([str(run), "--registry", str(registry.root), "--log", str(log)]) == 0
+    (tmp_path / "none.json").write_text(json.dumps({"registry_rows_sha256": {}}))  # nothing to compare
+    assert check.main([str(run), "--registry", str(registry.root), "--log", str(tmp_path / "none.json")]) == 1
     model = out / "run_seed0_extra2_rps4096.safetensors"
     assert load_response(model).meta["unit_ids"] == [*sd.train.unit_ids, "SIM22-000", "SIM22-001"]
     rescore = _script("rescore_response")

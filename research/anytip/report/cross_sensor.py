@@ -85,6 +85,13 @@ def mean_interval(values: list[float], level: float = 0.95, n_boot: int = 4000) 
     return float(v.mean()), float(lo), float(hi)
 
 
+def paired_text(ratios: list[float]) -> str:
+    """Per-unit ratios of one method or model over another on the same units, as the geometric mean
+    and its 95% bootstrap interval over units: `mean [lower, upper]`."""
+    m, lo, hi = (float(np.exp(v)) for v in mean_interval([float(np.log(r)) for r in ratios]))
+    return f"{m:.3f} [{lo:.3f}, {hi:.3f}]"
+
+
 def summary(rows: list[dict[str, Any]], metrics: Sequence[Metric] = METRICS) -> list[dict[str, Any]]:
     """One line per (method, budget): for each metric (by its name, e.g. `force`) the mean over
     units and seeds and ratios to per_unit: the mean of (unit, seed) ratios (`force_ratio`), and
