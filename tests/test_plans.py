@@ -196,7 +196,7 @@ def test_designed_plans_take_the_presses_of_the_units_designed_runs(tmp_path):
 
 def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_path):
     """Runs made from the format spec alone, without in_contact or temperature: contact then comes
-    from |F| >= 0.5 N, and presses from the rows it marks."""
+    from |F| >= 0.5 N, and presses (plans and ordinary use alike) from the rows it marks."""
     from run_factory import make_run
 
     registry = Registry(tmp_path / "r")
@@ -213,6 +213,8 @@ def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_pa
     assert len(presses) == 12 and all(len(presses.rows_of(k)) == 30 for k in range(12))
     plan = select_presses(presses, 20.0, RigTiming(move_s=2.0, remount_s=30.0))
     assert plan.calib_seconds <= 20.0 and plan.presses >= 2 and len(plan.orientations) == 1
+    assert len(ordinary_use(presses, 1e6, seed=0)) == 12 * 30  # every press of both runs, no rig time
+    assert len(ordinary_use(presses, float(presses.duration_s.min()), seed=0)) == 30  # one whole press
 
 
 def test_press_folds_hold_out_every_press_exactly_once():
