@@ -19,6 +19,10 @@ from the run's pooled start network:
 - `pooled`: the start network itself (the training units' rows as measured): no transfer;
 - `zero`: codes zero (the fleet's typical unit);
 - `joint`: the label-free fit above;
+- `joint_truth`: the same fit started at the truth (the `stream_labels` codes and the rows' true
+  contacts) instead of at codes zero and the start network's contacts: where the objective leads
+  from there separates an optimiser that stops short from an objective whose minimum lies away
+  from the truth (research log entry 37);
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
@@ -86,8 +90,8 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-ARMS = ("pooled", "input_stats", "zero", "joint", "encoder", "encoder_own", "encoder_more", "stream_labels",
-        "all_labels", "plan")
+ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "encoder", "encoder_own", "encoder_more",
+        "stream_labels", "all_labels", "plan")
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
 
@@ -116,10 +120,25 @@ def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, T
     return pred, Jc.detach(), Jz
 
 
+def joint_objective(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, codes: Tensor,
+                    lam: float = 1.0) -> float:
+    """The joint MAP's objective (module docstring) of unlabeled pressures X (n, C) Pa at standardised
+    contacts c (n, D) and codes (C, k), with the pull towards standardised contacts c0 (n, D) and
+    each row weighing w = n_eff / n."""
+    model = fit.model
+    with torch.no_grad():
+        r = X - model(c * model.label_std + model.label_mean, codes)
+    data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
+    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2)
+
+
 def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations: int = 30,
-              lam: float = 1.0) -> tuple[Tensor, Tensor, list[float]]:
-    """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa from contacts Y0 (n, D),
-    by damped Gauss-Newton on the joint MAP (module docstring); the objective after each step."""
+              lam: float = 1.0, start: tuple[Tensor, Tensor] | None = None
+              ) -> tuple[Tensor, Tensor, list[float]]:
+    """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa, pulled towards contacts
+    Y0 (n, D), by damped Gauss-Newton on the joint MAP (module docstring); the objective after each
+    step. The fit starts at codes zero and contacts Y0, or at `start` (codes (C, k), contacts (n, D)
+    physical)."""
     model = fit.model
     for p in model.parameters():
         p.requires_grad_(False)
@@ -128,13 +147,10 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     w = n_eff / n
     Wc, inv_spread = w / fit.noise_var, 1 / fit.code_var
     c0 = (Y0 - mean) / std
-    c, z = c0.clone(), torch.zeros(C, k)
+    c, z = (c0.clone(), torch.zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
 
     def objective(cc: Tensor, zz: Tensor) -> float:
-        with torch.no_grad():
-            r = X - model(cc * std + mean, zz)
-        data, pull = (r**2 * Wc).sum() / 2, w * lam * ((cc - c0) ** 2).sum() / 2
-        return float(data + pull + (zz**2 * inv_spread).sum() / 2)
+        return joint_objective(fit, X, c0, w, cc, zz, lam)
 
     obj, damping, trace = objective(c, z), 1e-2, []
     for _ in range(iterations):
@@ -350,16 +366,21 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         if arm.startswith(TOWARD):  # an encoder whose code error is (1 - t) of this one's
             t = float(arm[len(TOWARD):])
             codes[arm] = codes["encoder"] + t * (codes["all_labels"] - codes["encoder"])
-    if "joint" in arms:
+    if {"joint", "joint_truth"} & set(arms):
         Y0 = predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [stream])[0]
         Y0 = torch.from_numpy(Y0)
-        codes["joint"], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations)
-        std = fit.model.label_std
-        found |= {"data_term_joint": data_term(fit, X, contacts, codes["joint"]),
-                  "data_term_start": data_term(fit, X, Y0, zero), "objective": trace,
-                  "code_rms_joint_off_truth": float((codes["joint"] - labelled).pow(2).mean().sqrt()),
+        mean, std = fit.model.label_mean, fit.model.label_std
+        found |= {"data_term_start": data_term(fit, X, Y0, zero),
                   "contact_error_start": float(((Y0 - Y) / std).pow(2).mean().sqrt()),
-                  "contact_error_joint": float(((contacts - Y) / std).pow(2).mean().sqrt())}
+                  "objective_at_truth": joint_objective(fit, X, (Y0 - mean) / std, n_eff / len(X),
+                                                        (Y - mean) / std, labelled)}
+        starts = {"joint": None, "joint_truth": (labelled, Y)}
+        for arm in [a for a in starts if a in arms]:
+            codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, start=starts[arm])
+            found |= {f"data_term_{arm}": data_term(fit, X, contacts, codes[arm]),
+                      "objective" if arm == "joint" else f"objective_{arm}": trace,
+                      f"code_rms_{arm}_off_truth": float((codes[arm] - labelled).pow(2).mean().sqrt()),
+                      f"contact_error_{arm}": float(((contacts - Y) / std).pow(2).mean().sqrt())}
     if "plan" in arms:
         plan = plan_of(sd, u, Budget(args.plan_seconds, "seconds", opts.plan_strategies[0]), opts, seed)
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
@@ -435,7 +456,8 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
             codes |= {(u, a): c for a, c in mine.items()}
             found[u] |= {f"{n}_penalty": c.alpha for n, c in coders.items()}
             found[u] |= {f"{n}_loo_r2": c.loo_r2 for n, c in coders.items()}
-            said = ", ".join(f"{k} {v:.3g}" for k, v in found[u].items() if k != "objective")
+            said = ", ".join(f"{k} {v:.3g}" for k, v in found[u].items()
+                             if not isinstance(v, list))
             print(f"seed {seed} {u}: {said}", flush=True)
         preds = arm_predictions(ctx, arrays, sd, fit, recipe, start, saved.meta, codes, args, seed)
         for u in units:
