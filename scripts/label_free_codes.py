@@ -373,10 +373,11 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         found |= {"data_term_start": data_term(fit, X, Y0, zero),
                   "contact_error_start": float(((Y0 - Y) / std).pow(2).mean().sqrt()),
                   "objective_at_truth": joint_objective(fit, X, (Y0 - mean) / std, n_eff / len(X),
-                                                        (Y - mean) / std, labelled)}
+                                                        (Y - mean) / std, labelled, args.pull)}
         starts = {"joint": None, "joint_truth": (labelled, Y)}
         for arm in [a for a in starts if a in arms]:
-            codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, start=starts[arm])
+            codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
+                                                    starts[arm])
             found |= {f"data_term_{arm}": data_term(fit, X, contacts, codes[arm]),
                       "objective" if arm == "joint" else f"objective_{arm}": trace,
                       f"code_rms_{arm}_off_truth": float((codes[arm] - labelled).pow(2).mean().sqrt()),
@@ -400,6 +401,7 @@ class Settings:
     plan_seconds: float = 120.0
     encoder_units: Path | None = None
     unlabeled: str = "first"
+    pull: float = 1.0
 
 
 Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
@@ -539,6 +541,8 @@ def main(argv: list[str] | None = None) -> int:
                              "from anywhere in it (ordinary use spread over the dome)")
     parser.add_argument("--rows", type=int, default=4096, help="evenly spaced rows of them fitted")
     parser.add_argument("--iterations", type=int, default=30, help="damped Gauss-Newton steps")
+    parser.add_argument("--pull", type=float, default=1.0,
+                        help="lam of the joint fits: the pull towards the start network's contacts")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
     parser.add_argument("--encoder-units", type=Path, default=None,
                         help="a registry whose units only teach the encoder (arm encoder_more)")
@@ -556,12 +560,13 @@ def main(argv: list[str] | None = None) -> int:
     try:
         rows, curves = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
                                                              args.plan_seconds, args.encoder_units,
-                                                             args.unlabeled))
+                                                             args.unlabeled, args.pull))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    found = {"run": str(args.run), "seconds": args.seconds, "unlabeled": args.unlabeled, "rows": rows}
+    found = {"run": str(args.run), "seconds": args.seconds, "unlabeled": args.unlabeled, "pull": args.pull,
+             "rows": rows}
     if curves:
         found["encoder_r2_by_units"] = curves
     args.out.write_text(json.dumps(found, indent=1))
