@@ -23,6 +23,9 @@ from the run's pooled start network:
   contacts) instead of at codes zero and the start network's contacts: where the objective leads
   from there separates an optimiser that stops short from an objective whose minimum lies away
   from the truth (research log entry 37);
+- `joint_search`: the same fit started from a global search instead (`searched_start`): each row's
+  contact is the training units' labeled row whose response under the current codes lies nearest
+  its pressures, and the codes are fitted to those contacts, in turn, from codes zero (entry 37);
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
@@ -79,10 +82,12 @@ from anytip.train.metrics import ratio_fields, scores
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
+    SourceRows,
     code_jacobian,
     evenly_spaced,
     fit_codes,
     residual_rms,
+    respond,
     source_rows,
     start_network_path,
     transfer,
@@ -90,8 +95,10 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "encoder", "encoder_own", "encoder_more",
-        "stream_labels", "all_labels", "plan")
+ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "encoder", "encoder_own",
+        "encoder_more", "stream_labels", "all_labels", "plan")
+SEARCH_CANDIDATES = 16384  # the training units' labeled rows a row's contact is searched among
+SEARCH_ROUNDS = 5  # alternations of the contact search and the code fit before the joint fit
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
 
@@ -180,6 +187,29 @@ def data_term(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> float:
     """Mean over rows of sum_c (x_c - G_c(y; codes))^2 / noise_var_c."""
     with torch.no_grad():
         return float(((X - fit.model(Y, codes)) ** 2 / fit.noise_var).sum(-1).mean())
+
+
+def nearest_contacts(fit: ResponseFit, X: Tensor, candidates: Tensor, codes: Tensor,
+                     chunk: int = 1024) -> Tensor:
+    """For each row of pressures X (n, C) Pa, the candidate contact (of `candidates` (S, D), physical)
+    whose response under `codes` (C, k) lies nearest, each barometer weighed by 1 / noise_var: (n, D)."""
+    scale = fit.noise_var.sqrt()
+    with torch.no_grad():
+        P = respond(fit.model, candidates, codes) / scale
+        best = [torch.cdist(X[a : a + chunk] / scale, P).argmin(1) for a in range(0, len(X), chunk)]
+    return candidates[torch.cat(best)]
+
+
+def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, candidates: Tensor,
+                   seed: int, rounds: int = SEARCH_ROUNDS) -> tuple[Tensor, Tensor]:
+    """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa without a start network:
+    from codes zero, `rounds` times each row's nearest candidate contact (`nearest_contacts`), then
+    the codes' MAP given those contacts (`fit_codes`, as if they were labels)."""
+    codes = torch.zeros(fit.model.n_channels, fit.model.config.code_dim)
+    for _ in range(rounds):
+        contacts = nearest_contacts(fit, X, candidates, codes)
+        codes = fit_codes(fit, [X], [contacts], [n_eff], recipe, seed)[0]
+    return codes, nearest_contacts(fit, X, candidates, codes)
 
 
 ENCODER_QUANTILES = (0.5, 0.75, 0.9, 0.97, 0.995)
@@ -338,9 +368,10 @@ def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: Resp
 
 
 def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, arrays: FleetArrays,
-               sd: SeedData, opts: Options, u: str, args: Settings, coders: dict[str, CodeEncoder], seed: int
-               ) -> tuple[dict[str, Tensor], dict]:
-    """Unit u's codes of each network arm, and what its fits found."""
+               sd: SeedData, opts: Options, u: str, args: Settings, coders: dict[str, CodeEncoder], seed: int,
+               candidates: Tensor) -> tuple[dict[str, Tensor], dict]:
+    """Unit u's codes of each network arm, and what its fits found; `candidates` (S, D): the
+    training units' labeled contacts the `joint_search` arm searches."""
     arms, rows = args.arms, args.rows
     ev, n_eff = sd.evals[u], args.seconds * opts.rig.effective_hz
     unlabeled = unlabeled_rows(arrays, ev.stream, u, args, seed, ev.presses)
@@ -366,7 +397,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         if arm.startswith(TOWARD):  # an encoder whose code error is (1 - t) of this one's
             t = float(arm[len(TOWARD):])
             codes[arm] = codes["encoder"] + t * (codes["all_labels"] - codes["encoder"])
-    if {"joint", "joint_truth"} & set(arms):
+    if {"joint", "joint_truth", "joint_search"} & set(arms):
         Y0 = predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [stream])[0]
         Y0 = torch.from_numpy(Y0)
         mean, std = fit.model.label_mean, fit.model.label_std
@@ -375,6 +406,10 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                   "objective_at_truth": joint_objective(fit, X, (Y0 - mean) / std, n_eff / len(X),
                                                         (Y - mean) / std, labelled, args.pull)}
         starts = {"joint": None, "joint_truth": (labelled, Y)}
+        if "joint_search" in arms:
+            z, c = starts["joint_search"] = searched_start(fit, recipe, X, n_eff, candidates, seed)
+            found |= {"code_rms_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
+                      "contact_error_search": float(((c - Y) / std).pow(2).mean().sqrt())}
         for arm in [a for a in starts if a in arms]:
             codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
                                                     starts[arm])
@@ -453,15 +488,22 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
         units = [*sd.split.val, *sd.split.test]
         codes: dict[tuple[str, str], Tensor] = {}
         found: dict[str, dict] = {}
+        source = (transfer_source(ctx, sd, fit, recipe, saved.meta, seed)
+                  if set(args.arms) - {"pooled", "input_stats"} else None)  # only arms with codes need it
+        candidates = torch.zeros(0, arrays.targets.shape[1])
+        if source is not None:
+            g = torch.Generator().manual_seed(seed)
+            candidates = source.Y[torch.randperm(len(source.Y), generator=g)[:SEARCH_CANDIDATES]]
         for u in units:
-            mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed)
+            mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed,
+                                        candidates)
             codes |= {(u, a): c for a, c in mine.items()}
             found[u] |= {f"{n}_penalty": c.alpha for n, c in coders.items()}
             found[u] |= {f"{n}_loo_r2": c.loo_r2 for n, c in coders.items()}
             said = ", ".join(f"{k} {v:.3g}" for k, v in found[u].items()
                              if not isinstance(v, list))
             print(f"seed {seed} {u}: {said}", flush=True)
-        preds = arm_predictions(ctx, arrays, sd, fit, recipe, start, saved.meta, codes, args, seed)
+        preds = arm_predictions(ctx, arrays, sd, fit, recipe, start, source, codes, args, seed)
         for u in units:
             test = sd.evals[u].test_rows
             Xt, Yt = torch.from_numpy(arrays.pressure[test]), torch.from_numpy(arrays.targets[test])
@@ -479,9 +521,21 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
     return out, curves
 
 
+def transfer_source(ctx: Context, sd: SeedData, fit: ResponseFit, recipe: ResponseRecipe, meta: dict,
+                    seed: int) -> SourceRows:
+    """The rows a new unit's network is trained on once transferred: the response model's source
+    units (the registry's training units, by its metadata), as the run drew them."""
+    ids = [str(u) for u in meta.get("source_unit_ids", [])]
+    if not ids or not set(ids) <= set(sd.train.unit_ids):
+        raise AnytipError(f"{ctx.run_dir}: its response model's source units are not the registry's "
+                          f"training units of seed {seed} (a model that transfers extra units' rows)")
+    mine = sd.train.subset([sd.train.unit_ids.index(u) for u in ids])
+    return source_rows(fit, mine, recipe.source_rows, seed)
+
+
 def arm_predictions(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit, recipe: ResponseRecipe,
-                    start: LoadedModels, meta: dict, codes: dict[tuple[str, str], Tensor], args: Settings,
-                    seed: int) -> dict[tuple[str, str], np.ndarray]:
+                    start: LoadedModels, source: SourceRows | None, codes: dict[tuple[str, str], Tensor],
+                    args: Settings, seed: int) -> dict[tuple[str, str], np.ndarray]:
     """Every (unit, arm)'s predictions on the unit's test rows: a network trained on the rows
     transferred by the arm's codes, the pooled start network itself, or the run's shared model
     without adapters scaled by the unit's unlabeled input statistics (`input_stats`, today's
@@ -490,12 +544,7 @@ def arm_predictions(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: Respon
     tests = [sd.evals[u].test_rows for u in units]
     preds: dict[tuple[str, str], np.ndarray] = {}
     if codes:
-        ids = [str(u) for u in meta.get("source_unit_ids", [])]
-        if not ids or not set(ids) <= set(sd.train.unit_ids):
-            raise AnytipError(f"{ctx.run_dir}: its response model's source units are not the registry's "
-                              f"training units of seed {seed} (a model that transfers extra units' rows)")
-        source = source_rows(fit, sd.train.subset([sd.train.unit_ids.index(u) for u in ids]),
-                             recipe.source_rows, seed)
+        assert source is not None
         jobs = list(codes)
         nets = unit_networks(((transfer(fit, source, codes[j]), source.Y) for j in jobs), ctx.spec.model,
                              recipe, seed, [f"{u}/{a}" for u, a in jobs], arrays.output_names, start=start)

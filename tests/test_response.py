@@ -661,7 +661,8 @@ def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run,
 
 def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet, tmp_path):
     """scripts/label_free_codes.py on a run with a pooled start: a row per unit and arm, and the joint
-    fit only keeps steps that lower its objective."""
+    fits, from codes zero, from the truth and from the contact search, only keep steps that lower
+    their objective."""
     over = [*SECONDS, RESPONSE.replace("}", ", inverse_start: pooled}"), "options.adapters=[]"]
     run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
     script = _script("label_free_codes")
@@ -674,12 +675,34 @@ def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet,
     assert {(r["unit"], r["arm"]) for r in rows} == {(u, a) for u in units for a in arms}
     for r in rows:
         assert r["unlabeled_rows"] <= 256 and r["force_rmse_n"] > 0
-        assert all(b <= a for a, b in zip(r["objective"], r["objective"][1:], strict=False))
+        for trace in (r["objective"], r["objective_joint_truth"], r["objective_joint_search"]):
+            assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
+        assert r["objective_joint_truth"][0] <= r["objective_at_truth"]  # started at the truth: never above
     by = {(r["unit"], r["arm"]): r for r in rows}
     for u in units:
         assert by[u, "zero"]["test_residual_pa"] > 0 and "test_residual_pa" not in by[u, "pooled"]
     held = [r for r in rows if r["role"] == "test"]
     assert held and all(r["force_ratio"] > 0 for r in held)
+
+
+def test_the_contact_search_finds_each_rows_contact_among_the_candidates():
+    """nearest_contacts (scripts/label_free_codes.py): pressures made by the response model from
+    candidate contacts under some codes are matched to exactly those contacts under the same codes,
+    and mostly not under codes far from them."""
+    script = _script("label_free_codes")
+    from anytip.train.response import ResponseFit
+
+    config = ResponseConfig(code_dim=4, channel_dim=4, hidden=32, layers=2)
+    model = ResponseModel(3, 8, 5, [0, 1, 2], config, seed=1)
+    g = torch.Generator().manual_seed(0)
+    candidates = torch.cat([torch.randn(600, 3, generator=g) * 5, torch.rand(600, 2, generator=g) - 0.5], 1)
+    codes = 0.3 * torch.randn(8, 4, generator=g)
+    fit = ResponseFit(model, torch.ones(8), torch.ones(4), ["a", "b", "c"])
+    with torch.no_grad():
+        X = model(candidates[:200], codes)
+    assert torch.equal(script.nearest_contacts(fit, X, candidates, codes, chunk=64), candidates[:200])
+    far = script.nearest_contacts(fit, X, candidates, codes + 3.0)
+    assert (far != candidates[:200]).any(1).float().mean() > 0.5
 
 
 def test_the_code_encoder_recovers_a_linear_map_and_knows_when_features_say_nothing():
