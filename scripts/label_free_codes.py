@@ -437,6 +437,7 @@ class Settings:
     encoder_units: Path | None = None
     unlabeled: str = "first"
     pull: float = 1.0
+    validation_only: bool = False
 
 
 Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
@@ -485,7 +486,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
             for name, c in coders.items():
                 print(f"seed {seed} {name}: penalty {c.alpha:.3g}, leave-one-unit-out R^2 {c.loo_r2:.3f}",
                       flush=True)
-        units = [*sd.split.val, *sd.split.test]
+        units = [*sd.split.val] + ([] if args.validation_only else [*sd.split.test])
         codes: dict[tuple[str, str], Tensor] = {}
         found: dict[str, dict] = {}
         source = (transfer_source(ctx, sd, fit, recipe, saved.meta, seed)
@@ -503,7 +504,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
             said = ", ".join(f"{k} {v:.3g}" for k, v in found[u].items()
                              if not isinstance(v, list))
             print(f"seed {seed} {u}: {said}", flush=True)
-        preds = arm_predictions(ctx, arrays, sd, fit, recipe, start, source, codes, args, seed)
+        preds = arm_predictions(ctx, arrays, sd, fit, recipe, start, source, codes, args, seed, units)
         for u in units:
             test = sd.evals[u].test_rows
             Xt, Yt = torch.from_numpy(arrays.pressure[test]), torch.from_numpy(arrays.targets[test])
@@ -535,12 +536,11 @@ def transfer_source(ctx: Context, sd: SeedData, fit: ResponseFit, recipe: Respon
 
 def arm_predictions(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit, recipe: ResponseRecipe,
                     start: LoadedModels, source: SourceRows | None, codes: dict[tuple[str, str], Tensor],
-                    args: Settings, seed: int) -> dict[tuple[str, str], np.ndarray]:
-    """Every (unit, arm)'s predictions on the unit's test rows: a network trained on the rows
+                    args: Settings, seed: int, units: list[str]) -> dict[tuple[str, str], np.ndarray]:
+    """Each (unit of `units`, arm)'s predictions on the unit's test rows: a network trained on the rows
     transferred by the arm's codes, the pooled start network itself, or the run's shared model
     without adapters scaled by the unit's unlabeled input statistics (`input_stats`, today's
     zero-shot method)."""
-    units = [*sd.split.val, *sd.split.test]
     tests = [sd.evals[u].test_rows for u in units]
     preds: dict[tuple[str, str], np.ndarray] = {}
     if codes:
@@ -593,6 +593,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--pull", type=float, default=1.0,
                         help="lam of the joint fits: the pull towards the start network's contacts")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
+    parser.add_argument("--validation-only", action="store_true",
+                        help="fit and score the validation units only (what a method is chosen on)")
     parser.add_argument("--encoder-units", type=Path, default=None,
                         help="a registry whose units only teach the encoder (arm encoder_more)")
     parser.add_argument("--arms", default=",".join(a for a in ARMS if a != "encoder_more"),
@@ -609,7 +611,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         rows, curves = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
                                                              args.plan_seconds, args.encoder_units,
-                                                             args.unlabeled, args.pull))
+                                                             args.unlabeled, args.pull,
+                                                             args.validation_only))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
