@@ -1,18 +1,13 @@
 """A new unit's codes without labels: what its unlabeled stream tells response transfer (research
-log entries 27, 30 and 35).
+log entries 27, 30, 35, 37 and 38).
 
 Zero-shot calibration may read a new unit's pressures in ordinary use (the first `--seconds` of its
 stream, labels unread; with `--unlabeled spread`, `--seconds` of contact as random whole presses from
 anywhere in the stream outside the unit's test patches, `anytip.data.plans.ordinary_use`, for the
 new units and for every unit the encoders learn from: research log entry 35). Response transfer
 needs the unit's codes. Without labels, each unlabeled row's contact is unknown too, so the codes
-and every row's contact are fitted together: the MAP of
-
-    sum_i w |x_i - G(c_i; z)|^2_W / 2 + w lam |c_i - c0_i|^2 / 2 + |z|^2_{1/code_var} / 2
-
-(W the training units' residual precision per barometer, w = n_eff / n, c0_i the start network's
-contact in standardised labels, lam a weak pull towards it), by Levenberg-Marquardt on the codes'
-Schur complement (each row's contact eliminated), as bundle adjustment solves cameras and points.
+and every row's contact are fitted together (`anytip.train.label_free`: the joint MAP, with a pull
+of weight `--pull` towards the start network's contacts).
 Arms, each scored by a network trained on the transferred rows alone (no labeled row of the unit)
 from the run's pooled start network:
 
@@ -55,7 +50,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -66,28 +60,25 @@ from torch import Tensor
 from anytip.config import DataConfig, load_spec
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Budget, Presses, find_presses, ordinary_use
+from anytip.data.plans import Budget, Presses, find_presses, ordinary_use, ordinary_use_seed
 from anytip.data.registry import Registry
-from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, load_response, load_shared
-from anytip.models.response import ResponseModel
 from anytip.pipelines.common import Context, load, load_extra, select_runs
 from anytip.pipelines.cross_sensor import SeedData, min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import plan_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
 from anytip.train.adapt import calibrate_and_fold
+from anytip.train.label_free import LabelFreeRecipe, joint_fit, joint_objective, searched_start
 from anytip.train.metrics import ratio_fields, scores
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
     SourceRows,
-    code_jacobian,
     evenly_spaced,
     fit_codes,
     residual_rms,
-    respond,
     source_rows,
     start_network_path,
     transfer,
@@ -97,8 +88,7 @@ from anytip.train.shared_split import predict_rows
 
 ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "encoder", "encoder_own",
         "encoder_more", "stream_labels", "all_labels", "plan")
-SEARCH_CANDIDATES = 16384  # the training units' labeled rows a row's contact is searched among
-SEARCH_ROUNDS = 5  # alternations of the contact search and the code fit before the joint fit
+SEARCH = LabelFreeRecipe()  # the searched start's candidates and rounds (arm joint_search)
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
 
@@ -118,98 +108,10 @@ def arm_names(text: str) -> tuple[str, ...]:
     return arms
 
 
-def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
-    """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
-    in c (n, C, D) and in each barometer's own code (n, C, k)."""
-    mean, std = model.label_mean, model.label_std
-    Jc = torch.func.vmap(torch.func.jacfwd(lambda ci: model(ci * std + mean, codes)))(c)
-    pred, Jz = code_jacobian(model, c * std + mean, codes)
-    return pred, Jc.detach(), Jz
-
-
-def joint_objective(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, codes: Tensor,
-                    lam: float = 1.0) -> float:
-    """The joint MAP's objective (module docstring) of unlabeled pressures X (n, C) Pa at standardised
-    contacts c (n, D) and codes (C, k), with the pull towards standardised contacts c0 (n, D) and
-    each row weighing w = n_eff / n."""
-    model = fit.model
-    with torch.no_grad():
-        r = X - model(c * model.label_std + model.label_mean, codes)
-    data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
-    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2)
-
-
-def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations: int = 30,
-              lam: float = 1.0, start: tuple[Tensor, Tensor] | None = None
-              ) -> tuple[Tensor, Tensor, list[float]]:
-    """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa, pulled towards contacts
-    Y0 (n, D), by damped Gauss-Newton on the joint MAP (module docstring); the objective after each
-    step. The fit starts at codes zero and contacts Y0, or at `start` (codes (C, k), contacts (n, D)
-    physical)."""
-    model = fit.model
-    for p in model.parameters():
-        p.requires_grad_(False)
-    mean, std = model.label_mean, model.label_std
-    (n, C), k, D = X.shape, fit.code_var.shape[0], Y0.shape[1]
-    w = n_eff / n
-    Wc, inv_spread = w / fit.noise_var, 1 / fit.code_var
-    c0 = (Y0 - mean) / std
-    c, z = (c0.clone(), torch.zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
-
-    def objective(cc: Tensor, zz: Tensor) -> float:
-        return joint_objective(fit, X, c0, w, cc, zz, lam)
-
-    obj, damping, trace = objective(c, z), 1e-2, []
-    for _ in range(iterations):
-        pred, Jc, Jz = jacobians(model, c, z)
-        r = X - pred
-        Hcc = torch.einsum("ncd,nce,c->nde", Jc, Jc, Wc) + w * lam * torch.eye(D)
-        gc = torch.einsum("ncd,nc,c->nd", Jc, r, Wc) - w * lam * (c - c0)
-        Hzz = torch.einsum("nck,ncj,c->ckj", Jz, Jz, Wc) + torch.diag_embed(inv_spread.expand(C, k))
-        gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) - z * inv_spread
-        A = torch.einsum("nck,ncd,c->nckd", Jz, Jc, Wc).reshape(n, C * k, D)  # codes-contact coupling
-        Hzz = Hzz + damping * torch.diag_embed(torch.diagonal(Hzz, dim1=-2, dim2=-1))
-        Hinv = torch.linalg.inv(Hcc + damping * torch.diag_embed(torch.diagonal(Hcc, dim1=-2, dim2=-1)))
-        AH = A @ Hinv
-        S = torch.block_diag(*Hzz) - torch.einsum("nad,nbd->ab", AH, A)  # contacts eliminated
-        dz = torch.linalg.solve(S, gz.reshape(-1) - torch.einsum("nad,nd->a", AH, gc))
-        dc = torch.einsum("nde,ne->nd", Hinv, gc - torch.einsum("nad,a->nd", A, dz))
-        trial = objective(c + dc, z + dz.reshape(C, k))
-        if trial < obj:
-            c, z, obj, damping = c + dc, z + dz.reshape(C, k), trial, max(damping / 3, 1e-6)
-        else:
-            damping = min(damping * 4, 1e6)
-        trace.append(obj)
-    return z, c * std + mean, trace
-
-
 def data_term(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> float:
     """Mean over rows of sum_c (x_c - G_c(y; codes))^2 / noise_var_c."""
     with torch.no_grad():
         return float(((X - fit.model(Y, codes)) ** 2 / fit.noise_var).sum(-1).mean())
-
-
-def nearest_contacts(fit: ResponseFit, X: Tensor, candidates: Tensor, codes: Tensor,
-                     chunk: int = 1024) -> Tensor:
-    """For each row of pressures X (n, C) Pa, the candidate contact (of `candidates` (S, D), physical)
-    whose response under `codes` (C, k) lies nearest, each barometer weighed by 1 / noise_var: (n, D)."""
-    scale = fit.noise_var.sqrt()
-    with torch.no_grad():
-        P = respond(fit.model, candidates, codes) / scale
-        best = [torch.cdist(X[a : a + chunk] / scale, P).argmin(1) for a in range(0, len(X), chunk)]
-    return candidates[torch.cat(best)]
-
-
-def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, candidates: Tensor,
-                   seed: int, rounds: int = SEARCH_ROUNDS) -> tuple[Tensor, Tensor]:
-    """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa without a start network:
-    from codes zero, `rounds` times each row's nearest candidate contact (`nearest_contacts`), then
-    the codes' MAP given those contacts (`fit_codes`, as if they were labels)."""
-    codes = torch.zeros(fit.model.n_channels, fit.model.config.code_dim)
-    for _ in range(rounds):
-        contacts = nearest_contacts(fit, X, candidates, codes)
-        codes = fit_codes(fit, [X], [contacts], [n_eff], recipe, seed)[0]
-    return codes, nearest_contacts(fit, X, candidates, codes)
 
 
 ENCODER_QUANTILES = (0.5, 0.75, 0.9, 0.97, 0.995)
@@ -304,7 +206,7 @@ def unlabeled_rows(arrays: FleetArrays, stream: CalibrationStream, unit: str, ar
         return stream.unlabeled(args.seconds)
     if presses is None:
         presses = find_presses(arrays, unit, stream.outside(arrays))
-    return ordinary_use(presses, args.seconds, unit_seed(seed, zlib.crc32(unit.encode()), "ordinary use"))
+    return ordinary_use(presses, args.seconds, ordinary_use_seed(seed, unit)).rows
 
 
 def training_features(ctx: Context, arrays: FleetArrays, opts: Options, ids: list[str],
@@ -407,7 +309,8 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                                                         (Y - mean) / std, labelled, args.pull)}
         starts = {"joint": None, "joint_truth": (labelled, Y)}
         if "joint_search" in arms:
-            z, c = starts["joint_search"] = searched_start(fit, recipe, X, n_eff, candidates, seed)
+            z, c = starts["joint_search"] = searched_start(fit, recipe, X, n_eff, candidates, seed,
+                                                           SEARCH.rounds)
             found |= {"code_rms_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
                       "contact_error_search": float(((c - Y) / std).pow(2).mean().sqrt())}
         for arm in [a for a in starts if a in arms]:
@@ -494,7 +397,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
         candidates = torch.zeros(0, arrays.targets.shape[1])
         if source is not None:
             g = torch.Generator().manual_seed(seed)
-            candidates = source.Y[torch.randperm(len(source.Y), generator=g)[:SEARCH_CANDIDATES]]
+            candidates = source.Y[torch.randperm(len(source.Y), generator=g)[:SEARCH.candidates]]
         for u in units:
             mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed,
                                         candidates)

@@ -106,14 +106,16 @@ def test_ordinary_use_is_whole_presses_from_every_orientation_up_to_its_contact_
     arrays = fleet()
     presses = find_presses(arrays, "U1")
     press_s = PRESS_ROWS / RATE
-    rows = ordinary_use(presses, 10 * press_s, seed=3)
+    use = ordinary_use(presses, 10 * press_s, seed=3)
+    rows = use.rows
     assert len(rows) == 10 * PRESS_ROWS  # ten presses fit: no rig time was charged
+    assert use.calib_seconds == use.contact_seconds == pytest.approx(10 * press_s)
     whole = [set(presses.rows_of(k)) for k in range(len(presses))]
     assert all(w <= set(rows) or not w & set(rows) for w in whole)
     assert set(arrays.run[rows]) == {0, 1}
-    assert np.array_equal(rows, ordinary_use(presses, 10 * press_s, seed=3))
-    assert not np.array_equal(np.sort(rows), np.sort(ordinary_use(presses, 10 * press_s, seed=4)))
-    assert len(ordinary_use(presses, 0.0, seed=3)) == 0
+    assert np.array_equal(rows, ordinary_use(presses, 10 * press_s, seed=3).rows)
+    assert not np.array_equal(np.sort(rows), np.sort(ordinary_use(presses, 10 * press_s, seed=4).rows))
+    assert len(ordinary_use(presses, 0.0, seed=3).rows) == 0
 
 
 def covering_radius(presses, plan) -> float:
@@ -213,8 +215,8 @@ def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_pa
     assert len(presses) == 12 and all(len(presses.rows_of(k)) == 30 for k in range(12))
     plan = select_presses(presses, 20.0, RigTiming(move_s=2.0, remount_s=30.0))
     assert plan.calib_seconds <= 20.0 and plan.presses >= 2 and len(plan.orientations) == 1
-    assert len(ordinary_use(presses, 1e6, seed=0)) == 12 * 30  # every press of both runs, no rig time
-    assert len(ordinary_use(presses, float(presses.duration_s.min()), seed=0)) == 30  # one whole press
+    assert len(ordinary_use(presses, 1e6, seed=0).rows) == 12 * 30  # every press of both runs, no rig time
+    assert len(ordinary_use(presses, float(presses.duration_s.min()), seed=0).rows) == 30  # one whole press
 
 
 def test_press_folds_hold_out_every_press_exactly_once():

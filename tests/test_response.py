@@ -685,24 +685,25 @@ def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet,
     assert held and all(r["force_ratio"] > 0 for r in held)
 
 
-def test_the_contact_search_finds_each_rows_contact_among_the_candidates():
-    """nearest_contacts (scripts/label_free_codes.py): pressures made by the response model from
-    candidate contacts under some codes are matched to exactly those contacts under the same codes,
-    and mostly not under codes far from them."""
-    script = _script("label_free_codes")
-    from anytip.train.response import ResponseFit
-
-    config = ResponseConfig(code_dim=4, channel_dim=4, hidden=32, layers=2)
-    model = ResponseModel(3, 8, 5, [0, 1, 2], config, seed=1)
-    g = torch.Generator().manual_seed(0)
-    candidates = torch.cat([torch.randn(600, 3, generator=g) * 5, torch.rand(600, 2, generator=g) - 0.5], 1)
-    codes = 0.3 * torch.randn(8, 4, generator=g)
-    fit = ResponseFit(model, torch.ones(8), torch.ones(4), ["a", "b", "c"])
-    with torch.no_grad():
-        X = model(candidates[:200], codes)
-    assert torch.equal(script.nearest_contacts(fit, X, candidates, codes, chunk=64), candidates[:200])
-    far = script.nearest_contacts(fit, X, candidates, codes + 3.0)
-    assert (far != candidates[:200]).any(1).float().mean() > 0.5
+def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordinary_use(fleet, tmp_path):
+    """options.response.label_free: a `response:label_free` row per held-out unit at no labeled
+    budget and no rig time, its unlabeled contact seconds within the option's, a validation loss
+    the report chooses the zero-shot method on; refused without the pooled start it pulls towards."""
+    free = "label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2}"
+    over = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"), "options.adapters=[]"]
+    run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
+    rows = json.loads((run / "metrics.json").read_text())["results"]
+    prov = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]
+    mine = [r for r in rows if r["method"] == "response:label_free"]
+    assert {r["unit"] for r in mine} == set(prov["units"]["test"])
+    for r in mine:
+        assert r["calib_samples"] == 0 and r["calib_seconds"] == 0 and r["budget_s"] == 0
+        assert 0 < r["unlabeled_seconds"] <= 20 and r["unlabeled_samples"] > 0 and r["force_rmse_n"] > 0
+    assert set(prov["val_loss"]["response:label_free"]) == {"0"}
+    assert "response:label_free" in (run / "report.md").read_text()
+    bad = [*SECONDS, RESPONSE.replace("}", f", {free}}}")]
+    with pytest.raises(AnytipError, match="label_free needs inverse_start: pooled"):
+        run_experiment(SPEC, fleet, out=tmp_path / "bad", overrides=bad, progress=False)
 
 
 def test_the_code_encoder_recovers_a_linear_map_and_knows_when_features_say_nothing():

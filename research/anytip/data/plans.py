@@ -25,6 +25,7 @@ prior is scaled by that count, not by rows.
 from __future__ import annotations
 
 import itertools
+import zlib
 from dataclasses import dataclass
 from typing import Literal
 
@@ -33,6 +34,7 @@ from scipy.spatial import cKDTree
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream
+from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
 from anytip.sensor.protocols import design_protocol, waypoints
 
@@ -210,12 +212,18 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
     return _plan(presses, chosen, rig)
 
 
-def ordinary_use(presses: Presses, seconds: float, seed: int) -> np.ndarray:
-    """Row indices of a unit's ordinary use after mounting, read without labels: whole presses
-    drawn in a seeded random order from anywhere among `presses` until `seconds` of contact, so
-    the contacts spread over what the presses cover. Ordinary use costs no rig time (no moves,
-    no re-mounts); the seconds are contact seconds."""
-    return select_presses(presses, seconds, RigTiming(move_s=0.0, remount_s=0.0), "random", seed).rows
+def ordinary_use_seed(seed: int, unit: str) -> int:
+    """The seed of unit `unit`'s draw of ordinary use under a run's `seed` (the same in every
+    process: the unit's id by CRC-32, not Python's salted hash)."""
+    return unit_seed(seed, zlib.crc32(unit.encode()), "ordinary use")
+
+
+def ordinary_use(presses: Presses, seconds: float, seed: int) -> Plan:
+    """A unit's ordinary use after mounting, read without labels: whole presses drawn in a seeded
+    random order from anywhere among `presses` until `seconds` of contact, so the contacts spread
+    over what the presses cover. Ordinary use costs no rig time (no moves, no re-mounts): the
+    plan's `calib_seconds` are its `contact_seconds`."""
+    return select_presses(presses, seconds, RigTiming(move_s=0.0, remount_s=0.0), "random", seed)
 
 
 def _spread(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:

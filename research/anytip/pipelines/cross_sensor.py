@@ -42,6 +42,7 @@ from anytip.pipelines.cross_sensor_jobs import (
     validation_factors,
     validation_losses,
 )
+from anytip.pipelines.cross_sensor_label_free import METHOD as LABEL_FREE_METHOD
 from anytip.pipelines.cross_sensor_options import (
     FitVariant,
     Options,
@@ -240,6 +241,8 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         got = response_rows(ctx, arrays, sd, opts, seed)
         rows += [dict(base, **r) for r in got.rows]
         val_by_method.update(validation_by_method(RESPONSE_METHOD, got.val_loss))
+        if got.label_free_loss is not None:
+            val_by_method[LABEL_FREE_METHOD] = {"0": got.label_free_loss}
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
         "units": sd.split.to_json(), "val_loss": val_by_method,
         "priors_chosen": {k: {b.label: p for b, p in v.items()} for k, v in priors_chosen.items()},

@@ -17,6 +17,7 @@ from anytip.pipelines.common import Context, validate_options
 from anytip.train.adapt import ADAPTER_DECAY, AdapterRecipe
 from anytip.train.adapter_prior import PriorFamily
 from anytip.train.episodic import EpisodeRecipe
+from anytip.train.label_free import LabelFreeRecipe
 from anytip.train.recipe import TrainRecipe
 from anytip.train.response import ResponseRecipe
 
@@ -127,6 +128,27 @@ class IntervalOptions(BaseModel):
         "(`transfer_` fields) beside the plan's own residuals (research log entry 28)")
 
 
+class LabelFreeOptions(BaseModel):
+    """`options.response.label_free`: a zero-shot row `response:label_free` (train/label_free.py). A
+    new unit's codes come from its pressures in `seconds` of ordinary use after mounting (whole presses
+    drawn at random from its stream, `anytip.data.plans.ordinary_use`; no labels, no rig time), by the
+    joint fit of codes and contacts from a searched start; its network trains on the training units'
+    rows carried over by those codes alone. Needs `inverse_start: pooled` (the pull's contacts)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+    seconds: float = Field(default=LabelFreeRecipe.seconds, gt=0, le=600,
+                           description="contact seconds of ordinary use read (the issue allows 600)")
+    rows: int = Field(default=LabelFreeRecipe.rows, ge=1, le=2**20)
+    pull: float = Field(default=LabelFreeRecipe.pull, gt=0, le=1e6)
+    candidates: int = Field(default=LabelFreeRecipe.candidates, ge=1, le=2**22)
+    rounds: int = Field(default=LabelFreeRecipe.rounds, ge=1, le=1000)
+    iterations: int = Field(default=LabelFreeRecipe.iterations, ge=1, le=100_000)
+
+    def recipe(self) -> LabelFreeRecipe:
+        return LabelFreeRecipe(**self.model_dump())
+
+
 class ResponseOptions(BaseModel):
     """`options.response`: calibration by response transfer (train/response.py), a method `response`
     beside the adapters at every labeled budget. A fleet response model (contact -> each barometer's
@@ -164,11 +186,22 @@ class ResponseOptions(BaseModel):
         description="where a new unit's network starts: random weights, or one network trained on the "
                     "source rows as measured (train/response.py start_network)")
 
+    label_free: LabelFreeOptions | None = Field(
+        default=None, description="a zero-shot row from unlabeled ordinary use (train/label_free.py)")
+
+    @model_validator(mode="after")
+    def _label_free_needs_a_start(self) -> ResponseOptions:
+        if self.label_free is not None and self.inverse_start != "pooled":
+            raise ValueError("label_free needs inverse_start: pooled (its fit pulls each unlabeled row "
+                             "towards the pooled start network's contact)")
+        return self
+
     def config(self) -> ResponseConfig:
         return ResponseConfig(self.code_dim, self.channel_dim, self.hidden, self.layers)
 
     def recipe(self) -> ResponseRecipe:
-        return ResponseRecipe(**self.model_dump(exclude={"code_dim", "channel_dim", "hidden", "layers"}))
+        return ResponseRecipe(**self.model_dump(exclude={"code_dim", "channel_dim", "hidden", "layers",
+                                                         "label_free"}))
 
 
 Training = Literal["joint", "episodic"]

@@ -28,6 +28,7 @@ from anytip.pipelines.cross_sensor_jobs import (
     validation_factors,
     validation_losses,
 )
+from anytip.pipelines.cross_sensor_label_free import label_free_rows
 from anytip.pipelines.cross_sensor_options import Options, budget_list
 from anytip.train.adapt import pooled_scaler
 from anytip.train.data import FleetBatchData
@@ -52,10 +53,12 @@ METHOD = "response"
 
 
 class ResponseRows(NamedTuple):
-    """Rows of the held-out units, and the validation units' mean standardised MSE per budget."""
+    """Rows of the held-out units, and the validation units' mean standardised MSE per budget and
+    of the zero-shot `response:label_free` (None where it did not run)."""
 
     rows: list[dict[str, Any]]
     val_loss: dict[Budget, float]
+    label_free_loss: float | None = None
 
 
 def force_columns(arrays: FleetArrays) -> list[int]:
@@ -83,14 +86,16 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     rows: list[dict[str, Any]] = []
     val_loss: dict[Budget, float] = {}
     residual: dict[Budget, list[float]] = {}
-    if jobs:
-        X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
-        Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
+    free_loss = None
+    if jobs or opts.response.label_free is not None:
         source = source_rows(fit, source_units(sd, recipe), recipe.source_rows, seed)
         start = None
         if recipe.inverse_start == "pooled":
             start = start_network(source, ctx.spec.model, recipe, seed, arrays.output_names, ctx.progress)
             start.save(start_network_path(response_path(ctx, seed)))
+    if jobs:
+        X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
+        Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
         nets, codes = calibrate_by_response(
             fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, recipe, seed,
             [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress, start)
@@ -120,9 +125,15 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
+    if opts.response.label_free is not None:
+        assert start is not None  # the option needs inverse_start: pooled
+        free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start)
+        rows += free_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
             "residual_by_strategy": by_strategy(residual)}
+    if free_loss is not None:
+        meta["label_free_val_loss"] = free_loss
     if opts.intervals is not None and jobs:
         names = arrays.output_names
         meta["intervals"] = {"level": opts.intervals.level, "residuals": INTERVAL_RESIDUALS,
@@ -133,7 +144,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                                  {b: _finite_by_name(names, f) for b, f in spread.items()})
                                  for kind, spread in bands.spreads.items()}}
     save_response(response_path(ctx, seed), fit.model, fit.noise_var, fit.code_var, meta)
-    return ResponseRows(rows, val_loss)
+    return ResponseRows(rows, val_loss, free_loss)
 
 
 def _finite_by_name(names: tuple[str, ...], values: np.ndarray) -> dict[str, float | None]:

@@ -1,0 +1,62 @@
+"""The cross_sensor zero-shot method `response:label_free` (`options.response.label_free`): each
+validation and held-out unit's response-transfer codes from its pressures in ordinary use alone
+(train/label_free.py), its own network trained on the training units' rows carried over by them,
+scored on its test patches like every other method (research log entries 37 and 38)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import torch
+
+from anytip.data.arrays import FleetArrays
+from anytip.data.plans import Budget, Plan, ordinary_use, ordinary_use_seed
+from anytip.pipelines.common import Context
+from anytip.pipelines.cross_sensor_jobs import budget_fields, validation_losses
+from anytip.pipelines.cross_sensor_options import Options
+from anytip.train.adapt import pooled_scaler
+from anytip.train.fleet import FitResult
+from anytip.train.label_free import label_free_codes
+from anytip.train.metrics import scores
+from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
+from anytip.train.shared_split import SeedData, predict_rows
+
+METHOD = "response:label_free"
+
+
+def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
+                    fit: ResponseFit, source: SourceRows, start: FitResult
+                    ) -> tuple[list[dict[str, Any]], float | None]:
+    """Rows of the held-out units, and the validation units' mean standardised MSE (None without
+    validation units). `source`: the rows a unit's network trains on once carried over; `start`: the
+    pooled network it starts from, whose contacts the fit pulls each unlabeled row towards."""
+    assert opts.response is not None and opts.response.label_free is not None
+    free, recipe = opts.response.label_free.recipe(), opts.response.recipe()
+    units = [*sd.split.val, *sd.split.test]
+    g = torch.Generator().manual_seed(seed)
+    candidates = source.Y[torch.randperm(len(source.Y), generator=g)[:free.candidates]]
+    n_eff = free.seconds * opts.rig.effective_hz
+    uses: list[Plan] = []
+    codes = []
+    for u in units:
+        use = ordinary_use(sd.evals[u].presses, free.seconds, ordinary_use_seed(seed, u))
+        rows = use.rows[evenly_spaced(len(use.rows), free.rows).numpy()]
+        X = torch.from_numpy(arrays.pressure[rows]).to(fit.device)
+        Y0 = torch.from_numpy(predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [rows])[0])
+        z, _, _ = label_free_codes(fit, recipe, free, X, Y0.to(fit.device), n_eff, candidates, seed)
+        uses.append(use)
+        codes.append(z)
+    carried = ((transfer(fit, source, z), source.Y) for z in codes)
+    nets = unit_networks(carried, ctx.spec.model, recipe, seed, [f"{u}@label_free" for u in units],
+                         arrays.output_names, fit.device, ctx.progress, start)
+    preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u in units])
+    zero = Budget(0.0, opts.budget_unit, opts.plan_strategies[0])
+    loss = validation_losses([(u, zero, 0.0) for u in units], preds, sd, arrays, set(sd.split.val),
+                             pooled_scaler(sd.train.Y_train, sd.train.n_train)).get((zero, 0.0))
+    ctx.say(f"seed {seed}: {len(units)} units' codes fitted from {free.seconds:g} s of unlabeled use")
+    out = [{"method": METHOD, "unit": u, **budget_fields(zero, Plan.empty()),
+            "unlabeled_samples": int(len(use.rows)), "unlabeled_seconds": use.contact_seconds,
+            **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
+           for u, use, pred in zip(units, uses, preds, strict=True) if u in sd.split.test]
+    return out, None if loss is None else float(sum(loss) / len(loss))

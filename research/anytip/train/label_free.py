@@ -1,0 +1,141 @@
+"""A new unit's response-transfer codes without labels, from the pressures of its ordinary use
+(research log entries 27, 35, 37 and 38).
+
+Without labels each unlabeled row's contact is unknown too, so the codes z (C, k) and every
+row's standardised contact c_i (D,) are fitted together: the MAP of
+
+    sum_i w |x_i - G(c_i; z)|^2_W / 2 + w lam |c_i - c0_i|^2 / 2 + |z|^2_{1/code_var} / 2
+
+(W the training units' residual precision per barometer, w = n_eff / n, c0_i a start network's
+contact, lam a weak pull towards it that keeps a contact no barometer feels determined) by
+Levenberg-Marquardt on the codes' Schur complement, each row's contact eliminated, as bundle
+adjustment solves cameras and points (`joint_fit`).
+
+The objective has many basins: started at codes zero and the start network's contacts the fit
+stops far from the truth, started at the truth it stays there (entry 37). `searched_start` finds
+a start without labels: each row's contact becomes the training units' labeled contact whose
+response under the current codes lies nearest its pressures, and the codes are fitted to those
+contacts, in turn (entry 38).
+
+Shapes: n unlabeled rows, C barometers, D label columns, k code_dim, S candidate contacts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import torch
+from torch import Tensor
+
+from anytip.models.response import ResponseModel
+from anytip.train.response import ResponseFit, ResponseRecipe, code_jacobian, fit_codes, respond
+
+
+@dataclass(frozen=True)
+class LabelFreeRecipe:
+    """How a unit's codes are fitted from its unlabeled rows: at most `rows` evenly spaced rows of
+    `seconds` of contact, worth `seconds * effective_hz` independent rows; the pull's weight;
+    `candidates` labeled contacts searched in `rounds` alternations; `iterations` joint steps."""
+
+    seconds: float = 600.0
+    rows: int = 4096
+    pull: float = 0.001
+    candidates: int = 16384
+    rounds: int = 5
+    iterations: int = 30
+
+
+def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
+    """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
+    in c (n, C, D) and in each barometer's own code (n, C, k)."""
+    mean, std = model.label_mean, model.label_std
+    Jc = torch.func.vmap(torch.func.jacfwd(lambda ci: model(ci * std + mean, codes)))(c)
+    pred, Jz = code_jacobian(model, c * std + mean, codes)
+    return pred, Jc.detach(), Jz
+
+
+def joint_objective(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, codes: Tensor,
+                    lam: float) -> float:
+    """The joint MAP's objective (module docstring) of unlabeled pressures X (n, C) Pa at standardised
+    contacts c (n, D) and codes (C, k), with the pull towards standardised contacts c0 (n, D) and
+    each row weighing w = n_eff / n."""
+    model = fit.model
+    with torch.no_grad():
+        r = X - model(c * model.label_std + model.label_mean, codes)
+    data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
+    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2)
+
+
+def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations: int, lam: float,
+              start: tuple[Tensor, Tensor] | None = None) -> tuple[Tensor, Tensor, list[float]]:
+    """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa, pulled towards contacts
+    Y0 (n, D), by damped Gauss-Newton on the joint MAP (module docstring); the objective after each
+    step. The fit starts at codes zero and contacts Y0, or at `start` (codes (C, k), contacts (n, D)
+    physical). The response model's weights are frozen (left without grad)."""
+    model = fit.model
+    for p in model.parameters():
+        p.requires_grad_(False)
+    mean, std = model.label_mean, model.label_std
+    (n, C), k, D = X.shape, fit.code_var.shape[0], Y0.shape[1]
+    w = n_eff / n
+    Wc, inv_spread = w / fit.noise_var, 1 / fit.code_var
+    c0 = (Y0 - mean) / std
+    c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
+
+    def objective(cc: Tensor, zz: Tensor) -> float:
+        return joint_objective(fit, X, c0, w, cc, zz, lam)
+
+    obj, damping, trace = objective(c, z), 1e-2, []
+    for _ in range(iterations):
+        pred, Jc, Jz = jacobians(model, c, z)
+        r = X - pred
+        Hcc = torch.einsum("ncd,nce,c->nde", Jc, Jc, Wc) + w * lam * torch.eye(D, device=X.device)
+        gc = torch.einsum("ncd,nc,c->nd", Jc, r, Wc) - w * lam * (c - c0)
+        Hzz = torch.einsum("nck,ncj,c->ckj", Jz, Jz, Wc) + torch.diag_embed(inv_spread.expand(C, k))
+        gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) - z * inv_spread
+        A = torch.einsum("nck,ncd,c->nckd", Jz, Jc, Wc).reshape(n, C * k, D)  # codes-contact coupling
+        Hzz = Hzz + damping * torch.diag_embed(torch.diagonal(Hzz, dim1=-2, dim2=-1))
+        Hinv = torch.linalg.inv(Hcc + damping * torch.diag_embed(torch.diagonal(Hcc, dim1=-2, dim2=-1)))
+        AH = A @ Hinv
+        S = torch.block_diag(*Hzz) - torch.einsum("nad,nbd->ab", AH, A)  # contacts eliminated
+        dz = torch.linalg.solve(S, gz.reshape(-1) - torch.einsum("nad,nd->a", AH, gc))
+        dc = torch.einsum("nde,ne->nd", Hinv, gc - torch.einsum("nad,a->nd", A, dz))
+        trial = objective(c + dc, z + dz.reshape(C, k))
+        if trial < obj:
+            c, z, obj, damping = c + dc, z + dz.reshape(C, k), trial, max(damping / 3, 1e-6)
+        else:
+            damping = min(damping * 4, 1e6)
+        trace.append(obj)
+    return z, c * std + mean, trace
+
+
+def nearest_contacts(fit: ResponseFit, X: Tensor, candidates: Tensor, codes: Tensor,
+                     chunk: int = 1024) -> Tensor:
+    """For each row of pressures X (n, C) Pa, the candidate contact (of `candidates` (S, D), physical)
+    whose response under `codes` (C, k) lies nearest, each barometer weighed by 1 / noise_var: (n, D)."""
+    scale = fit.noise_var.sqrt()
+    with torch.no_grad():
+        P = respond(fit.model, candidates, codes) / scale
+        best = [torch.cdist(X[a : a + chunk] / scale, P).argmin(1) for a in range(0, len(X), chunk)]
+    return candidates[torch.cat(best)]
+
+
+def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, candidates: Tensor,
+                   seed: int, rounds: int) -> tuple[Tensor, Tensor]:
+    """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa without a start network:
+    from codes zero, `rounds` times each row's nearest candidate contact (`nearest_contacts`), then
+    the codes' MAP given those contacts (`fit_codes`, as if they were labels)."""
+    codes = X.new_zeros(fit.model.n_channels, fit.model.config.code_dim)
+    for _ in range(rounds):
+        contacts = nearest_contacts(fit, X, candidates, codes)
+        codes = fit_codes(fit, [X], [contacts], [n_eff], recipe, seed)[0]
+    return codes, nearest_contacts(fit, X, candidates, codes)
+
+
+def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
+                     n_eff: float, candidates: Tensor, seed: int) -> tuple[Tensor, Tensor, list[float]]:
+    """A new unit's codes (C, k) from its unlabeled pressures X (n, C) Pa: the joint fit from the
+    searched start, pulled towards a start network's contacts Y0 (n, D); its contacts (n, D) and
+    its objective after each step."""
+    start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds)
+    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start)
