@@ -13,7 +13,8 @@ the geometric mean of A's ratio over B's per unit with its 95% bootstrap interva
 `STEMS@ARM` takes that arm's rows only, so two arms pair (`x@encoder:x@input_stats`).
 
 Rows of `scripts/label_free_codes.py` (research log entry 35) have no validation loss: their
-validation cell is the validation units' mean force and angle RMSE.
+validation cell is the validation units' mean force and angle RMSE. `--pooled` adds each arm over
+every file's rows together (e.g. all folds of a registry, or the validation units a rule names).
 """
 
 from __future__ import annotations
@@ -79,12 +80,16 @@ def main(argv: list[str] | None = None) -> int:
                         help="JSON files of transfer_bounds.py or label_free_codes.py")
     parser.add_argument("--pair", action="append", default=[],
                         help="A:B, file stems joined by +, each optionally @ARM")
+    parser.add_argument("--pooled", action="store_true",
+                        help="also one line per arm over every file's rows together (model `all`)")
     args = parser.parse_args(argv)
     files = rows_of(args.rows)
     print("| model | arm | validation | held-out units | force ratio [95%] | angle ratio [95%] | "
           "test residual |\n|---|---|---|---|---|---|---|")
     for name, rows in files.items():
         print(line(name, rows))
+    if args.pooled:
+        print(line("all", [r for rows in files.values() for r in rows]))
     for pair in args.pair:
         a, b = (side(files, text) for text in pair.split(":"))
         print(f"\n{pair}: " + "; ".join(f"{k} {paired(a, b, k)}" for k in KEYS))

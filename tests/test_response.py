@@ -654,9 +654,13 @@ def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run,
     assert "response@spread 40 s" in said and "force x1.000 [1.000, 1.000]" in said
 
     models = _script("response_model_table")  # a model's rows against themselves: every paired ratio is 1
-    assert models.main([str(out), "--pair", "bounds:bounds"]) == 0
+    assert models.main([str(out), "--pair", "bounds:bounds", "--pooled"]) == 0
     printed = capsys.readouterr().out
     assert "| bounds | oracle |" in printed and "force_ratio 1.000 [1.000, 1.000]" in printed
+    pooled = {ln.split("|")[2].strip(): ln for ln in printed.splitlines() if ln.startswith("| all |")}
+    by_file = {ln.split("|")[2].strip(): ln for ln in printed.splitlines() if ln.startswith("| bounds |")}
+    assert pooled and {a: ln.split("|")[3:] for a, ln in pooled.items()} == \
+        {a: ln.split("|")[3:] for a, ln in by_file.items()}  # one file: pooled over it is the file
 
 
 def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet, tmp_path):
