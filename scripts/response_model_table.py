@@ -43,7 +43,7 @@ def line(name: str, rows: list[dict[str, Any]]) -> str:
     for arm in sorted({r["arm"] for r in rows}):
         mine = [r for r in rows if r["arm"] == arm]
         held = [r for r in mine if r["role"] == "test"]
-        cells = [ratio_text(mean_interval([r[k] for r in held])) for k in KEYS[:2]]
+        cells = [ratio_text(mean_interval([r[k] for r in held])) if held else "-" for k in KEYS[:2]]
         residual = [r["test_residual_pa"] for r in held if "test_residual_pa" in r]
         out.append(f"| {name} | {arm} | {validation(mine)} | {len(held)} | {' | '.join(cells)} | "
                    f"{f'{np.mean(residual):,.0f} Pa' if residual else '-'} |")
