@@ -49,3 +49,12 @@ def test_the_joint_fit_started_at_the_truth_stays_there_and_never_raises_its_obj
     z, y, trace = label_free_codes(fit, ResponseRecipe(), free, X, wrong, 300.0, candidates, 0)
     assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
     assert z.shape == codes.shape and y.shape == truth_y.shape and trace[-1] < trace[0]
+
+
+def test_a_unit_without_unlabeled_rows_keeps_the_fleets_typical_codes():
+    """No ordinary use read (no press outside the unit's test patches): codes zero, no fit."""
+    fit = _fit()
+    none = torch.zeros(0, 8)
+    z, y, trace = label_free_codes(fit, ResponseRecipe(), LabelFreeRecipe(), none, torch.zeros(0, 5), 600.0,
+                                   _contacts(50, 7), 0)
+    assert torch.equal(z, torch.zeros(8, 4)) and y.shape == (0, 5) and trace == []

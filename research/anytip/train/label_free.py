@@ -136,6 +136,9 @@ def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRe
                      n_eff: float, candidates: Tensor, seed: int) -> tuple[Tensor, Tensor, list[float]]:
     """A new unit's codes (C, k) from its unlabeled pressures X (n, C) Pa: the joint fit from the
     searched start, pulled towards a start network's contacts Y0 (n, D); its contacts (n, D) and
-    its objective after each step."""
+    its objective after each step. Without rows the codes stay zero (the fleet's typical unit), as
+    `fit_codes` leaves a job without rows."""
+    if not len(X):
+        return X.new_zeros(fit.model.n_channels, fit.model.config.code_dim), Y0, []
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds)
     return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start)
