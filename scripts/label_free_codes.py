@@ -70,7 +70,13 @@ from anytip.pipelines.cross_sensor_jobs import plan_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
 from anytip.train.adapt import calibrate_and_fold
-from anytip.train.label_free import LabelFreeRecipe, joint_fit, joint_objective, searched_start
+from anytip.train.label_free import (
+    LabelFreeRecipe,
+    joint_fit,
+    joint_objective,
+    search_candidates,
+    searched_start,
+)
 from anytip.train.metrics import ratio_fields, scores
 from anytip.train.response import (
     ResponseFit,
@@ -394,10 +400,8 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
         found: dict[str, dict] = {}
         source = (transfer_source(ctx, sd, fit, recipe, saved.meta, seed)
                   if set(args.arms) - {"pooled", "input_stats"} else None)  # only arms with codes need it
-        candidates = torch.zeros(0, arrays.targets.shape[1])
-        if source is not None:
-            g = torch.Generator().manual_seed(seed)
-            candidates = source.Y[torch.randperm(len(source.Y), generator=g)[:SEARCH.candidates]]
+        candidates = (torch.zeros(0, arrays.targets.shape[1]) if source is None
+                      else search_candidates(source.Y, SEARCH.candidates, seed))
         for u in units:
             mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed,
                                         candidates)

@@ -16,7 +16,7 @@ from anytip.pipelines.cross_sensor_jobs import budget_fields, validation_losses
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.train.adapt import pooled_scaler
 from anytip.train.fleet import FitResult
-from anytip.train.label_free import label_free_codes
+from anytip.train.label_free import label_free_codes, search_candidates
 from anytip.train.metrics import scores
 from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
 from anytip.train.shared_split import SeedData, predict_rows
@@ -33,8 +33,7 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     assert opts.response is not None and opts.response.label_free is not None
     free, recipe = opts.response.label_free.recipe(), opts.response.recipe()
     units = [*sd.split.val, *sd.split.test]
-    g = torch.Generator().manual_seed(seed)
-    candidates = source.Y[torch.randperm(len(source.Y), generator=g)[:free.candidates]]
+    candidates = search_candidates(source.Y, free.candidates, seed)
     n_eff = free.seconds * opts.rig.effective_hz
     uses: list[Plan] = []
     codes = []

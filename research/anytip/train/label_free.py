@@ -120,6 +120,13 @@ def nearest_contacts(fit: ResponseFit, X: Tensor, candidates: Tensor, codes: Ten
     return candidates[torch.cat(best)]
 
 
+def search_candidates(labels: Tensor, n: int, seed: int) -> Tensor:
+    """The contacts a search draws from: `n` of the training units' labeled rows `labels` (S, D),
+    in a random order seeded by the run's `seed` (all of them where there are fewer)."""
+    g = torch.Generator().manual_seed(seed)
+    return labels[torch.randperm(len(labels), generator=g)[:n].to(labels.device)]
+
+
 def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, candidates: Tensor,
                    seed: int, rounds: int) -> tuple[Tensor, Tensor]:
     """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa without a start network:
