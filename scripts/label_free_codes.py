@@ -20,7 +20,10 @@ from the run's pooled start network:
   from the truth (research log entry 37);
 - `joint_search`: the same fit started from a global search instead (`searched_start`): each row's
   contact is the training units' labeled row whose response under the current codes lies nearest
-  its pressures, and the codes are fitted to those contacts, in turn, from codes zero (entry 37);
+  its pressures, and the codes are fitted to those contacts, in turn, from codes zero (entry 38);
+- `joint_scale`: `joint_search` with the fleet's prior on how hard a unit is pressed (`ForceScale`:
+  the mean square contact force of the registry's training units' ordinary use, read as the new
+  unit's is, its mean and spread over those units; entry 39);
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
@@ -68,12 +71,15 @@ from anytip.pipelines.common import Context, load, load_extra, select_runs
 from anytip.pipelines.cross_sensor import SeedData, min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import plan_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
+from anytip.pipelines.cross_sensor_response import force_columns
 from anytip.rundir import read_json
 from anytip.train.adapt import calibrate_and_fold
 from anytip.train.label_free import (
+    ForceScale,
     LabelFreeRecipe,
     joint_fit,
     joint_objective,
+    mean_square_force,
     search_candidates,
     searched_start,
 )
@@ -92,8 +98,9 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "encoder", "encoder_own",
-        "encoder_more", "stream_labels", "all_labels", "plan")
+ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale", "encoder",
+        "encoder_own", "encoder_more", "stream_labels", "all_labels", "plan")
+JOINT = ("joint", "joint_truth", "joint_search", "joint_scale")  # the arms of the joint fit
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and rounds (arm joint_search)
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
@@ -275,11 +282,25 @@ def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: Resp
     return units, np.stack(feats), np.concatenate(codes)
 
 
+def force_scale(arrays: FleetArrays, opts: Options, units: list[str], args: Settings, seed: int
+                ) -> ForceScale:
+    """The `joint_scale` arm's prior: the mean square contact force of each of `units`' unlabeled
+    rows (the rows a new unit's fit reads, read the same way, labels kept), over units."""
+    labels = []
+    for u in units:
+        stream = calibration_stream(arrays, u, opts.calibration_protocol,
+                                    interleave=opts.calibration_interleave)
+        rows = unlabeled_rows(arrays, stream, u, args, seed)
+        labels.append(torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), args.rows).numpy()]]))
+    return ForceScale.from_units(labels, tuple(force_columns(arrays)))
+
+
 def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, arrays: FleetArrays,
                sd: SeedData, opts: Options, u: str, args: Settings, coders: dict[str, CodeEncoder], seed: int,
-               candidates: Tensor) -> tuple[dict[str, Tensor], dict]:
+               candidates: Tensor, scale: ForceScale | None = None) -> tuple[dict[str, Tensor], dict]:
     """Unit u's codes of each network arm, and what its fits found; `candidates` (S, D): the
-    training units' labeled contacts the `joint_search` arm searches."""
+    training units' labeled contacts the `joint_search` and `joint_scale` arms search; `scale`: the
+    `joint_scale` arm's prior."""
     arms, rows = args.arms, args.rows
     ev, n_eff = sd.evals[u], args.seconds * opts.rig.effective_hz
     unlabeled = unlabeled_rows(arrays, ev.stream, u, args, seed, ev.presses)
@@ -305,7 +326,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         if arm.startswith(TOWARD):  # an encoder whose code error is (1 - t) of this one's
             t = float(arm[len(TOWARD):])
             codes[arm] = codes["encoder"] + t * (codes["all_labels"] - codes["encoder"])
-    if {"joint", "joint_truth", "joint_search"} & set(arms):
+    if set(JOINT) & set(arms):
         Y0 = predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [stream])[0]
         Y0 = torch.from_numpy(Y0)
         mean, std = fit.model.label_mean, fit.model.label_std
@@ -314,15 +335,21 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                   "objective_at_truth": joint_objective(fit, X, (Y0 - mean) / std, n_eff / len(X),
                                                         (Y - mean) / std, labelled, args.pull)}
         starts = {"joint": None, "joint_truth": (labelled, Y)}
-        if "joint_search" in arms:
-            z, c = starts["joint_search"] = searched_start(fit, recipe, X, n_eff, candidates, seed,
-                                                           SEARCH.rounds)
+        cols = tuple(force_columns(arrays))
+        found["force_ms_truth"] = mean_square_force(Y, cols)
+        if {"joint_search", "joint_scale"} & set(arms):
+            z, c = starts["joint_search"] = starts["joint_scale"] = searched_start(
+                fit, recipe, X, n_eff, candidates, seed, SEARCH.rounds)
             found |= {"code_rms_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
-                      "contact_error_search": float(((c - Y) / std).pow(2).mean().sqrt())}
+                      "contact_error_search": float(((c - Y) / std).pow(2).mean().sqrt()),
+                      "force_ms_search": mean_square_force(c, cols)}
+        if scale is not None:
+            found |= {"force_ms_prior": scale.mean, "force_ms_prior_sd": scale.var**0.5}
         for arm in [a for a in starts if a in arms]:
             codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
-                                                    starts[arm])
+                                                    starts[arm], scale if arm == "joint_scale" else None)
             found |= {f"data_term_{arm}": data_term(fit, X, contacts, codes[arm]),
+                      f"force_ms_{arm}": mean_square_force(contacts, cols),
                       "objective" if arm == "joint" else f"objective_{arm}": trace,
                       f"code_rms_{arm}_off_truth": float((codes[arm] - labelled).pow(2).mean().sqrt()),
                       f"contact_error_{arm}": float(((contacts - Y) / std).pow(2).mean().sqrt())}
@@ -402,9 +429,11 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
                   if set(args.arms) - {"pooled", "input_stats"} else None)  # only arms with codes need it
         candidates = (torch.zeros(0, arrays.targets.shape[1]) if source is None
                       else search_candidates(source.Y, SEARCH.candidates, seed))
+        scale = (force_scale(arrays, opts, sorted(sd.split.train), args, seed)
+                 if "joint_scale" in args.arms else None)
         for u in units:
             mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed,
-                                        candidates)
+                                        candidates, scale)
             codes |= {(u, a): c for a, c in mine.items()}
             found[u] |= {f"{n}_penalty": c.alpha for n, c in coders.items()}
             found[u] |= {f"{n}_loo_r2": c.loo_r2 for n, c in coders.items()}

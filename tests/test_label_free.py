@@ -1,9 +1,18 @@
 """anytip.train.label_free: a unit's codes from unlabeled pressures alone."""
 
+import pytest
 import torch
 
 from anytip.models.response import ResponseConfig, ResponseModel
-from anytip.train.label_free import LabelFreeRecipe, joint_fit, label_free_codes, nearest_contacts
+from anytip.train.label_free import (
+    ForceScale,
+    LabelFreeRecipe,
+    joint_fit,
+    label_free_codes,
+    mean_square_force,
+    nearest_contacts,
+    schur_step,
+)
 from anytip.train.response import ResponseFit, ResponseRecipe
 
 
@@ -58,3 +67,50 @@ def test_a_unit_without_unlabeled_rows_keeps_the_fleets_typical_codes():
     z, y, trace = label_free_codes(fit, ResponseRecipe(), LabelFreeRecipe(), none, torch.zeros(0, 5), 600.0,
                                    _contacts(50, 7), 0)
     assert torch.equal(z, torch.zeros(8, 4)) and y.shape == (0, 5) and trace == []
+
+
+def test_the_force_scale_prior_sets_how_hard_the_rows_are_pressed():
+    """A tight prior on the rows' mean square force at 1.44 times the truth's: the joint fit started
+    at the truth ends with its contacts' mean square force at the prior's (the rank-one term enters
+    every step), its objective never rising; without the prior it stays near the truth's."""
+    fit, truth_y = _fit(), _contacts(300, 3)
+    codes = 0.2 * torch.randn(8, 4, generator=torch.Generator().manual_seed(4))
+    with torch.no_grad():
+        X = fit.model(truth_y, codes)
+    m = mean_square_force(truth_y, (0, 1, 2))
+    scale = ForceScale((0, 1, 2), 1.44 * m, (1e-3 * m) ** 2)
+    _, y, trace = joint_fit(fit, X, truth_y, 300.0, 20, 1e-3, start=(codes, truth_y), scale=scale)
+    assert abs(mean_square_force(y, (0, 1, 2)) / (1.44 * m) - 1) < 0.02
+    assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
+    _, y, _ = joint_fit(fit, X, truth_y, 300.0, 20, 1e-3, start=(codes, truth_y))
+    assert abs(mean_square_force(y, (0, 1, 2)) / m - 1) < 0.05
+
+
+def test_the_force_scale_prior_comes_from_the_training_units_ordinary_use():
+    """Its mean and variance are over units' mean square forces; one unit cannot give a spread."""
+    units = [torch.tensor([[3.0, 0, 4, 0, 0]]), torch.tensor([[0.0, 0, 1, 0, 0], [0, 0, 3, 0, 0]])]
+    scale = ForceScale.from_units(units, (0, 1, 2))
+    assert scale.mean == pytest.approx(15.0) and scale.var == pytest.approx(200.0)
+    with pytest.raises(ValueError, match="at least two units"):
+        ForceScale.from_units(units[:1], (0, 1, 2))
+
+
+def test_the_eliminated_step_solves_the_whole_system():
+    """The step by Schur complement and Sherman-Morrison equals a dense solve of the joint system,
+    with and without the rank-one force-scale term."""
+    g = torch.Generator().manual_seed(9)
+    n, C, k, D = 7, 3, 2, 5
+    spd = lambda *s: (lambda M: M @ M.transpose(-1, -2) + s[-1] * torch.eye(s[-1]))(  # noqa: E731
+        torch.randn(*s, s[-1], generator=g, dtype=torch.float64))
+    Hzz, Hcc = spd(C, k), spd(n, D)
+    A = 0.3 * torch.randn(n, C * k, D, generator=g, dtype=torch.float64)
+    gz, gc, u = (torch.randn(*s, generator=g, dtype=torch.float64) for s in ((C * k,), (n, D), (n, D)))
+    for rank_one in (None, u):
+        H = torch.block_diag(torch.block_diag(*Hzz), torch.block_diag(*Hcc))
+        B = A.permute(1, 0, 2).reshape(C * k, n * D)
+        H[: C * k, C * k :], H[C * k :, : C * k] = B, B.T
+        if rank_one is not None:
+            H[C * k :, C * k :] += torch.outer(rank_one.reshape(-1), rank_one.reshape(-1))
+        dense = torch.linalg.solve(H, torch.cat([gz, gc.reshape(-1)]))
+        dz, dc = schur_step(Hzz, gz, Hcc, gc, A, rank_one)
+        assert torch.allclose(torch.cat([dz, dc.reshape(-1)]), dense, rtol=1e-9, atol=1e-9)

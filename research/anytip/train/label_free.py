@@ -11,6 +11,13 @@ contact, lam a weak pull towards it that keeps a contact no barometer feels dete
 Levenberg-Marquardt on the codes' Schur complement, each row's contact eliminated, as bundle
 adjustment solves cameras and points (`joint_fit`).
 
+A unit's sensitivity and the force it is pressed with scale its pressures alike, so the fit alone
+finds where and in which direction a unit is pressed but not how hard (entry 38). `ForceScale` adds
+what the fleet knows of how hard: the mean square contact force m(c) of the rows, which the training
+units' ordinary use puts at m0 with a spread s^2 over units, enters as (m(c) - m0)^2 / (2 s^2). It
+couples every row's contact through one number, a rank-one term the elimination takes by
+Sherman-Morrison (entry 39).
+
 The objective has many basins: started at codes zero and the start network's contacts the fit
 stops far from the truth, started at the truth it stays there (entry 37). `searched_start` finds
 a start without labels: each row's contact becomes the training units' labeled contact whose
@@ -45,6 +52,35 @@ class LabelFreeRecipe:
     iterations: int = 30
 
 
+@dataclass(frozen=True)
+class ForceScale:
+    """The fleet's prior on how hard a unit is pressed in ordinary use: the rows' mean square contact
+    force (N^2, over the label columns `columns`, the force components) is `mean`, with variance `var`
+    (N^4) over units."""
+
+    columns: tuple[int, ...]
+    mean: float
+    var: float
+
+    @classmethod
+    def from_units(cls, labels: list[Tensor], columns: tuple[int, ...]) -> ForceScale:
+        """From the labels (n_u, D) of each training unit's ordinary use: their mean square forces'
+        mean and variance over units (at least two units)."""
+        if len(labels) < 2:
+            raise ValueError(f"a force-scale prior needs at least two units' ordinary use, got {len(labels)}")
+        m = torch.tensor([mean_square_force(y, columns) for y in labels], dtype=torch.float64)
+        return cls(tuple(columns), float(m.mean()), float(m.var()))
+
+    def penalty(self, Y: Tensor) -> float:
+        """(m(Y) - mean)^2 / (2 var) for physical contacts Y (n, D)."""
+        return (mean_square_force(Y, self.columns) - self.mean) ** 2 / (2 * self.var)
+
+
+def mean_square_force(Y: Tensor, columns: tuple[int, ...]) -> float:
+    """The mean over rows of the squared norm of contacts Y (n, D)'s force columns, N^2."""
+    return float(Y[:, list(columns)].pow(2).sum(-1).mean())
+
+
 def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
     """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
     in c (n, C, D) and in each barometer's own code (n, C, k)."""
@@ -55,23 +91,37 @@ def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, T
 
 
 def joint_objective(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, codes: Tensor,
-                    lam: float) -> float:
+                    lam: float, scale: ForceScale | None = None) -> float:
     """The joint MAP's objective (module docstring) of unlabeled pressures X (n, C) Pa at standardised
-    contacts c (n, D) and codes (C, k), with the pull towards standardised contacts c0 (n, D) and
-    each row weighing w = n_eff / n."""
+    contacts c (n, D) and codes (C, k), with the pull towards standardised contacts c0 (n, D),
+    each row weighing w = n_eff / n, and the force-scale prior where one is given."""
     model = fit.model
+    Y = c * model.label_std + model.label_mean
     with torch.no_grad():
-        r = X - model(c * model.label_std + model.label_mean, codes)
+        r = X - model(Y, codes)
     data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
-    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2)
+    prior = 0.0 if scale is None else scale.penalty(Y)
+    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2) + prior
+
+
+def scale_residual(scale: ForceScale, c: Tensor, mean: Tensor, std: Tensor) -> tuple[float, Tensor]:
+    """The force-scale prior as one weighted residual e = (m - m0) / s at standardised contacts c (n, D)
+    and its gradient u = de/dc (n, D), so that the prior is e^2 / 2 and its Gauss-Newton Hessian u u^T."""
+    Y, cols = c * std + mean, list(scale.columns)
+    s = scale.var**0.5
+    u = torch.zeros_like(c)
+    u[:, cols] = 2 * Y[:, cols] * std[cols] / (len(c) * s)
+    return (mean_square_force(Y, scale.columns) - scale.mean) / s, u
 
 
 def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations: int, lam: float,
-              start: tuple[Tensor, Tensor] | None = None) -> tuple[Tensor, Tensor, list[float]]:
+              start: tuple[Tensor, Tensor] | None = None, scale: ForceScale | None = None
+              ) -> tuple[Tensor, Tensor, list[float]]:
     """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa, pulled towards contacts
-    Y0 (n, D), by damped Gauss-Newton on the joint MAP (module docstring); the objective after each
-    step. The fit starts at codes zero and contacts Y0, or at `start` (codes (C, k), contacts (n, D)
-    physical). The response model's weights are frozen (left without grad)."""
+    Y0 (n, D), by damped Gauss-Newton on the joint MAP (module docstring), with the force-scale prior
+    `scale` where given; the objective after each step. The fit starts at codes zero and contacts Y0,
+    or at `start` (codes (C, k), contacts (n, D) physical). The response model's weights are frozen
+    (left without grad)."""
     model = fit.model
     for p in model.parameters():
         p.requires_grad_(False)
@@ -83,7 +133,7 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
 
     def objective(cc: Tensor, zz: Tensor) -> float:
-        return joint_objective(fit, X, c0, w, cc, zz, lam)
+        return joint_objective(fit, X, c0, w, cc, zz, lam, scale)
 
     obj, damping, trace = objective(c, z), 1e-2, []
     for _ in range(iterations):
@@ -95,11 +145,12 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
         gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) - z * inv_spread
         A = torch.einsum("nck,ncd,c->nckd", Jz, Jc, Wc).reshape(n, C * k, D)  # codes-contact coupling
         Hzz = Hzz + damping * torch.diag_embed(torch.diagonal(Hzz, dim1=-2, dim2=-1))
-        Hinv = torch.linalg.inv(Hcc + damping * torch.diag_embed(torch.diagonal(Hcc, dim1=-2, dim2=-1)))
-        AH = A @ Hinv
-        S = torch.block_diag(*Hzz) - torch.einsum("nad,nbd->ab", AH, A)  # contacts eliminated
-        dz = torch.linalg.solve(S, gz.reshape(-1) - torch.einsum("nad,nd->a", AH, gc))
-        dc = torch.einsum("nde,ne->nd", Hinv, gc - torch.einsum("nad,a->nd", A, dz))
+        Hcc = Hcc + damping * torch.diag_embed(torch.diagonal(Hcc, dim1=-2, dim2=-1))
+        u = None
+        if scale is not None:
+            e, u = scale_residual(scale, c, mean, std)
+            gc = gc - e * u
+        dz, dc = schur_step(Hzz, gz.reshape(-1), Hcc, gc, A, u)
         trial = objective(c + dc, z + dz.reshape(C, k))
         if trial < obj:
             c, z, obj, damping = c + dc, z + dz.reshape(C, k), trial, max(damping / 3, 1e-6)
@@ -107,6 +158,29 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
             damping = min(damping * 4, 1e6)
         trace.append(obj)
     return z, c * std + mean, trace
+
+
+def schur_step(Hzz: Tensor, gz: Tensor, Hcc: Tensor, gc: Tensor, A: Tensor, u: Tensor | None = None
+               ) -> tuple[Tensor, Tensor]:
+    """The Gauss-Newton step (dz (C * k,), dc (n, D)) of the system
+
+        [[blockdiag(Hzz), B], [B^T, blockdiag(Hcc) + u u^T]] [dz, dc] = [gz, gc],  B = [A_1 ... A_n]
+
+    with Hzz (C, k, k) each barometer's code block, Hcc (n, D, D) each row's contact block, A
+    (n, C * k, D) the codes' coupling to each row's contact and u (n, D) a rank-one term over every
+    contact (the force-scale prior), by eliminating the contacts (Schur complement on the codes; the
+    rank-one term by Sherman-Morrison)."""
+    Hinv = torch.linalg.inv(Hcc)
+    AH = A @ Hinv
+    S = torch.block_diag(*Hzz) - torch.einsum("nad,nbd->ab", AH, A)
+    rhs = gz - torch.einsum("nad,nd->a", AH, gc)
+    if u is not None:
+        v = torch.einsum("nde,ne->nd", Hinv, u)
+        beta, a = 1 + (u * v).sum(), torch.einsum("nad,nd->a", A, v)
+        S, rhs = S + torch.outer(a, a) / beta, rhs + a * (v * gc).sum() / beta
+    dz = torch.linalg.solve(S, rhs)
+    dc = torch.einsum("nde,ne->nd", Hinv, gc - torch.einsum("nad,a->nd", A, dz))
+    return dz, dc if u is None else dc - v * (u * dc).sum() / beta
 
 
 def nearest_contacts(fit: ResponseFit, X: Tensor, candidates: Tensor, codes: Tensor,
@@ -140,12 +214,13 @@ def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: f
 
 
 def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
-                     n_eff: float, candidates: Tensor, seed: int) -> tuple[Tensor, Tensor, list[float]]:
+                     n_eff: float, candidates: Tensor, seed: int, scale: ForceScale | None = None
+                     ) -> tuple[Tensor, Tensor, list[float]]:
     """A new unit's codes (C, k) from its unlabeled pressures X (n, C) Pa: the joint fit from the
-    searched start, pulled towards a start network's contacts Y0 (n, D); its contacts (n, D) and
-    its objective after each step. Without rows the codes stay zero (the fleet's typical unit), as
-    `fit_codes` leaves a job without rows."""
+    searched start, pulled towards a start network's contacts Y0 (n, D), with the force-scale prior
+    `scale` where given; its contacts (n, D) and its objective after each step. Without rows the
+    codes stay zero (the fleet's typical unit), as `fit_codes` leaves a job without rows."""
     if not len(X):
         return X.new_zeros(fit.model.n_channels, fit.model.config.code_dim), Y0, []
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds)
-    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start)
+    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
