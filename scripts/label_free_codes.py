@@ -24,6 +24,8 @@ from the run's pooled start network:
 - `joint_scale`: `joint_search` with the fleet's prior on how hard a unit is pressed (`ForceScale`:
   the mean square contact force of the registry's training units' ordinary use, read as the new
   unit's is, its mean and spread over those units; entry 39);
+- `joint_scale_start`: `joint_scale` whose searched start also scales its contacts' forces to the
+  prior's mean square each round (`searched_start` with the prior; entry 40);
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
@@ -98,9 +100,10 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale", "encoder",
-        "encoder_own", "encoder_more", "stream_labels", "all_labels", "plan")
-JOINT = ("joint", "joint_truth", "joint_search", "joint_scale")  # the arms of the joint fit
+ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale",
+        "joint_scale_start", "encoder", "encoder_own", "encoder_more", "stream_labels", "all_labels", "plan")
+JOINT = ("joint", "joint_truth", "joint_search", "joint_scale", "joint_scale_start")  # the joint fit's arms
+SCALED = ("joint_scale", "joint_scale_start")  # the arms with the force-scale prior
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and rounds (arm joint_search)
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
@@ -345,9 +348,14 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                       "force_ms_search": mean_square_force(c, cols)}
         if scale is not None:
             found |= {"force_ms_prior": scale.mean, "force_ms_prior_sd": scale.var**0.5}
+        if "joint_scale_start" in arms:
+            z, c = starts["joint_scale_start"] = searched_start(fit, recipe, X, n_eff, candidates, seed,
+                                                                SEARCH.rounds, scale)
+            found |= {"code_rms_scaled_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
+                      "contact_error_scaled_search": float(((c - Y) / std).pow(2).mean().sqrt())}
         for arm in [a for a in starts if a in arms]:
             codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
-                                                    starts[arm], scale if arm == "joint_scale" else None)
+                                                    starts[arm], scale if arm in SCALED else None)
             found |= {f"data_term_{arm}": data_term(fit, X, contacts, codes[arm]),
                       f"force_ms_{arm}": mean_square_force(contacts, cols),
                       "objective" if arm == "joint" else f"objective_{arm}": trace,
@@ -430,7 +438,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
         candidates = (torch.zeros(0, arrays.targets.shape[1]) if source is None
                       else search_candidates(source.Y, SEARCH.candidates, seed))
         scale = (force_scale(arrays, opts, sorted(sd.split.train), args, seed)
-                 if "joint_scale" in args.arms else None)
+                 if set(SCALED) & set(args.arms) else None)
         for u in units:
             mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed,
                                         candidates, scale)

@@ -12,6 +12,7 @@ from anytip.train.label_free import (
     mean_square_force,
     nearest_contacts,
     schur_step,
+    searched_start,
 )
 from anytip.train.response import ResponseFit, ResponseRecipe
 
@@ -114,3 +115,17 @@ def test_the_eliminated_step_solves_the_whole_system():
         dense = torch.linalg.solve(H, torch.cat([gz, gc.reshape(-1)]))
         dz, dc = schur_step(Hzz, gz, Hcc, gc, A, rank_one)
         assert torch.allclose(torch.cat([dz, dc.reshape(-1)]), dense, rtol=1e-9, atol=1e-9)
+
+
+def test_a_searched_start_with_the_force_scale_prior_presses_as_hard_as_the_fleet():
+    """The prior's scaling keeps each contact's force direction and other columns, and the searched
+    start's contacts come out at the prior's mean square force."""
+    fit, truth_y = _fit(), _contacts(200, 3)
+    scale = ForceScale((0, 1, 2), 2.0 * mean_square_force(truth_y, (0, 1, 2)), 1.0)
+    matched = scale.match(truth_y)
+    assert torch.allclose(matched[:, :3], truth_y[:, :3] * 2**0.5)
+    assert torch.equal(matched[:, 3:], truth_y[:, 3:])
+    with torch.no_grad():
+        X = fit.model(truth_y, torch.zeros(8, 4))
+    _, y = searched_start(fit, ResponseRecipe(), X, 200.0, _contacts(400, 8), 0, 2, scale)
+    assert mean_square_force(y, (0, 1, 2)) == pytest.approx(scale.mean, rel=1e-4)

@@ -75,6 +75,15 @@ class ForceScale:
         """(m(Y) - mean)^2 / (2 var) for physical contacts Y (n, D)."""
         return (mean_square_force(Y, self.columns) - self.mean) ** 2 / (2 * self.var)
 
+    def match(self, Y: Tensor) -> Tensor:
+        """Physical contacts Y (n, D) with their forces scaled by one factor so that their mean square
+        is the prior's `mean` (directions, and every other column, kept)."""
+        m = mean_square_force(Y, self.columns)
+        out = Y.clone()
+        if m > 0:
+            out[:, list(self.columns)] *= (self.mean / m) ** 0.5
+        return out
+
 
 def mean_square_force(Y: Tensor, columns: tuple[int, ...]) -> float:
     """The mean over rows of the squared norm of contacts Y (n, D)'s force columns, N^2."""
@@ -202,15 +211,21 @@ def search_candidates(labels: Tensor, n: int, seed: int) -> Tensor:
 
 
 def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, candidates: Tensor,
-                   seed: int, rounds: int) -> tuple[Tensor, Tensor]:
+                   seed: int, rounds: int, scale: ForceScale | None = None) -> tuple[Tensor, Tensor]:
     """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa without a start network:
     from codes zero, `rounds` times each row's nearest candidate contact (`nearest_contacts`), then
-    the codes' MAP given those contacts (`fit_codes`, as if they were labels)."""
+    the codes' MAP given those contacts (`fit_codes`, as if they were labels). With `scale`, the
+    contacts' forces are scaled to the prior's mean square each round before the codes are fitted
+    (`ForceScale.match`), so the search cannot trade sensitivity for force (entry 40)."""
     codes = X.new_zeros(fit.model.n_channels, fit.model.config.code_dim)
+
+    def nearest() -> Tensor:
+        found = nearest_contacts(fit, X, candidates, codes)
+        return found if scale is None else scale.match(found)
+
     for _ in range(rounds):
-        contacts = nearest_contacts(fit, X, candidates, codes)
-        codes = fit_codes(fit, [X], [contacts], [n_eff], recipe, seed)[0]
-    return codes, nearest_contacts(fit, X, candidates, codes)
+        codes = fit_codes(fit, [X], [nearest()], [n_eff], recipe, seed)[0]
+    return codes, nearest()
 
 
 def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
@@ -222,5 +237,5 @@ def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRe
     codes stay zero (the fleet's typical unit), as `fit_codes` leaves a job without rows."""
     if not len(X):
         return X.new_zeros(fit.model.n_channels, fit.model.config.code_dim), Y0, []
-    start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds)
+    start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds, scale)
     return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
