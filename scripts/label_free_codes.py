@@ -73,12 +73,12 @@ from anytip.pipelines.common import Context, load, load_extra, select_runs
 from anytip.pipelines.cross_sensor import SeedData, min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import plan_of
 from anytip.pipelines.cross_sensor_options import Options, parse_options
-from anytip.pipelines.cross_sensor_response import force_columns
 from anytip.rundir import read_json
 from anytip.train.adapt import calibrate_and_fold
 from anytip.train.label_free import (
     ForceScale,
     LabelFreeRecipe,
+    fleet_force_scale,
     joint_fit,
     joint_objective,
     mean_square_force,
@@ -285,19 +285,6 @@ def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: Resp
     return units, np.stack(feats), np.concatenate(codes)
 
 
-def force_scale(arrays: FleetArrays, opts: Options, units: list[str], args: Settings, seed: int
-                ) -> ForceScale:
-    """The `joint_scale` arm's prior: the mean square contact force of each of `units`' unlabeled
-    rows (the rows a new unit's fit reads, read the same way, labels kept), over units."""
-    labels = []
-    for u in units:
-        stream = calibration_stream(arrays, u, opts.calibration_protocol,
-                                    interleave=opts.calibration_interleave)
-        rows = unlabeled_rows(arrays, stream, u, args, seed)
-        labels.append(torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), args.rows).numpy()]]))
-    return ForceScale.from_units(labels, tuple(force_columns(arrays)))
-
-
 def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, arrays: FleetArrays,
                sd: SeedData, opts: Options, u: str, args: Settings, coders: dict[str, CodeEncoder], seed: int,
                candidates: Tensor, scale: ForceScale | None = None) -> tuple[dict[str, Tensor], dict]:
@@ -338,7 +325,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                   "objective_at_truth": joint_objective(fit, X, (Y0 - mean) / std, n_eff / len(X),
                                                         (Y - mean) / std, labelled, args.pull)}
         starts = {"joint": None, "joint_truth": (labelled, Y)}
-        cols = tuple(force_columns(arrays))
+        cols = tuple(arrays.force_columns)
         found["force_ms_truth"] = mean_square_force(Y, cols)
         if {"joint_search", "joint_scale"} & set(arms):
             z, c = starts["joint_search"] = starts["joint_scale"] = searched_start(
@@ -437,8 +424,13 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
                   if set(args.arms) - {"pooled", "input_stats"} else None)  # only arms with codes need it
         candidates = (torch.zeros(0, arrays.targets.shape[1]) if source is None
                       else search_candidates(source.Y, SEARCH.candidates, seed))
-        scale = (force_scale(arrays, opts, sorted(sd.split.train), args, seed)
-                 if set(SCALED) & set(args.arms) else None)
+        scale = None
+        if set(SCALED) & set(args.arms):
+            use = LabelFreeRecipe(args.seconds, args.rows)
+            scale = fleet_force_scale(arrays, sorted(sd.split.train), opts.calibration_protocol,
+                                      opts.calibration_interleave, use, seed)
+            if scale is None:
+                raise AnytipError(f"arms {', '.join(SCALED)}: the sensor model has no force target")
         for u in units:
             mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed,
                                         candidates, scale)

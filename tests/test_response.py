@@ -679,7 +679,8 @@ def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet,
     assert {(r["unit"], r["arm"]) for r in rows} == {(u, a) for u in units for a in arms}
     for r in rows:
         assert r["unlabeled_rows"] <= 256 and r["force_rmse_n"] > 0
-        for trace in (r["objective"], r["objective_joint_truth"], r["objective_joint_search"]):
+        for trace in (r["objective"], r["objective_joint_truth"], r["objective_joint_search"],
+                      r["objective_joint_scale"], r["objective_joint_scale_start"]):
             assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
         assert r["objective_joint_truth"][0] <= r["objective_at_truth"]  # started at the truth: never above
     by = {(r["unit"], r["arm"]): r for r in rows}
@@ -708,6 +709,33 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
     bad = [*SECONDS, RESPONSE.replace("}", f", {free}}}")]
     with pytest.raises(AnytipError, match="label_free needs inverse_start: pooled"):
         run_experiment(SPEC, fleet, out=tmp_path / "bad", overrides=bad, progress=False)
+
+
+def test_the_force_scale_prior_reads_the_training_units_ordinary_use(fleet):
+    """fleet_force_scale: over the given units' ordinary use (whole presses of their calibration
+    streams, labels read), the mean and spread of the rows' mean square force; a sensor model
+    without a force target has none, and one unit gives no spread."""
+    from anytip.data.arrays import load_arrays
+    from anytip.data.calibration import calibration_stream
+    from anytip.data.plans import find_presses, ordinary_use, ordinary_use_seed
+    from anytip.train.label_free import LabelFreeRecipe, fleet_force_scale
+
+    arrays = load_arrays(fleet, [r for r in fleet.list_runs() if r.protocol == "short"])
+    units, free = arrays.units[:4], LabelFreeRecipe(seconds=20.0, rows=10**6)
+    scale = fleet_force_scale(arrays, units, "short", False, free, 3)
+    each = []
+    for u in units:
+        stream = calibration_stream(arrays, u, "short")
+        presses = find_presses(arrays, u, stream.outside(arrays))
+        rows = ordinary_use(presses, 20.0, ordinary_use_seed(3, u)).rows
+        each.append((arrays.targets[rows, :3].astype(np.float64) ** 2).sum(1).mean())
+    assert scale is not None and scale.columns == (0, 1, 2)
+    assert scale.mean == pytest.approx(np.mean(each), rel=1e-5)
+    assert scale.var == pytest.approx(np.var(each, ddof=1), rel=1e-4)
+    angles = replace(arrays, layout={"angles": arrays.layout["angles"]})
+    assert fleet_force_scale(angles, units, "short", False, free, 3) is None
+    with pytest.raises(ValueError, match="at least two units"):
+        fleet_force_scale(arrays, units[:1], "short", False, free, 3)
 
 
 def test_the_code_encoder_recovers_a_linear_map_and_knows_when_features_say_nothing():

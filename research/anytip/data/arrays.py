@@ -92,6 +92,13 @@ class FleetArrays:
     def output_names(self) -> tuple[str, ...]:
         return output_names(self.layout)
 
+    @property
+    def force_columns(self) -> list[int]:
+        """The label columns of the sensor model's `force` target, or none."""
+        if "force" not in self.layout:
+            return []
+        return list(range(len(self.output_names)))[self.slices["force"]]
+
     def target(self, name: str) -> np.ndarray:
         """(N, k) the columns of target `name`; an error names the targets there are."""
         if name not in self.layout:

@@ -1,7 +1,9 @@
 """The cross_sensor zero-shot method `response:label_free` (`options.response.label_free`): each
 validation and held-out unit's response-transfer codes from its pressures in ordinary use alone
 (train/label_free.py), its own network trained on the training units' rows carried over by them,
-scored on its test patches like every other method (research log entries 37 and 38)."""
+scored on its test patches like every other method (research log entries 37, 38 and 40). The search
+and the fit are held to the force scale of the registry's training units' own ordinary use
+(`force_scale`, on by default)."""
 
 from __future__ import annotations
 
@@ -11,12 +13,13 @@ import torch
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget, Plan, ordinary_use, ordinary_use_seed
+from anytip.errors import AnytipError
 from anytip.pipelines.common import Context
 from anytip.pipelines.cross_sensor_jobs import budget_fields, validation_losses
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.train.adapt import pooled_scaler
 from anytip.train.fleet import FitResult
-from anytip.train.label_free import label_free_codes, search_candidates
+from anytip.train.label_free import ForceScale, fleet_force_scale, label_free_codes, search_candidates
 from anytip.train.metrics import scores
 from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
 from anytip.train.shared_split import SeedData, predict_rows
@@ -35,6 +38,7 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     units = [*sd.split.val, *sd.split.test]
     candidates = search_candidates(source.Y, free.candidates, seed)
     n_eff = free.seconds * opts.rig.effective_hz
+    scale = force_scale(arrays, sd, opts, seed)
     uses: list[Plan] = []
     codes = []
     for u in units:
@@ -42,7 +46,7 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
         rows = use.rows[evenly_spaced(len(use.rows), free.rows).numpy()]
         X = torch.from_numpy(arrays.pressure[rows]).to(fit.device)
         Y0 = torch.from_numpy(predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [rows])[0])
-        z, _, _ = label_free_codes(fit, recipe, free, X, Y0.to(fit.device), n_eff, candidates, seed)
+        z, _, _ = label_free_codes(fit, recipe, free, X, Y0.to(fit.device), n_eff, candidates, seed, scale)
         uses.append(use)
         codes.append(z)
     carried = ((transfer(fit, source, z), source.Y) for z in codes)
@@ -59,3 +63,17 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
            for u, use, pred in zip(units, uses, preds, strict=True) if u in sd.split.test]
     return out, None if loss is None else float(sum(loss) / len(loss))
+
+
+def force_scale(arrays: FleetArrays, sd: SeedData, opts: Options, seed: int) -> ForceScale | None:
+    """The fit's force-scale prior from the registry's training units' ordinary use, or None where
+    the option turns it off or the sensor model has no force target."""
+    assert opts.response is not None and opts.response.label_free is not None
+    free = opts.response.label_free.recipe()
+    if not free.force_scale:
+        return None
+    try:
+        return fleet_force_scale(arrays, list(sd.split.train), opts.calibration_protocol,
+                                 opts.calibration_interleave, free, seed)
+    except ValueError as e:
+        raise AnytipError(f"options.response.label_free.force_scale: {e} (false fits without it)") from e

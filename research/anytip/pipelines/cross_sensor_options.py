@@ -132,8 +132,9 @@ class LabelFreeOptions(BaseModel):
     """`options.response.label_free`: a zero-shot row `response:label_free` (train/label_free.py). A
     new unit's codes come from its pressures in `seconds` of ordinary use after mounting (whole presses
     drawn at random from its stream, `anytip.data.plans.ordinary_use`; no labels, no rig time), by the
-    joint fit of codes and contacts from a searched start; its network trains on the training units'
-    rows carried over by those codes alone. Needs `inverse_start: pooled` (the pull's contacts)."""
+    joint fit of codes and contacts from a searched start, both held to the fleet's force scale; its
+    network trains on the training units' rows carried over by those codes alone. Needs
+    `inverse_start: pooled` (the pull's contacts)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
@@ -144,6 +145,9 @@ class LabelFreeOptions(BaseModel):
     candidates: int = Field(default=LabelFreeRecipe.candidates, ge=1, le=2**22)
     rounds: int = Field(default=LabelFreeRecipe.rounds, ge=1, le=1000)
     iterations: int = Field(default=LabelFreeRecipe.iterations, ge=1, le=100_000)
+    force_scale: bool = Field(
+        default=LabelFreeRecipe.force_scale, description="hold the search and the fit to the force scale of "
+        "the training units' own ordinary use (research log entry 40)")
 
     def recipe(self) -> LabelFreeRecipe:
         return LabelFreeRecipe(**self.model_dump())

@@ -61,13 +61,6 @@ class ResponseRows(NamedTuple):
     label_free_loss: float | None = None
 
 
-def force_columns(arrays: FleetArrays) -> list[int]:
-    """The label columns of the sensor model's `force` target, or none (no linear structure)."""
-    if "force" not in arrays.layout:
-        return []
-    return list(range(len(arrays.output_names)))[arrays.slices["force"]]
-
-
 def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
                   fit: ResponseFit | None = None) -> ResponseRows:
     """Every validation and held-out unit calibrated by response transfer on the plan each labeled
@@ -159,7 +152,7 @@ def trained_response(ctx: Context, sd: SeedData, arrays: FleetArrays, opts: Opti
     reuses the model it saved there when that model's digest is this one's; any other file is
     trained over."""
     assert opts.response is not None
-    recipe, config, force_cols = opts.response.recipe(), opts.response.config(), force_columns(arrays)
+    recipe, config, force_cols = opts.response.recipe(), opts.response.config(), arrays.force_columns
     digest = training_digest(sd.train, force_cols, config, recipe, seed)
     path = response_path(ctx, seed)
     saved = saved_response(path)

@@ -34,15 +34,26 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
+from anytip.data.arrays import FleetArrays
+from anytip.data.calibration import calibration_stream
+from anytip.data.plans import find_presses, ordinary_use, ordinary_use_seed
 from anytip.models.response import ResponseModel
-from anytip.train.response import ResponseFit, ResponseRecipe, code_jacobian, fit_codes, respond
+from anytip.train.response import (
+    ResponseFit,
+    ResponseRecipe,
+    code_jacobian,
+    evenly_spaced,
+    fit_codes,
+    respond,
+)
 
 
 @dataclass(frozen=True)
 class LabelFreeRecipe:
     """How a unit's codes are fitted from its unlabeled rows: at most `rows` evenly spaced rows of
     `seconds` of contact, worth `seconds * effective_hz` independent rows; the pull's weight;
-    `candidates` labeled contacts searched in `rounds` alternations; `iterations` joint steps."""
+    `candidates` labeled contacts searched in `rounds` alternations; `iterations` joint steps;
+    `force_scale`: hold the search and the fit to the fleet's force scale (`ForceScale`, entry 40)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -50,6 +61,7 @@ class LabelFreeRecipe:
     candidates: int = 16384
     rounds: int = 5
     iterations: int = 30
+    force_scale: bool = True
 
 
 @dataclass(frozen=True)
@@ -69,6 +81,9 @@ class ForceScale:
         if len(labels) < 2:
             raise ValueError(f"a force-scale prior needs at least two units' ordinary use, got {len(labels)}")
         m = torch.tensor([mean_square_force(y, columns) for y in labels], dtype=torch.float64)
+        if not m.var() > 0:
+            raise ValueError(f"the {len(labels)} units' ordinary use presses every one equally hard "
+                             f"({float(m[0]):.6g} N^2 mean square): a force-scale prior needs a spread")
         return cls(tuple(columns), float(m.mean()), float(m.var()))
 
     def penalty(self, Y: Tensor) -> float:
@@ -83,6 +98,25 @@ class ForceScale:
         if m > 0:
             out[:, list(self.columns)] *= (self.mean / m) ** 0.5
         return out
+
+
+def fleet_force_scale(arrays: FleetArrays, units: list[str], protocol: str | None, interleave: bool,
+                      free: LabelFreeRecipe, seed: int) -> ForceScale | None:
+    """The force-scale prior of the training units `units`: each one's ordinary use read as a new
+    unit's is (`free.seconds` of whole presses drawn from its calibration stream, `free.rows` evenly
+    spaced rows), its labels kept. None where the sensor model has no force target; a unit without
+    presses gives none."""
+    columns = tuple(arrays.force_columns)
+    if not columns:
+        return None
+    labels = []
+    for u in units:
+        stream = calibration_stream(arrays, u, protocol, interleave=interleave)
+        presses = find_presses(arrays, u, stream.outside(arrays))
+        rows = ordinary_use(presses, free.seconds, ordinary_use_seed(seed, u)).rows
+        if len(rows):
+            labels.append(torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), free.rows).numpy()]]))
+    return ForceScale.from_units(labels, columns)
 
 
 def mean_square_force(Y: Tensor, columns: tuple[int, ...]) -> float:
