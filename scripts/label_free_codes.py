@@ -104,7 +104,7 @@ ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search",
         "joint_scale_start", "encoder", "encoder_own", "encoder_more", "stream_labels", "all_labels", "plan")
 JOINT = ("joint", "joint_truth", "joint_search", "joint_scale", "joint_scale_start")  # the joint fit's arms
 SCALED = ("joint_scale", "joint_scale_start")  # the arms with the force-scale prior
-SEARCH = LabelFreeRecipe()  # the searched start's candidates and rounds (arm joint_search)
+SEARCH = LabelFreeRecipe()  # the searched start's candidates and default rounds (the joint_search arms)
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
 
@@ -329,7 +329,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         found["force_ms_truth"] = mean_square_force(Y, cols)
         if {"joint_search", "joint_scale"} & set(arms):
             z, c = starts["joint_search"] = starts["joint_scale"] = searched_start(
-                fit, recipe, X, n_eff, candidates, seed, SEARCH.rounds)
+                fit, recipe, X, n_eff, candidates, seed, args.rounds)
             found |= {"code_rms_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
                       "contact_error_search": float(((c - Y) / std).pow(2).mean().sqrt()),
                       "force_ms_search": mean_square_force(c, cols)}
@@ -337,7 +337,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
             found |= {"force_ms_prior": scale.mean, "force_ms_prior_sd": scale.var**0.5}
         if "joint_scale_start" in arms:
             z, c = starts["joint_scale_start"] = searched_start(fit, recipe, X, n_eff, candidates, seed,
-                                                                SEARCH.rounds, scale)
+                                                                args.rounds, scale)
             found |= {"code_rms_scaled_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
                       "contact_error_scaled_search": float(((c - Y) / std).pow(2).mean().sqrt())}
         for arm in [a for a in starts if a in arms]:
@@ -369,6 +369,7 @@ class Settings:
     unlabeled: str = "first"
     pull: float = 1.0
     validation_only: bool = False
+    rounds: int = SEARCH.rounds
 
 
 Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
@@ -528,6 +529,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--iterations", type=int, default=30, help="damped Gauss-Newton steps")
     parser.add_argument("--pull", type=float, default=1.0,
                         help="lam of the joint fits: the pull towards the start network's contacts")
+    parser.add_argument("--rounds", type=int, default=SEARCH.rounds,
+                        help="the searched start's alternations of contact search and code fit (0: codes "
+                             "zero, each row's nearest contact under them)")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
     parser.add_argument("--validation-only", action="store_true",
                         help="fit and score the validation units only (what a method is chosen on)")
@@ -548,13 +552,13 @@ def main(argv: list[str] | None = None) -> int:
         rows, curves = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
                                                              args.plan_seconds, args.encoder_units,
                                                              args.unlabeled, args.pull,
-                                                             args.validation_only))
+                                                             args.validation_only, args.rounds))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     args.out.parent.mkdir(parents=True, exist_ok=True)
     found = {"run": str(args.run), "seconds": args.seconds, "unlabeled": args.unlabeled, "pull": args.pull,
-             "rows": rows}
+             "iterations": args.iterations, "search_rounds": args.rounds, "rows": rows}
     if curves:
         found["encoder_r2_by_units"] = curves
     args.out.write_text(json.dumps(found, indent=1))

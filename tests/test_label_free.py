@@ -129,3 +129,6 @@ def test_a_searched_start_with_the_force_scale_prior_presses_as_hard_as_the_flee
         X = fit.model(truth_y, torch.zeros(8, 4))
     _, y = searched_start(fit, ResponseRecipe(), X, 200.0, _contacts(400, 8), 0, 2, scale)
     assert mean_square_force(y, (0, 1, 2)) == pytest.approx(scale.mean, rel=1e-4)
+    z, y = searched_start(fit, ResponseRecipe(), X, 200.0, _contacts(400, 8), 0, 0, scale)  # no rounds
+    assert torch.equal(z, torch.zeros(8, 4))
+    assert mean_square_force(y, (0, 1, 2)) == pytest.approx(scale.mean, rel=1e-4)

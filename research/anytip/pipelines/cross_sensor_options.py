@@ -143,7 +143,7 @@ class LabelFreeOptions(BaseModel):
     rows: int = Field(default=LabelFreeRecipe.rows, ge=1, le=2**20)
     pull: float = Field(default=LabelFreeRecipe.pull, gt=0, le=1e6)
     candidates: int = Field(default=LabelFreeRecipe.candidates, ge=1, le=2**22)
-    rounds: int = Field(default=LabelFreeRecipe.rounds, ge=1, le=1000)
+    rounds: int = Field(default=LabelFreeRecipe.rounds, ge=0, le=1000)
     iterations: int = Field(default=LabelFreeRecipe.iterations, ge=1, le=100_000)
     force_scale: bool = Field(
         default=LabelFreeRecipe.force_scale, description="hold the search and the fit to the force scale of "
