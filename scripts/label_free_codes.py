@@ -26,6 +26,8 @@ from the run's pooled start network:
   unit's is, its mean and spread over those units; entry 39);
 - `joint_scale_start`: `joint_scale` whose searched start also scales its contacts' forces to the
   prior's mean square each round (`searched_start` with the prior; entry 40);
+- `joint_scale_draws`: the mean of `--draws` `joint_scale_start` codes, each searched among another
+  random draw of the training units' labeled contacts (entry 43);
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
@@ -100,10 +102,11 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
+SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws")  # the arms with the force-scale prior
 ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale",
-        "joint_scale_start", "encoder", "encoder_own", "encoder_more", "stream_labels", "all_labels", "plan")
-JOINT = ("joint", "joint_truth", "joint_search", "joint_scale", "joint_scale_start")  # the joint fit's arms
-SCALED = ("joint_scale", "joint_scale_start")  # the arms with the force-scale prior
+        "joint_scale_start", "joint_scale_draws", "encoder", "encoder_own", "encoder_more", "stream_labels",
+        "all_labels", "plan")
+JOINT = ("joint", "joint_truth", "joint_search", *SCALED)  # the joint fit's arms
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and default rounds (the joint_search arms)
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
@@ -287,10 +290,11 @@ def encoder_only_units(ctx: Context, like: FleetArrays, opts: Options, fit: Resp
 
 def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, arrays: FleetArrays,
                sd: SeedData, opts: Options, u: str, args: Settings, coders: dict[str, CodeEncoder], seed: int,
-               candidates: Tensor, scale: ForceScale | None = None) -> tuple[dict[str, Tensor], dict]:
+               candidates: Tensor, scale: ForceScale | None = None, draws: tuple[Tensor, ...] = ()
+               ) -> tuple[dict[str, Tensor], dict]:
     """Unit u's codes of each network arm, and what its fits found; `candidates` (S, D): the
     training units' labeled contacts the `joint_search` and `joint_scale` arms search; `scale`: the
-    `joint_scale` arm's prior."""
+    `joint_scale` arms' prior; `draws`: the `joint_scale_draws` arm's other candidate draws."""
     arms, rows = args.arms, args.rows
     ev, n_eff = sd.evals[u], args.seconds * opts.rig.effective_hz
     unlabeled = unlabeled_rows(arrays, ev.stream, u, args, seed, ev.presses)
@@ -340,6 +344,11 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                                                                 args.rounds, scale)
             found |= {"code_rms_scaled_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
                       "contact_error_scaled_search": float(((c - Y) / std).pow(2).mean().sqrt())}
+        if "joint_scale_draws" in arms:
+            pools = (candidates, *draws)
+            codes["joint_scale_draws"], of_draws = mean_of_draws(fit, recipe, X, Y0, n_eff, pools, seed, args,
+                                                                 scale, labelled)
+            found |= of_draws
         for arm in [a for a in starts if a in arms]:
             codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
                                                     starts[arm], scale if arm in SCALED else None)
@@ -353,6 +362,24 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
         codes["plan"] = fit_codes(fit, [Xp], [Yp], [plan.n_effective], recipe, seed)[0]
     return {a: c for a, c in codes.items() if a in arms}, found
+
+
+def mean_of_draws(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, Y0: Tensor, n_eff: float,
+                  draws: tuple[Tensor, ...], seed: int, args: Settings, scale: ForceScale | None,
+                  truth: Tensor) -> tuple[Tensor, dict]:
+    """The mean (C, k) of the scale-held fit's codes, one fit searched among each draw of candidate
+    contacts (S, D); each draw's and the mean's RMS distance from `truth` (C, k), and the draws' RMS
+    spread about their mean."""
+    each = []
+    for candidates in draws:
+        start = searched_start(fit, recipe, X, n_eff, candidates, seed, args.rounds, scale)
+        each.append(joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull, start, scale)[0])
+    stacked = torch.stack(each)
+    mean = stacked.mean(0)
+    rms = lambda t: float(t.pow(2).mean().sqrt())  # noqa: E731
+    return mean, {"code_rms_draws_off_truth": [rms(z - truth) for z in each],
+                  "code_rms_joint_scale_draws_off_truth": rms(mean - truth),
+                  "code_rms_draws_spread": rms(stacked - mean)}
 
 
 @dataclass(frozen=True)
@@ -370,6 +397,7 @@ class Settings:
     pull: float = 1.0
     validation_only: bool = False
     rounds: int = SEARCH.rounds
+    draws: int = 3
 
 
 Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
@@ -432,9 +460,11 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
                                       opts.calibration_interleave, use, seed)
             if scale is None:
                 raise AnytipError(f"arms {', '.join(SCALED)}: the sensor model has no force target")
+        draws = tuple(search_candidates(source.Y, SEARCH.candidates, seed + k) for k in range(1, args.draws)
+                      ) if source is not None and "joint_scale_draws" in args.arms else ()
         for u in units:
             mine, found[u] = unit_codes(fit, recipe, start, arrays, sd, opts, u, args, coders, seed,
-                                        candidates, scale)
+                                        candidates, scale, draws)
             codes |= {(u, a): c for a, c in mine.items()}
             found[u] |= {f"{n}_penalty": c.alpha for n, c in coders.items()}
             found[u] |= {f"{n}_loo_r2": c.loo_r2 for n, c in coders.items()}
@@ -532,6 +562,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rounds", type=int, default=SEARCH.rounds,
                         help="the searched start's alternations of contact search and code fit (0: codes "
                              "zero, each row's nearest contact under them)")
+    parser.add_argument("--draws", type=int, default=3,
+                        help="candidate draws the joint_scale_draws arm averages the codes of")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
     parser.add_argument("--validation-only", action="store_true",
                         help="fit and score the validation units only (what a method is chosen on)")
@@ -552,7 +584,7 @@ def main(argv: list[str] | None = None) -> int:
         rows, curves = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
                                                              args.plan_seconds, args.encoder_units,
                                                              args.unlabeled, args.pull,
-                                                             args.validation_only, args.rounds))
+                                                             args.validation_only, args.rounds, args.draws))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
