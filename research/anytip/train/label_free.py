@@ -1,5 +1,5 @@
 """A new unit's response-transfer codes without labels, from the pressures of its ordinary use
-(research log entries 27, 35, 37 and 38).
+(research log entries 27, 35 and 37-40).
 
 Without labels each unlabeled row's contact is unknown too, so the codes z (C, k) and every
 row's standardised contact c_i (D,) are fitted together: the MAP of
@@ -16,7 +16,8 @@ finds where and in which direction a unit is pressed but not how hard (entry 38)
 what the fleet knows of how hard: the mean square contact force m(c) of the rows, which the training
 units' ordinary use puts at m0 with a spread s^2 over units, enters as (m(c) - m0)^2 / (2 s^2). It
 couples every row's contact through one number, a rank-one term the elimination takes by
-Sherman-Morrison (entry 39).
+Sherman-Morrison (entry 39). Alone it cannot pull back a fit the search left at the wrong scale;
+held to it in every search round too, the fit presses units about as hard as they are (entry 40).
 
 The objective has many basins: started at codes zero and the start network's contacts the fit
 stops far from the truth, started at the truth it stays there (entry 37). `searched_start` finds
