@@ -67,7 +67,7 @@ from torch import Tensor
 from anytip.config import DataConfig, load_spec
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Budget, Presses, find_presses, ordinary_use, ordinary_use_seed
+from anytip.data.plans import Budget, Presses, ordinary_use, ordinary_use_seed, stream_ordinary_use
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models, load_response, load_shared
@@ -83,6 +83,7 @@ from anytip.train.label_free import (
     fleet_force_scale,
     joint_fit,
     joint_objective,
+    label_free_codes,
     mean_square_force,
     search_candidates,
     searched_start,
@@ -108,6 +109,7 @@ ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search",
         "all_labels", "plan")
 JOINT = ("joint", "joint_truth", "joint_search", *SCALED)  # the joint fit's arms
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and default rounds (the joint_search arms)
+DRAWS = 3  # candidate draws the joint_scale_draws arm averages by default
 TOWARD = "toward_all_"  # arm toward_all_<t>: the encoder's codes moved a share t of the way to all_labels'
 
 
@@ -224,7 +226,7 @@ def unlabeled_rows(arrays: FleetArrays, stream: CalibrationStream, unit: str, ar
     if args.unlabeled == "first":
         return stream.unlabeled(args.seconds)
     if presses is None:
-        presses = find_presses(arrays, unit, stream.outside(arrays))
+        return stream_ordinary_use(arrays, unit, stream, args.seconds, seed).rows
     return ordinary_use(presses, args.seconds, ordinary_use_seed(seed, unit)).rows
 
 
@@ -344,11 +346,6 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                                                                 args.rounds, scale)
             found |= {"code_rms_scaled_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
                       "contact_error_scaled_search": float(((c - Y) / std).pow(2).mean().sqrt())}
-        if "joint_scale_draws" in arms:
-            pools = (candidates, *draws)
-            codes["joint_scale_draws"], of_draws = mean_of_draws(fit, recipe, X, Y0, n_eff, pools, seed, args,
-                                                                 scale, labelled)
-            found |= of_draws
         for arm in [a for a in starts if a in arms]:
             codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
                                                     starts[arm], scale if arm in SCALED else None)
@@ -357,6 +354,11 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                       "objective" if arm == "joint" else f"objective_{arm}": trace,
                       f"code_rms_{arm}_off_truth": float((codes[arm] - labelled).pow(2).mean().sqrt()),
                       f"contact_error_{arm}": float(((contacts - Y) / std).pow(2).mean().sqrt())}
+        if "joint_scale_draws" in arms:  # draw 0 is joint_scale_start's, reused where that arm ran
+            pools, first = (candidates, *draws), codes.get("joint_scale_start")
+            codes["joint_scale_draws"], of_draws = mean_of_draws(fit, recipe, X, Y0, n_eff, pools, seed, args,
+                                                                 scale, labelled, first)
+            found |= of_draws
     if "plan" in arms:
         plan = plan_of(sd, u, Budget(args.plan_seconds, "seconds", opts.plan_strategies[0]), opts, seed)
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
@@ -366,14 +368,15 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
 
 def mean_of_draws(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, Y0: Tensor, n_eff: float,
                   draws: tuple[Tensor, ...], seed: int, args: Settings, scale: ForceScale | None,
-                  truth: Tensor) -> tuple[Tensor, dict]:
-    """The mean (C, k) of the scale-held fit's codes, one fit searched among each draw of candidate
-    contacts (S, D); each draw's and the mean's RMS distance from `truth` (C, k), and the draws' RMS
-    spread about their mean."""
-    each = []
-    for candidates in draws:
-        start = searched_start(fit, recipe, X, n_eff, candidates, seed, args.rounds, scale)
-        each.append(joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull, start, scale)[0])
+                  truth: Tensor, first: Tensor | None = None) -> tuple[Tensor, dict]:
+    """The mean (C, k) of the scale-held fit's codes (`label_free_codes`), one fit searched among each
+    draw of candidate contacts (S, D), the first draw's given as `first` where already fitted; each
+    draw's and the mean's RMS distance from `truth` (C, k), and the draws' RMS spread about their
+    mean."""
+    free = LabelFreeRecipe(args.seconds, args.rows, args.pull, rounds=args.rounds, iterations=args.iterations)
+    each = [] if first is None else [first]
+    for candidates in draws[len(each):]:
+        each.append(label_free_codes(fit, recipe, free, X, Y0, n_eff, candidates, seed, scale)[0])
     stacked = torch.stack(each)
     mean = stacked.mean(0)
     rms = lambda t: float(t.pow(2).mean().sqrt())  # noqa: E731
@@ -397,7 +400,7 @@ class Settings:
     pull: float = 1.0
     validation_only: bool = False
     rounds: int = SEARCH.rounds
-    draws: int = 3
+    draws: int = DRAWS
 
 
 Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
@@ -562,7 +565,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rounds", type=int, default=SEARCH.rounds,
                         help="the searched start's alternations of contact search and code fit (0: codes "
                              "zero, each row's nearest contact under them)")
-    parser.add_argument("--draws", type=int, default=3,
+    parser.add_argument("--draws", type=int, default=DRAWS,
                         help="candidate draws the joint_scale_draws arm averages the codes of")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
     parser.add_argument("--validation-only", action="store_true",

@@ -226,6 +226,14 @@ def ordinary_use(presses: Presses, seconds: float, seed: int) -> Plan:
     return select_presses(presses, seconds, RigTiming(move_s=0.0, remount_s=0.0), "random", seed)
 
 
+def stream_ordinary_use(arrays: FleetArrays, unit: str, stream: CalibrationStream, seconds: float,
+                        seed: int) -> Plan:
+    """`ordinary_use` of every press of a unit's calibration stream `stream` (its other runs left out),
+    drawn under the run's `seed` and the unit's id (`ordinary_use_seed`)."""
+    presses = find_presses(arrays, unit, stream.outside(arrays))
+    return ordinary_use(presses, seconds, ordinary_use_seed(seed, unit))
+
+
 def _spread(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:
     z = presses.summary
     jitter = np.random.default_rng(seed).random(len(presses)) * 1e-9

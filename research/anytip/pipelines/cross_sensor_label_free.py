@@ -19,7 +19,13 @@ from anytip.pipelines.cross_sensor_jobs import budget_fields, validation_losses
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.train.adapt import pooled_scaler
 from anytip.train.fleet import FitResult
-from anytip.train.label_free import ForceScale, fleet_force_scale, label_free_codes, search_candidates
+from anytip.train.label_free import (
+    ForceScale,
+    LabelFreeRecipe,
+    fleet_force_scale,
+    label_free_codes,
+    search_candidates,
+)
 from anytip.train.metrics import scores
 from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
 from anytip.train.shared_split import SeedData, predict_rows
@@ -38,7 +44,7 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     units = [*sd.split.val, *sd.split.test]
     candidates = search_candidates(source.Y, free.candidates, seed)
     n_eff = free.seconds * opts.rig.effective_hz
-    scale = force_scale(arrays, sd, opts, seed)
+    scale = force_scale(arrays, sd, opts, free, seed)
     uses: list[Plan] = []
     codes = []
     for u in units:
@@ -65,11 +71,10 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     return out, None if loss is None else float(sum(loss) / len(loss))
 
 
-def force_scale(arrays: FleetArrays, sd: SeedData, opts: Options, seed: int) -> ForceScale | None:
+def force_scale(arrays: FleetArrays, sd: SeedData, opts: Options, free: LabelFreeRecipe,
+                seed: int) -> ForceScale | None:
     """The fit's force-scale prior from the registry's training units' ordinary use, or None where
-    the option turns it off or the sensor model has no force target."""
-    assert opts.response is not None and opts.response.label_free is not None
-    free = opts.response.label_free.recipe()
+    the recipe `free` turns it off or the sensor model has no force target."""
     if not free.force_scale:
         return None
     try:

@@ -37,7 +37,7 @@ from torch import Tensor
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import calibration_stream
-from anytip.data.plans import find_presses, ordinary_use, ordinary_use_seed
+from anytip.data.plans import stream_ordinary_use
 from anytip.models.response import ResponseModel
 from anytip.train.response import (
     ResponseFit,
@@ -113,8 +113,7 @@ def fleet_force_scale(arrays: FleetArrays, units: list[str], protocol: str | Non
     labels = []
     for u in units:
         stream = calibration_stream(arrays, u, protocol, interleave=interleave)
-        presses = find_presses(arrays, u, stream.outside(arrays))
-        rows = ordinary_use(presses, free.seconds, ordinary_use_seed(seed, u)).rows
+        rows = stream_ordinary_use(arrays, u, stream, free.seconds, seed).rows
         if len(rows):
             labels.append(torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), free.rows).numpy()]]))
     return ForceScale.from_units(labels, columns)
