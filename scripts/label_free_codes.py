@@ -28,6 +28,8 @@ from the run's pooled start network:
   prior's mean square each round (`searched_start` with the prior; entry 40);
 - `joint_scale_draws`: the mean of `--draws` `joint_scale_start` codes, each searched among another
   random draw of the training units' labeled contacts (entry 43);
+- `joint_scale_encoder`: `joint_scale_start` whose search starts from the `encoder` arm's codes
+  instead of codes zero (entry 44);
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
@@ -103,10 +105,10 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws")  # the arms with the force-scale prior
+SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws", "joint_scale_encoder")  # with the prior
 ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale",
-        "joint_scale_start", "joint_scale_draws", "encoder", "encoder_own", "encoder_more", "stream_labels",
-        "all_labels", "plan")
+        "joint_scale_start", "joint_scale_draws", "joint_scale_encoder", "encoder", "encoder_own",
+        "encoder_more", "stream_labels", "all_labels", "plan")
 JOINT = ("joint", "joint_truth", "joint_search", *SCALED)  # the joint fit's arms
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and default rounds (the joint_search arms)
 DRAWS = 3  # candidate draws the joint_scale_draws arm averages by default
@@ -341,11 +343,13 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                       "force_ms_search": mean_square_force(c, cols)}
         if scale is not None:
             found |= {"force_ms_prior": scale.mean, "force_ms_prior_sd": scale.var**0.5}
-        if "joint_scale_start" in arms:
-            z, c = starts["joint_scale_start"] = searched_start(fit, recipe, X, n_eff, candidates, seed,
-                                                                args.rounds, scale)
-            found |= {"code_rms_scaled_search_off_truth": float((z - labelled).pow(2).mean().sqrt()),
-                      "contact_error_scaled_search": float(((c - Y) / std).pow(2).mean().sqrt())}
+        for arm, from_codes in (("joint_scale_start", None), ("joint_scale_encoder", codes.get("encoder"))):
+            if arm in arms:
+                z, c = starts[arm] = searched_start(fit, recipe, X, n_eff, candidates, seed, args.rounds,
+                                                    scale, from_codes)
+                tag = "scaled_search" if from_codes is None else "encoder_search"
+                found |= {f"code_rms_{tag}_off_truth": float((z - labelled).pow(2).mean().sqrt()),
+                          f"contact_error_{tag}": float(((c - Y) / std).pow(2).mean().sqrt())}
         for arm in [a for a in starts if a in arms]:
             codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
                                                     starts[arm], scale if arm in SCALED else None)
@@ -359,6 +363,9 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
             codes["joint_scale_draws"], of_draws = mean_of_draws(fit, recipe, X, Y0, n_eff, pools, seed, args,
                                                                  scale, labelled, first)
             found |= of_draws
+        if {"joint_scale_start", "joint_scale_encoder"} <= set(arms):  # do the two starts end apart?
+            apart = codes["joint_scale_encoder"] - codes["joint_scale_start"]
+            found["code_rms_encoder_start_off_zero_start"] = float(apart.pow(2).mean().sqrt())
     if "plan" in arms:
         plan = plan_of(sd, u, Budget(args.plan_seconds, "seconds", opts.plan_strategies[0]), opts, seed)
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
@@ -432,7 +439,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
         fit, recipe = ResponseFit.from_loaded(saved), ResponseRecipe.from_saved(saved.meta["recipe"])
         start = load_models(start_network_path(path))
         coders: dict[str, CodeEncoder] = {}
-        if {"encoder", "encoder_own", "encoder_more"} & set(args.arms):
+        if {"encoder", "encoder_own", "encoder_more", "joint_scale_encoder"} & set(args.arms):
             missing = [u for u in fit.unit_ids if u not in feats]
             feats |= training_features(ctx, arrays, opts, missing, args, seed)
             more = None

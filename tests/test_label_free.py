@@ -41,6 +41,20 @@ def test_the_contact_search_finds_each_rows_contact_among_the_candidates():
     assert (far != candidates[:200]).any(1).float().mean() > 0.5
 
 
+def test_the_search_starts_from_the_codes_it_is_given():
+    """Pressures made under codes far from zero: a search without rounds started from those codes
+    matches every row to its own contact and keeps the codes; started from codes zero it mostly
+    does not."""
+    fit, candidates = _fit(), _contacts(600, 0)
+    codes = 3.0 + 0.3 * torch.randn(8, 4, generator=torch.Generator().manual_seed(2))
+    with torch.no_grad():
+        X = fit.model(candidates[:200], codes)
+    z, y = searched_start(fit, ResponseRecipe(), X, 200.0, candidates, 0, 0, codes=codes)
+    assert torch.equal(z, codes) and torch.equal(y, candidates[:200])
+    z, y = searched_start(fit, ResponseRecipe(), X, 200.0, candidates, 0, 0)
+    assert torch.equal(z, torch.zeros_like(codes)) and (y != candidates[:200]).any(1).float().mean() > 0.5
+
+
 def test_the_joint_fit_started_at_the_truth_stays_there_and_never_raises_its_objective():
     """Noiseless pressures of known codes and contacts: the joint fit started at them keeps them
     (a weak pull towards other contacts and the codes' prior move them little), and no step raises

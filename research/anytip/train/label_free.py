@@ -245,13 +245,16 @@ def search_candidates(labels: Tensor, n: int, seed: int) -> Tensor:
 
 
 def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, candidates: Tensor,
-                   seed: int, rounds: int, scale: ForceScale | None = None) -> tuple[Tensor, Tensor]:
+                   seed: int, rounds: int, scale: ForceScale | None = None, codes: Tensor | None = None
+                   ) -> tuple[Tensor, Tensor]:
     """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa without a start network:
-    from codes zero, `rounds` times each row's nearest candidate contact (`nearest_contacts`), then
-    the codes' MAP given those contacts (`fit_codes`, as if they were labels). With `scale`, the
-    contacts' forces are scaled to the prior's mean square each round before the codes are fitted
-    (`ForceScale.match`), so the search cannot trade sensitivity for force (entry 40)."""
-    codes = X.new_zeros(fit.model.n_channels, fit.model.config.code_dim)
+    from `codes` (default zero, the fleet's typical unit), `rounds` times each row's nearest
+    candidate contact (`nearest_contacts`), then the codes' MAP given those contacts (`fit_codes`, as
+    if they were labels). With `scale`, the contacts' forces are scaled to the prior's mean square
+    each round before the codes are fitted (`ForceScale.match`), so the search cannot trade
+    sensitivity for force (entry 40)."""
+    if codes is None:
+        codes = X.new_zeros(fit.model.n_channels, fit.model.config.code_dim)
 
     def nearest() -> Tensor:
         found = nearest_contacts(fit, X, candidates, codes)
