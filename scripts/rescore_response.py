@@ -115,11 +115,13 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         if opts.extra_units is not None:  # they trained (or train) the response model
             extra = load_extra(ctx, opts.extra_units.registry, opts.extra_units.data(), arrays)
         sd = prepare(ctx, arrays, opts, seed, extra)
-        del extra
+        if opts.response.label_free is None:  # only the label-free row's code encoder reads them again
+            extra = None
         if sd.split.to_json() != old["cross_sensor"][f"seed{seed}"]["units"]:
             raise AnytipError(f"seed {seed}: the split differs from the run's")
         fit = ResponseFit.from_loaded(saved[seed]) if seed in saved else None
-        got = response_rows(ctx, arrays, sd, opts, seed, fit)
+        got = response_rows(ctx, arrays, sd, opts, seed, fit, extra)
+        del extra
         base = {"seed": seed, "split": rows[0]["split"], "n_train_units": len(sd.split.train)}
         # units the response model learnt beside the registry's training units (the run's extra units,
         # or those of a model trained elsewhere), as a run's rows record them

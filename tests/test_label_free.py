@@ -1,9 +1,11 @@
 """anytip.train.label_free: a unit's codes from unlabeled pressures alone."""
 
+import numpy as np
 import pytest
 import torch
 
 from anytip.models.response import ResponseConfig, ResponseModel
+from anytip.train.code_encoder import ENCODER_QUANTILES, PA_FLOOR, CodeEncoder, stream_features
 from anytip.train.label_free import (
     ForceScale,
     LabelFreeRecipe,
@@ -146,3 +148,36 @@ def test_a_searched_start_with_the_force_scale_prior_presses_as_hard_as_the_flee
     z, y = searched_start(fit, ResponseRecipe(), X, 200.0, _contacts(400, 8), 0, 0, scale)  # no rounds
     assert torch.equal(z, torch.zeros(8, 4))
     assert mean_square_force(y, (0, 1, 2)) == pytest.approx(scale.mean, rel=1e-4)
+
+
+def test_the_code_encoder_recovers_a_linear_map_and_knows_when_features_say_nothing():
+    """CodeEncoder: codes that are a linear function of the features
+    are predicted for a new unit and explained almost wholly when left out; codes unrelated to the
+    features are explained not at all, and the prediction falls back towards the fleet's mean."""
+    g = np.random.default_rng(0)
+    F = g.normal(size=(120, 6))
+    W = g.normal(size=(6, 2 * 3))
+    var = np.array([0.5, 1.0, 2.0])
+    Z = (F @ W).reshape(120, 2, 3) * np.sqrt(var)
+    enc = CodeEncoder.fit(F, Z, var)
+    assert enc.loo_r2 > 0.99
+    new = g.normal(size=6)
+    np.testing.assert_allclose(enc(new).numpy(), ((new @ W).reshape(2, 3) * np.sqrt(var)), atol=0.05)
+    noise = CodeEncoder.fit(F, g.normal(size=(120, 2, 3)), var)
+    assert noise.loo_r2 < 0.05
+    assert float(noise(new).abs().max()) < 0.5
+    with pytest.raises(ValueError, match="across units"):
+        CodeEncoder.fit(F[:1], Z[:1], var)
+
+
+def test_the_stream_features_ignore_row_order_and_floor_quiet_barometers():
+    """stream_features: the same for rows in any order; a barometer that never reads above noise
+    gives log(PA_FLOOR) for every quantile and its spread."""
+    g = np.random.default_rng(1)
+    P = np.abs(g.normal(size=(500, 8))) * 5000.0
+    P[:, 3] = 1.0
+    f = stream_features(P)
+    assert f.shape == (8 * 6 + 28,)
+    np.testing.assert_allclose(stream_features(P[g.permutation(500)]), f, rtol=1e-12)
+    quiet = [q * 8 + 3 for q in range(len(ENCODER_QUANTILES))] + [len(ENCODER_QUANTILES) * 8 + 3]
+    np.testing.assert_allclose(f[quiet], np.log(PA_FLOOR))

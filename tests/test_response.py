@@ -22,6 +22,7 @@ from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.runner import run_experiment
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.response import (
+    ResponseFit,
     ResponseRecipe,
     fit_codes,
     residual_rms,
@@ -712,6 +713,40 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
         run_experiment(SPEC, fleet, out=tmp_path / "bad", overrides=bad, progress=False)
 
 
+def test_the_fleet_code_encoder_learns_from_the_units_whose_ordinary_use_the_run_holds(fleet):
+    """fleet_code_encoder: over the response model's units found in the given arrays (others
+    skipped), each one's stream features of its ordinary use against its codes; codes along the
+    features' first principal direction are explained and predicted, codes unrelated to them give
+    no encoder (the search starts from codes zero), nor do fewer than three units."""
+    from anytip.data.arrays import load_arrays
+    from anytip.train.code_encoder import CodeEncoder, stream_features
+    from anytip.train.label_free import fleet_code_encoder, ordinary_rows
+
+    arrays = load_arrays(fleet, [r for r in fleet.list_runs() if r.protocol == "short"])
+    units, C = list(arrays.units), arrays.pressure.shape[1]
+    F = np.stack([stream_features(arrays.pressure[ordinary_rows(arrays, u, "short", False, 20.0, 3)])
+                  for u in units])
+    U, S, _ = np.linalg.svd((F - F.mean(0)) / np.maximum(F.std(0), 1e-9), full_matrices=False)
+    codes = np.stack([np.outer(np.ones(C), [p, -p]) for p in U[:, 0] * S[0]]) * 0.05
+
+    def fit_with(Z: np.ndarray, ids: list[str]) -> ResponseFit:
+        model = ResponseModel(len(ids), C, 5, [0, 1, 2], ResponseConfig(code_dim=2, channel_dim=2, hidden=8,
+                                                                         layers=1), seed=0)
+        with torch.no_grad():
+            model.codes.copy_(torch.from_numpy(Z).float())
+        return ResponseFit(model, torch.full((C,), 1e-4), torch.full((2,), 0.04), ids)
+
+    ghost = np.zeros((1, C, 2))  # a unit the arrays do not hold: skipped
+    coder = fleet_code_encoder(fit_with(np.concatenate([codes, ghost]), [*units, "ghost"]), [arrays],
+                               "short", False, 20.0, 3)
+    assert coder is not None and coder.loo_r2 > 0.5
+    same = CodeEncoder.fit(F, codes.astype(np.float32), np.full(2, 0.04, np.float32))
+    np.testing.assert_allclose(coder.weights, same.weights, rtol=1e-4, atol=1e-6)
+    noise = np.random.default_rng(0).normal(size=codes.shape) * 0.2
+    assert fleet_code_encoder(fit_with(noise, units), [arrays], "short", False, 20.0, 3) is None
+    assert fleet_code_encoder(fit_with(codes[:2], units[:2]), [arrays], "short", False, 20.0, 3) is None
+
+
 def test_the_force_scale_prior_reads_the_training_units_ordinary_use(fleet):
     """fleet_force_scale: over the given units' ordinary use (whole presses of their calibration
     streams, labels read), the mean and spread of the rows' mean square force; a sensor model
@@ -737,25 +772,6 @@ def test_the_force_scale_prior_reads_the_training_units_ordinary_use(fleet):
     assert fleet_force_scale(angles, units, "short", False, free, 3) is None
     with pytest.raises(ValueError, match="at least two units"):
         fleet_force_scale(arrays, units[:1], "short", False, free, 3)
-
-
-def test_the_code_encoder_recovers_a_linear_map_and_knows_when_features_say_nothing():
-    """CodeEncoder (scripts/label_free_codes.py): codes that are a linear function of the features
-    are predicted for a new unit and explained almost wholly when left out; codes unrelated to the
-    features are explained not at all, and the prediction falls back towards the fleet's mean."""
-    script = _script("label_free_codes")
-    g = np.random.default_rng(0)
-    F = g.normal(size=(120, 6))
-    W = g.normal(size=(6, 2 * 3))
-    var = np.array([0.5, 1.0, 2.0])
-    Z = (F @ W).reshape(120, 2, 3) * np.sqrt(var)
-    enc = script.CodeEncoder.fit(F, Z, var)
-    assert enc.loo_r2 > 0.99
-    new = g.normal(size=6)
-    np.testing.assert_allclose(enc(new).numpy(), ((new @ W).reshape(2, 3) * np.sqrt(var)), atol=0.05)
-    noise = script.CodeEncoder.fit(F, g.normal(size=(120, 2, 3)), var)
-    assert noise.loo_r2 < 0.05
-    assert float(noise(new).abs().max()) < 0.5
 
 
 def test_label_free_codes_learns_the_encoder_from_units_that_only_teach_it(fleet, tmp_path):

@@ -238,7 +238,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         path = ctx.run_dir / "models" / f"shared_{_slug(kind)}{_file_tag(training)}_seed{seed}.safetensors"
         save_shared(path, shared.model, shared.in_scaler, shared.out_scaler, meta)
     if opts.response is not None:
-        got = response_rows(ctx, arrays, sd, opts, seed)
+        got = response_rows(ctx, arrays, sd, opts, seed, extra=extra)
         rows += [dict(base, **r) for r in got.rows]
         val_by_method.update(validation_by_method(RESPONSE_METHOD, got.val_loss))
         if got.label_free_loss is not None:

@@ -132,9 +132,10 @@ class LabelFreeOptions(BaseModel):
     """`options.response.label_free`: a zero-shot row `response:label_free` (train/label_free.py). A
     new unit's codes come from its pressures in `seconds` of ordinary use after mounting (whole presses
     drawn at random from its stream, `anytip.data.plans.ordinary_use`; no labels, no rig time), by the
-    joint fit of codes and contacts from a searched start, both held to the fleet's force scale; its
-    network trains on the training units' rows carried over by those codes alone. Needs
-    `inverse_start: pooled` (the pull's contacts)."""
+    joint fit of codes and contacts from a searched start (from the codes a fleet encoder predicts
+    from the unit's pressure statistics), both held to the fleet's force scale; its network trains on
+    the training units' rows carried over by those codes alone. Needs `inverse_start: pooled` (the
+    pull's contacts)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
@@ -148,6 +149,10 @@ class LabelFreeOptions(BaseModel):
     force_scale: bool = Field(
         default=LabelFreeRecipe.force_scale, description="hold the search and the fit to the force scale of "
         "the training units' own ordinary use (research log entry 40)")
+    start: Literal["encoder", "zero"] = Field(
+        default=LabelFreeRecipe.start, description="the search's first codes: predicted from the unit's "
+        "pressure statistics by an encoder learnt across the response model's units whose streams the run "
+        "holds (zero where it explains nothing of left-out units' codes), or zero (research log entry 44)")
 
     def recipe(self) -> LabelFreeRecipe:
         return LabelFreeRecipe(**self.model_dump())

@@ -62,11 +62,12 @@ class ResponseRows(NamedTuple):
 
 
 def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
-                  fit: ResponseFit | None = None) -> ResponseRows:
+                  fit: ResponseFit | None = None, extra: FleetArrays | None = None) -> ResponseRows:
     """Every validation and held-out unit calibrated by response transfer on the plan each labeled
     budget grants it; rows of the held-out units (`response@<strategy>`), with the RMS of the
     plan's pressures about the unit's fitted response (`response_residual_pa`, its own check).
-    `fit`: a response model trained before on `sd`'s training units (None: train it here)."""
+    `fit`: a response model trained before on `sd`'s training units (None: train it here); `extra`:
+    the run's extra units (the label-free row's code encoder reads their ordinary use)."""
     assert opts.response is not None
     recipe = opts.response.recipe()
     digest = None  # a model handed in was trained elsewhere: its file records no digest
@@ -120,7 +121,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
     if opts.response.label_free is not None:
         assert start is not None  # the option needs inverse_start: pooled
-        free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start)
+        free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, extra)
         rows += free_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),

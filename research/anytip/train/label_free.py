@@ -1,5 +1,5 @@
 """A new unit's response-transfer codes without labels, from the pressures of its ordinary use
-(research log entries 27, 35 and 37-40).
+(research log entries 27, 35, 37-40 and 44).
 
 Without labels each unlabeled row's contact is unknown too, so the codes z (C, k) and every
 row's standardised contact c_i (D,) are fitted together: the MAP of
@@ -23,7 +23,9 @@ The objective has many basins: started at codes zero and the start network's con
 stops far from the truth, started at the truth it stays there (entry 37). `searched_start` finds
 a start without labels: each row's contact becomes the training units' labeled contact whose
 response under the current codes lies nearest its pressures, and the codes are fitted to those
-contacts, in turn (entry 38).
+contacts, in turn (entry 38). From codes zero the search still ends in a worse basin than from the
+codes the fleet's code encoder predicts from the unit's pressure statistics
+(`fleet_code_encoder`), where it starts by default (entry 44).
 
 Shapes: n unlabeled rows, C barometers, D label columns, k code_dim, S candidate contacts.
 """
@@ -31,7 +33,9 @@ Shapes: n unlabeled rows, C barometers, D label columns, k code_dim, S candidate
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
+import numpy as np
 import torch
 from torch import Tensor
 
@@ -39,6 +43,7 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.plans import stream_ordinary_use
 from anytip.models.response import ResponseModel
+from anytip.train.code_encoder import CodeEncoder, stream_features
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
@@ -54,7 +59,9 @@ class LabelFreeRecipe:
     """How a unit's codes are fitted from its unlabeled rows: at most `rows` evenly spaced rows of
     `seconds` of contact, worth `seconds * effective_hz` independent rows; the pull's weight;
     `candidates` labeled contacts searched in `rounds` alternations; `iterations` joint steps;
-    `force_scale`: hold the search and the fit to the fleet's force scale (`ForceScale`, entry 40)."""
+    `force_scale`: hold the search and the fit to the fleet's force scale (`ForceScale`, entry 40);
+    `start`: the search's first codes, the fleet's code encoder's for the unit (`fleet_code_encoder`,
+    entry 44) or zero (the fleet's typical unit)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -63,6 +70,7 @@ class LabelFreeRecipe:
     rounds: int = 5
     iterations: int = 30
     force_scale: bool = True
+    start: Literal["encoder", "zero"] = "encoder"
 
 
 @dataclass(frozen=True)
@@ -112,11 +120,40 @@ def fleet_force_scale(arrays: FleetArrays, units: list[str], protocol: str | Non
         return None
     labels = []
     for u in units:
-        stream = calibration_stream(arrays, u, protocol, interleave=interleave)
-        rows = stream_ordinary_use(arrays, u, stream, free.seconds, seed).rows
+        rows = ordinary_rows(arrays, u, protocol, interleave, free.seconds, seed)
         if len(rows):
             labels.append(torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), free.rows).numpy()]]))
     return ForceScale.from_units(labels, columns)
+
+
+def ordinary_rows(arrays: FleetArrays, unit: str, protocol: str | None, interleave: bool, seconds: float,
+                  seed: int) -> np.ndarray:
+    """A training unit's ordinary use read as a new unit's: the rows of `seconds` of whole presses drawn
+    from its calibration stream (`anytip.data.plans.stream_ordinary_use`)."""
+    stream = calibration_stream(arrays, unit, protocol, interleave=interleave)
+    return stream_ordinary_use(arrays, unit, stream, seconds, seed).rows
+
+
+def fleet_code_encoder(fit: ResponseFit, sources: list[FleetArrays], protocol: str | None, interleave: bool,
+                       seconds: float, seed: int) -> CodeEncoder | None:
+    """The code encoder learnt on every unit of the response model `fit` whose stream one of `sources`
+    holds (the registry's training units, and its extra units where the model learnt them): each one's
+    `stream_features` of its ordinary use (`ordinary_rows`) against its codes. None where fewer than
+    three such units have ordinary use, or where the left-out units' codes are explained no better
+    than by the units' mean (loo_r2 <= 0): the search then starts from codes zero."""
+    feats, index = [], []
+    for i, u in enumerate(fit.unit_ids):
+        arrays = next((a for a in sources if u in a.units), None)
+        rows = np.zeros(0, np.int64) if arrays is None else ordinary_rows(arrays, u, protocol, interleave,
+                                                                           seconds, seed)
+        if len(rows) > 1:
+            feats.append(stream_features(arrays.pressure[rows]))
+            index.append(i)
+    if len(index) < 3:
+        return None
+    codes = fit.model.codes.detach().cpu().numpy()[index]
+    coder = CodeEncoder.fit(np.stack(feats), codes, fit.code_var.cpu().numpy())
+    return coder if coder.loo_r2 > 0 else None
 
 
 def mean_square_force(Y: Tensor, columns: tuple[int, ...]) -> float:
@@ -266,13 +303,14 @@ def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: f
 
 
 def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
-                     n_eff: float, candidates: Tensor, seed: int, scale: ForceScale | None = None
-                     ) -> tuple[Tensor, Tensor, list[float]]:
+                     n_eff: float, candidates: Tensor, seed: int, scale: ForceScale | None = None,
+                     codes: Tensor | None = None) -> tuple[Tensor, Tensor, list[float]]:
     """A new unit's codes (C, k) from its unlabeled pressures X (n, C) Pa: the joint fit from the
-    searched start, pulled towards a start network's contacts Y0 (n, D), with the force-scale prior
-    `scale` where given; its contacts (n, D) and its objective after each step. Without rows the
-    codes stay zero (the fleet's typical unit), as `fit_codes` leaves a job without rows."""
+    searched start (its search from `codes`, default zero), pulled towards a start network's contacts
+    Y0 (n, D), with the force-scale prior `scale` where given; its contacts (n, D) and its objective
+    after each step. Without rows the codes stay zero (the fleet's typical unit), as `fit_codes`
+    leaves a job without rows."""
     if not len(X):
         return X.new_zeros(fit.model.n_channels, fit.model.config.code_dim), Y0, []
-    start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds, scale)
+    start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds, scale, codes)
     return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
