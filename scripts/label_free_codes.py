@@ -34,6 +34,8 @@ from the run's pooled start network:
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
   run's own strategy), for comparison: the labeled method without the unit's rows in its network;
+- `plan_joint`: the plan's labeled rows and the unlabeled rows in one joint fit (`joint_fit` with
+  `Labeled`), its search from the `plan` codes, held to the force scale (entry 45);
 - `input_stats`: no codes; the run's shared model without adapters, scaled by the unit's unlabeled
   input statistics (the benchmark's zero-shot method; always the stream's first `--seconds`, as its
   shared model's training units were scaled);
@@ -82,6 +84,7 @@ from anytip.train.adapt import calibrate_and_fold
 from anytip.train.code_encoder import CodeEncoder, stream_features
 from anytip.train.label_free import (
     ForceScale,
+    Labeled,
     LabelFreeRecipe,
     fleet_force_scale,
     joint_fit,
@@ -106,10 +109,11 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import predict_rows
 
-SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws", "joint_scale_encoder")  # with the prior
+SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws", "joint_scale_encoder",
+          "plan_joint")  # the arms with the force-scale prior
 ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale",
         "joint_scale_start", "joint_scale_draws", "joint_scale_encoder", "encoder", "encoder_own",
-        "encoder_more", "stream_labels", "all_labels", "plan")
+        "encoder_more", "stream_labels", "all_labels", "plan", "plan_joint")
 JOINT = ("joint", "joint_truth", "joint_search", *SCALED)  # the joint fit's arms
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and default rounds (the joint_search arms)
 DRAWS = 3  # candidate draws the joint_scale_draws arm averages by default
@@ -312,10 +316,18 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         if {"joint_scale_start", "joint_scale_encoder"} <= set(arms):  # do the two starts end apart?
             apart = codes["joint_scale_encoder"] - codes["joint_scale_start"]
             found["code_rms_encoder_start_off_zero_start"] = float(apart.pow(2).mean().sqrt())
-    if "plan" in arms:
+    if {"plan", "plan_joint"} & set(arms):
         plan = plan_of(sd, u, Budget(args.plan_seconds, "seconds", opts.plan_strategies[0]), opts, seed)
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
         codes["plan"] = fit_codes(fit, [Xp], [Yp], [plan.n_effective], recipe, seed)[0]
+        found["code_rms_plan_off_truth"] = float((codes["plan"] - labelled).pow(2).mean().sqrt())
+        if "plan_joint" in arms:  # the plan's codes choose each unlabeled row's first contact
+            start_at = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes["plan"])
+            codes["plan_joint"], _, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull, start_at,
+                                                      scale, Labeled(Xp, Yp, plan.n_effective))
+            off = codes["plan_joint"] - labelled
+            found |= {"objective_plan_joint": trace,
+                      "code_rms_plan_joint_off_truth": float(off.pow(2).mean().sqrt())}
     return {a: c for a, c in codes.items() if a in arms}, found
 
 

@@ -8,6 +8,7 @@ from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.train.code_encoder import ENCODER_QUANTILES, PA_FLOOR, CodeEncoder, stream_features
 from anytip.train.label_free import (
     ForceScale,
+    Labeled,
     LabelFreeRecipe,
     joint_fit,
     label_free_codes,
@@ -16,7 +17,7 @@ from anytip.train.label_free import (
     schur_step,
     searched_start,
 )
-from anytip.train.response import ResponseFit, ResponseRecipe
+from anytip.train.response import ResponseFit, ResponseRecipe, fit_codes
 
 
 def _fit(seed: int = 1) -> ResponseFit:
@@ -75,6 +76,26 @@ def test_the_joint_fit_started_at_the_truth_stays_there_and_never_raises_its_obj
     z, y, trace = label_free_codes(fit, ResponseRecipe(), free, X, wrong, 300.0, candidates, 0)
     assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
     assert z.shape == codes.shape and y.shape == truth_y.shape and trace[-1] < trace[0]
+
+
+def test_labeled_rows_enter_the_joint_fit_as_the_codes_map_takes_them():
+    """Labeled rows beside unlabeled ones that weigh almost nothing: the joint fit's codes are the
+    codes' MAP on the labeled rows alone (`fit_codes`, the same loss), and its objective never rises;
+    with the unlabeled rows weighing their own, the labeled rows still pull the codes to the truth."""
+    fit, truth_y = _fit(), _contacts(200, 8)
+    codes = 0.2 * torch.randn(8, 4, generator=torch.Generator().manual_seed(4))
+    with torch.no_grad():
+        X_l = fit.model(truth_y, codes)
+        X = fit.model(_contacts(100, 9), codes)
+    labeled = Labeled(X_l, truth_y, 200.0)
+    alone = fit_codes(fit, [X_l], [truth_y], [200.0], ResponseRecipe())[0]
+    z, _, trace = joint_fit(fit, X, _contacts(100, 10), 1e-6, 40, 1e-3, labeled=labeled)
+    assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
+    torch.testing.assert_close(z, alone, atol=2e-3, rtol=1e-2)
+    rms = lambda t: float(t.pow(2).mean().sqrt())  # noqa: E731
+    z, _, _ = joint_fit(fit, X, _contacts(100, 10), 100.0, 40, 1e-3, labeled=labeled)
+    unlabeled_only, _, _ = joint_fit(fit, X, _contacts(100, 10), 100.0, 40, 1e-3)
+    assert rms(z - codes) < 0.5 * rms(unlabeled_only - codes)
 
 
 def test_a_unit_without_unlabeled_rows_keeps_the_fleets_typical_codes():

@@ -682,7 +682,7 @@ def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet,
         assert r["unlabeled_rows"] <= 256 and r["force_rmse_n"] > 0
         for trace in (r["objective"], r["objective_joint_truth"], r["objective_joint_search"],
                       r["objective_joint_scale"], r["objective_joint_scale_start"],
-                      r["objective_joint_scale_encoder"]):
+                      r["objective_joint_scale_encoder"], r["objective_plan_joint"]):
             assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
         assert r["objective_joint_truth"][0] <= r["objective_at_truth"]  # started at the truth: never above
     by = {(r["unit"], r["arm"]): r for r in rows}

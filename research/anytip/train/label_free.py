@@ -170,18 +170,36 @@ def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, T
     return pred, Jc.detach(), Jz
 
 
+@dataclass(frozen=True)
+class Labeled:
+    """Labeled rows fitted beside the unlabeled ones: pressures X (m, C) Pa, contacts Y (m, D)
+    physical, worth n_eff independent rows (a calibration plan's, entry 45)."""
+
+    X: Tensor
+    Y: Tensor
+    n_eff: float
+
+    def data_term(self, fit: ResponseFit, codes: Tensor) -> float:
+        """n_eff / m times half the rows' sum of squared residuals over noise_var at `codes` (C, k)."""
+        with torch.no_grad():
+            r = self.X - fit.model(self.Y, codes)
+        return float((r**2 * (self.n_eff / len(self.X) / fit.noise_var)).sum() / 2)
+
+
 def joint_objective(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, codes: Tensor,
-                    lam: float, scale: ForceScale | None = None) -> float:
+                    lam: float, scale: ForceScale | None = None, labeled: Labeled | None = None) -> float:
     """The joint MAP's objective (module docstring) of unlabeled pressures X (n, C) Pa at standardised
     contacts c (n, D) and codes (C, k), with the pull towards standardised contacts c0 (n, D),
-    each row weighing w = n_eff / n, and the force-scale prior where one is given."""
+    each row weighing w = n_eff / n, the force-scale prior and the labeled rows' data term where
+    given."""
     model = fit.model
     Y = c * model.label_std + model.label_mean
     with torch.no_grad():
         r = X - model(Y, codes)
     data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
     prior = 0.0 if scale is None else scale.penalty(Y)
-    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2) + prior
+    known = 0.0 if labeled is None else labeled.data_term(fit, codes)
+    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2) + prior + known
 
 
 def scale_residual(scale: ForceScale, c: Tensor, mean: Tensor, std: Tensor) -> tuple[float, Tensor]:
@@ -195,13 +213,14 @@ def scale_residual(scale: ForceScale, c: Tensor, mean: Tensor, std: Tensor) -> t
 
 
 def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations: int, lam: float,
-              start: tuple[Tensor, Tensor] | None = None, scale: ForceScale | None = None
-              ) -> tuple[Tensor, Tensor, list[float]]:
+              start: tuple[Tensor, Tensor] | None = None, scale: ForceScale | None = None,
+              labeled: Labeled | None = None) -> tuple[Tensor, Tensor, list[float]]:
     """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa, pulled towards contacts
     Y0 (n, D), by damped Gauss-Newton on the joint MAP (module docstring), with the force-scale prior
-    `scale` where given; the objective after each step. The fit starts at codes zero and contacts Y0,
-    or at `start` (codes (C, k), contacts (n, D) physical). The response model's weights are frozen
-    (left without grad)."""
+    `scale` and `labeled` rows (their contacts known, so they enter the codes' block alone) where
+    given; the objective after each step. The fit starts at codes zero and contacts Y0, or at `start`
+    (codes (C, k), contacts (n, D) physical). The response model's weights are frozen (left without
+    grad)."""
     model = fit.model
     for p in model.parameters():
         p.requires_grad_(False)
@@ -213,7 +232,7 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
 
     def objective(cc: Tensor, zz: Tensor) -> float:
-        return joint_objective(fit, X, c0, w, cc, zz, lam, scale)
+        return joint_objective(fit, X, c0, w, cc, zz, lam, scale, labeled)
 
     obj, damping, trace = objective(c, z), 1e-2, []
     for _ in range(iterations):
@@ -223,6 +242,11 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
         gc = torch.einsum("ncd,nc,c->nd", Jc, r, Wc) - w * lam * (c - c0)
         Hzz = torch.einsum("nck,ncj,c->ckj", Jz, Jz, Wc) + torch.diag_embed(inv_spread.expand(C, k))
         gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) - z * inv_spread
+        if labeled is not None:
+            known, Jk = code_jacobian(model, labeled.Y, z)
+            Wk = labeled.n_eff / len(labeled.X) / fit.noise_var
+            Hzz = Hzz + torch.einsum("nck,ncj,c->ckj", Jk, Jk, Wk)
+            gz = gz + torch.einsum("nck,nc,c->ck", Jk, labeled.X - known, Wk)
         A = torch.einsum("nck,ncd,c->nckd", Jz, Jc, Wc).reshape(n, C * k, D)  # codes-contact coupling
         Hzz = Hzz + damping * torch.diag_embed(torch.diagonal(Hzz, dim1=-2, dim2=-1))
         Hcc = Hcc + damping * torch.diag_embed(torch.diagonal(Hcc, dim1=-2, dim2=-1))
