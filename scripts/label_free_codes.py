@@ -91,6 +91,7 @@ from anytip.train.label_free import (
     joint_objective,
     label_free_codes,
     mean_square_force,
+    plan_and_use_codes,
     search_candidates,
     searched_start,
 )
@@ -321,13 +322,12 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
         codes["plan"] = fit_codes(fit, [Xp], [Yp], [plan.n_effective], recipe, seed)[0]
         found["code_rms_plan_off_truth"] = float((codes["plan"] - labelled).pow(2).mean().sqrt())
-        if "plan_joint" in arms:  # the plan's codes choose each unlabeled row's first contact
-            start_at = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes["plan"])
-            codes["plan_joint"], _, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull, start_at,
-                                                      scale, Labeled(Xp, Yp, plan.n_effective))
+        if "plan_joint" in arms:
+            free = LabelFreeRecipe(args.seconds, args.rows, args.pull, iterations=args.iterations)
+            codes["plan_joint"] = plan_and_use_codes(fit, recipe, free, X, Y0, n_eff, candidates, seed,
+                                                     Labeled(Xp, Yp, plan.n_effective), codes["plan"], scale)
             off = codes["plan_joint"] - labelled
-            found |= {"objective_plan_joint": trace,
-                      "code_rms_plan_joint_off_truth": float(off.pow(2).mean().sqrt())}
+            found["code_rms_plan_joint_off_truth"] = float(off.pow(2).mean().sqrt())
     return {a: c for a, c in codes.items() if a in arms}, found
 
 

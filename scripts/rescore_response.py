@@ -54,9 +54,8 @@ from anytip.models.io import load_response
 from anytip.models.response import ResponseConfig
 from anytip.pipelines.common import Context, load, load_extra
 from anytip.pipelines.cross_sensor import min_units, prepare
-from anytip.pipelines.cross_sensor_jobs import validation_by_method
 from anytip.pipelines.cross_sensor_options import Options, parse_options
-from anytip.pipelines.cross_sensor_response import METHOD, check_trained_on, response_rows
+from anytip.pipelines.cross_sensor_response import check_trained_on, response_rows, val_by_method
 from anytip.rundir import check_run_dir, code_version, read_json, write_config, write_json, write_metrics
 from anytip.runner import rewrite_report
 from anytip.train.metrics import target_key
@@ -130,7 +129,7 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
             base["n_extra_units"] = n_extra
         rows += [dict(base, **r) for r in got.rows]
         ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
-            "units": sd.split.to_json(), "val_loss": validation_by_method(METHOD, got.val_loss)}
+            "units": sd.split.to_json(), "val_loss": val_by_method(got)}
         print(f"seed {seed}: {len(got.rows)} held-out rows ({time.perf_counter() - start:.0f} s)", flush=True)
     ctx.provenance.update(rescored_from=str(run), overrides=overrides, seeds=spec.all_seeds,
                           retrained=retrain, response_model=response_model, code=code_version(),

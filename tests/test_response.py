@@ -682,7 +682,7 @@ def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet,
         assert r["unlabeled_rows"] <= 256 and r["force_rmse_n"] > 0
         for trace in (r["objective"], r["objective_joint_truth"], r["objective_joint_search"],
                       r["objective_joint_scale"], r["objective_joint_scale_start"],
-                      r["objective_joint_scale_encoder"], r["objective_plan_joint"]):
+                      r["objective_joint_scale_encoder"]):
             assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
         assert r["objective_joint_truth"][0] <= r["objective_at_truth"]  # started at the truth: never above
     by = {(r["unit"], r["arm"]): r for r in rows}
@@ -696,7 +696,7 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
     """options.response.label_free: a `response:label_free` row per held-out unit at no labeled
     budget and no rig time, its unlabeled contact seconds within the option's, a validation loss
     the report chooses the zero-shot method on; refused without the pooled start it pulls towards."""
-    free = "label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2}"
+    free = "label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2, with_plans: true}"
     over = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"), "options.adapters=[]"]
     run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
@@ -708,6 +708,18 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
         assert 0 < r["unlabeled_seconds"] <= 20 and r["unlabeled_samples"] > 0 and r["force_rmse_n"] > 0
     assert set(prov["val_loss"]["response:label_free"]) == {"0"}
     assert "response:label_free" in (run / "report.md").read_text()
+    # with_plans: every labeled row again, its codes from the plan and the unit's ordinary use together
+    def keyed(method: str) -> dict[tuple, dict]:
+        return {(r["unit"], r["method"], r["budget_s"]): r for r in rows if r["method"].startswith(method)}
+
+    plain = {(u, m.replace("response@", ""), b): r for (u, m, b), r in keyed("response@").items()}
+    joint = {(u, m.replace("response+use@", ""), b): r for (u, m, b), r in keyed("response+use@").items()}
+    assert joint.keys() == plain.keys() and joint
+    for key, r in joint.items():
+        assert r["calib_seconds"] == plain[key]["calib_seconds"] and r["presses"] == plain[key]["presses"]
+        assert 0 < r["unlabeled_seconds"] <= 20 and r["force_rmse_n"] > 0
+    assert any(r["force_rmse_n"] != plain[key]["force_rmse_n"] for key, r in joint.items())  # other codes
+    assert set(prov["val_loss"]["response+use@spread"]) == set(prov["val_loss"]["response@spread"])
     bad = [*SECONDS, RESPONSE.replace("}", f", {free}}}")]
     with pytest.raises(AnytipError, match="label_free needs inverse_start: pooled"):
         run_experiment(SPEC, fleet, out=tmp_path / "bad", overrides=bad, progress=False)

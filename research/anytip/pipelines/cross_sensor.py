@@ -42,7 +42,6 @@ from anytip.pipelines.cross_sensor_jobs import (
     validation_factors,
     validation_losses,
 )
-from anytip.pipelines.cross_sensor_label_free import METHOD as LABEL_FREE_METHOD
 from anytip.pipelines.cross_sensor_options import (
     FitVariant,
     Options,
@@ -51,8 +50,8 @@ from anytip.pipelines.cross_sensor_options import (
     parse_options,
     training_tag,
 )
-from anytip.pipelines.cross_sensor_response import METHOD as RESPONSE_METHOD
 from anytip.pipelines.cross_sensor_response import response_rows
+from anytip.pipelines.cross_sensor_response import val_by_method as response_val_by_method
 from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
@@ -240,9 +239,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     if opts.response is not None:
         got = response_rows(ctx, arrays, sd, opts, seed, extra=extra)
         rows += [dict(base, **r) for r in got.rows]
-        val_by_method.update(validation_by_method(RESPONSE_METHOD, got.val_loss))
-        if got.label_free_loss is not None:
-            val_by_method[LABEL_FREE_METHOD] = {"0": got.label_free_loss}
+        val_by_method.update(response_val_by_method(got))
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
         "units": sd.split.to_json(), "val_loss": val_by_method,
         "priors_chosen": {k: {b.label: p for b, p in v.items()} for k, v in priors_chosen.items()},

@@ -4,13 +4,18 @@ validation and held-out unit's response-transfer codes from its pressures in ord
 scored on its test patches like every other method (research log entries 37, 38, 40 and 44). The
 search and the fit are held to the force scale of the registry's training units' own ordinary use
 (`force_scale`, on by default), and the search starts from the codes an encoder learnt across the
-response model's units predicts from the unit's pressure statistics (`start: encoder`, the default)."""
+response model's units predicts from the unit's pressure statistics (`start: encoder`, the default).
+With `with_plans`, every labeled budget is also calibrated with the unit's ordinary use: its codes
+from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones (`response+use`,
+entry 45)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import torch
+from torch import Tensor
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget, Plan, ordinary_use, ordinary_use_seed
@@ -23,10 +28,12 @@ from anytip.train.code_encoder import CodeEncoder, stream_features
 from anytip.train.fleet import FitResult
 from anytip.train.label_free import (
     ForceScale,
+    Labeled,
     LabelFreeRecipe,
     fleet_code_encoder,
     fleet_force_scale,
     label_free_codes,
+    plan_and_use_codes,
     search_candidates,
 )
 from anytip.train.metrics import scores
@@ -34,36 +41,61 @@ from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transf
 from anytip.train.shared_split import SeedData, predict_rows
 
 METHOD = "response:label_free"
+WITH_USE = "response+use"  # a labeled budget's method with the unit's ordinary use (`with_plans`)
+
+
+@dataclass(frozen=True)
+class OrdinaryUse:
+    """What the label-free fits read of the validation and held-out units: per unit the whole presses
+    of its ordinary use (`uses`), the fitted rows' pressures X (n, C) Pa and the pooled start
+    network's contacts Y0 (n, D) there, and the code encoder's first codes (C, k) or None (`first`);
+    the fleet's candidates (S, D), force-scale prior and encoder, and the effective row count of
+    `free.seconds`."""
+
+    free: LabelFreeRecipe
+    uses: dict[str, Plan]
+    X: dict[str, Tensor]
+    Y0: dict[str, Tensor]
+    first: dict[str, Tensor | None]
+    candidates: Tensor
+    scale: ForceScale | None
+    coder: CodeEncoder | None
+    n_eff: float
+
+
+def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
+                      source: SourceRows, start: FitResult, extra: FleetArrays | None = None) -> OrdinaryUse:
+    """Each validation and held-out unit's ordinary use (`options.response.label_free`) and what the
+    fleet adds to it. `source`: the rows whose contacts the search draws; `start`: the pooled network
+    whose contacts the fits pull each unlabeled row towards; `extra`: the run's extra units, whose
+    ordinary use teaches the code encoder with the registry's."""
+    assert opts.response is not None and opts.response.label_free is not None
+    free = opts.response.label_free.recipe()
+    coder = code_encoder(arrays, extra, opts, free, seed, fit)
+    uses, X, Y0, first = {}, {}, {}, {}
+    for u in [*sd.split.val, *sd.split.test]:
+        use = uses[u] = ordinary_use(sd.evals[u].presses, free.seconds, ordinary_use_seed(seed, u))
+        rows = use.rows[evenly_spaced(len(use.rows), free.rows).numpy()]
+        X[u] = torch.from_numpy(arrays.pressure[rows]).to(fit.device)
+        Y0[u] = torch.from_numpy(predict_rows(start.model, start.in_scaler, start.out_scaler, arrays,
+                                              [rows])[0]).to(fit.device)
+        first[u] = None
+        if coder is not None and len(use.rows) > 1:
+            first[u] = coder(stream_features(arrays.pressure[use.rows])).to(fit.device)
+    return OrdinaryUse(free, uses, X, Y0, first, search_candidates(source.Y, free.candidates, seed),
+                       force_scale(arrays, sd, opts, free, seed), coder, free.seconds * opts.rig.effective_hz)
 
 
 def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
-                    fit: ResponseFit, source: SourceRows, start: FitResult, extra: FleetArrays | None = None
+                    fit: ResponseFit, source: SourceRows, start: FitResult, read: OrdinaryUse
                     ) -> tuple[list[dict[str, Any]], float | None]:
     """Rows of the held-out units, and the validation units' mean standardised MSE (None without
     validation units). `source`: the rows a unit's network trains on once carried over; `start`: the
-    pooled network it starts from, whose contacts the fit pulls each unlabeled row towards; `extra`:
-    the run's extra units, whose ordinary use teaches the code encoder with the registry's."""
-    assert opts.response is not None and opts.response.label_free is not None
-    free, recipe = opts.response.label_free.recipe(), opts.response.recipe()
-    units = [*sd.split.val, *sd.split.test]
-    candidates = search_candidates(source.Y, free.candidates, seed)
-    n_eff = free.seconds * opts.rig.effective_hz
-    scale = force_scale(arrays, sd, opts, free, seed)
-    coder = code_encoder(arrays, extra, opts, free, seed, fit)
-    uses: list[Plan] = []
-    codes = []
-    for u in units:
-        use = ordinary_use(sd.evals[u].presses, free.seconds, ordinary_use_seed(seed, u))
-        rows = use.rows[evenly_spaced(len(use.rows), free.rows).numpy()]
-        X = torch.from_numpy(arrays.pressure[rows]).to(fit.device)
-        Y0 = torch.from_numpy(predict_rows(start.model, start.in_scaler, start.out_scaler, arrays, [rows])[0])
-        first = None
-        if coder is not None and len(use.rows) > 1:
-            first = coder(stream_features(arrays.pressure[use.rows])).to(fit.device)
-        z, _, _ = label_free_codes(fit, recipe, free, X, Y0.to(fit.device), n_eff, candidates, seed, scale,
-                                   first)
-        uses.append(use)
-        codes.append(z)
+    pooled network it starts from; `read`: the units' ordinary use (`read_ordinary_use`)."""
+    assert opts.response is not None
+    recipe, units = opts.response.recipe(), [*sd.split.val, *sd.split.test]
+    codes = [label_free_codes(fit, recipe, read.free, read.X[u], read.Y0[u], read.n_eff, read.candidates,
+                              seed, read.scale, read.first[u])[0] for u in units]
     carried = ((transfer(fit, source, z), source.Y) for z in codes)
     nets = unit_networks(carried, ctx.spec.model, recipe, seed, [f"{u}@label_free" for u in units],
                          arrays.output_names, fit.device, ctx.progress, start)
@@ -72,14 +104,33 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     zero = Budget(0.0, opts.budget_unit, opts.plan_strategies[0])
     loss = validation_losses([(u, zero, 0.0) for u in units], preds, sd, arrays, set(sd.split.val),
                              pooled_scaler(sd.train.Y_train, sd.train.n_train)).get((zero, 0.0))
-    said = "codes zero" if coder is None else f"an encoder's codes (left-out units' R^2 {coder.loo_r2:.2f})"
-    ctx.say(f"seed {seed}: {len(units)} units' codes fitted from {free.seconds:g} s of unlabeled use, "
+    said = "codes zero"
+    if read.coder is not None:
+        said = f"an encoder's codes (left-out units' R^2 {read.coder.loo_r2:.2f})"
+    ctx.say(f"seed {seed}: {len(units)} units' codes fitted from {read.free.seconds:g} s of unlabeled use, "
             f"searched from {said}")
-    out = [{"method": METHOD, "unit": u, **budget_fields(zero, Plan.empty()),
-            "unlabeled_samples": int(len(use.rows)), "unlabeled_seconds": use.contact_seconds,
+    out = [{"method": METHOD, "unit": u, **budget_fields(zero, Plan.empty()), **use_fields(read.uses[u]),
             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
-           for u, use, pred in zip(units, uses, preds, strict=True) if u in sd.split.test]
+           for u, pred in zip(units, preds, strict=True) if u in sd.split.test]
     return out, None if loss is None else float(sum(loss) / len(loss))
+
+
+def plan_use_codes(fit: ResponseFit, opts: Options, read: OrdinaryUse, seed: int,
+                   jobs: list[tuple[str, Plan]], X: list[Tensor], Y: list[Tensor], codes: Tensor) -> Tensor:
+    """(M, C, k) codes of M labeled jobs (unit, plan) with rows X[m] (n_m, C) Pa, Y[m] (n_m, D), each
+    from one joint fit of its plan's rows and its unit's ordinary use (`plan_and_use_codes`, entry 45),
+    started from the plan's own codes `codes` (M, C, k)."""
+    assert opts.response is not None
+    recipe = opts.response.recipe()
+    return torch.stack([
+        plan_and_use_codes(fit, recipe, read.free, read.X[u], read.Y0[u], read.n_eff, read.candidates, seed,
+                           Labeled(x.to(fit.device), y.to(fit.device), plan.n_effective), z, read.scale)
+        for (u, plan), x, y, z in zip(jobs, X, Y, codes, strict=True)])
+
+
+def use_fields(use: Plan) -> dict[str, Any]:
+    """What a row says of the ordinary use it read: rows and contact seconds (no rig time)."""
+    return {"unlabeled_samples": int(len(use.rows)), "unlabeled_seconds": use.contact_seconds}
 
 
 def code_encoder(arrays: FleetArrays, extra: FleetArrays | None, opts: Options, free: LabelFreeRecipe,

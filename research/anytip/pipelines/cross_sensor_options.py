@@ -153,9 +153,13 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.start, description="the search's first codes: predicted from the unit's "
         "pressure statistics by an encoder learnt across the response model's units whose streams the run "
         "holds (zero where it explains nothing of left-out units' codes), or zero (research log entry 44)")
+    with_plans: bool = Field(
+        default=False, description="also calibrate every labeled budget with the unit's ordinary use: its "
+        "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "
+        "`response+use@<strategy>` beside `response@<strategy>` (research log entry 45)")
 
     def recipe(self) -> LabelFreeRecipe:
-        return LabelFreeRecipe(**self.model_dump())
+        return LabelFreeRecipe(**self.model_dump(exclude={"with_plans"}))
 
 
 class ResponseOptions(BaseModel):

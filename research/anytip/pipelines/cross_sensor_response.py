@@ -12,6 +12,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 import torch
+from torch import Tensor
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget, Plan
@@ -25,10 +26,19 @@ from anytip.pipelines.cross_sensor_jobs import (
     plan_of,
     plan_suffix,
     scaled_fields,
+    validation_by_method,
     validation_factors,
     validation_losses,
 )
-from anytip.pipelines.cross_sensor_label_free import label_free_rows
+from anytip.pipelines.cross_sensor_label_free import METHOD as LABEL_FREE
+from anytip.pipelines.cross_sensor_label_free import (
+    WITH_USE,
+    OrdinaryUse,
+    label_free_rows,
+    plan_use_codes,
+    read_ordinary_use,
+    use_fields,
+)
 from anytip.pipelines.cross_sensor_options import Options, budget_list
 from anytip.train.adapt import pooled_scaler
 from anytip.train.data import FleetBatchData
@@ -37,6 +47,7 @@ from anytip.train.metrics import scores
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
+    SourceRows,
     calibrate_by_response,
     plan_residual,
     source_rows,
@@ -59,6 +70,7 @@ class ResponseRows(NamedTuple):
     rows: list[dict[str, Any]]
     val_loss: dict[Budget, float]
     label_free_loss: float | None = None
+    use_val_loss: dict[Budget, float] = {}  # noqa: RUF012  (a NamedTuple's default, never mutated)
 
 
 def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
@@ -96,9 +108,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
                              [sd.evals[u].test_rows for u, _, _ in jobs])
         keyed = [(u, b, 0.0) for u, b, _ in jobs]
-        loss = validation_losses(keyed, preds, sd, arrays, set(sd.split.val),
-                                 pooled_scaler(sd.train.Y_train, sd.train.n_train))
-        val_loss = {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
+        val_loss = budget_losses(preds, jobs, sd, arrays)
         bands = Bands({}, {}, {})
         if opts.intervals is not None:
             checks = None
@@ -119,10 +129,16 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
+    use_loss: dict[Budget, float] = {}
     if opts.response.label_free is not None:
         assert start is not None  # the option needs inverse_start: pooled
-        free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, extra)
+        read = read_ordinary_use(arrays, sd, opts, seed, fit, source, start, extra)
+        free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, read)
         rows += free_rows
+        if opts.response.label_free.with_plans and jobs:
+            use_rows, use_loss = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start), read, jobs,
+                                               codes)
+            rows += use_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
             "residual_by_strategy": by_strategy(residual)}
@@ -138,7 +154,50 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                                  {b: _finite_by_name(names, f) for b, f in spread.items()})
                                  for kind, spread in bands.spreads.items()}}
     save_response(response_path(ctx, seed), fit.model, fit.noise_var, fit.code_var, meta)
-    return ResponseRows(rows, val_loss, free_loss)
+    return ResponseRows(rows, val_loss, free_loss, use_loss)
+
+
+def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
+                  carry: tuple[SourceRows, FitResult], read: OrdinaryUse,
+                  jobs: list[tuple[str, Budget, Plan]], codes: Tensor
+                  ) -> tuple[list[dict[str, Any]], dict[Budget, float]]:
+    """Rows `response+use@<strategy>` of the held-out units, and the validation units' loss per
+    budget: every job (unit, budget, plan) calibrated again as `response@` is (`carry`: the source
+    rows and the start network), its codes from one joint fit of its plan's rows and its unit's
+    ordinary use `read`, started from the plan's own codes `codes` (M, C, k) (entry 45). Each network
+    keeps its job's id, so it starts as the job's `response@` network did and the two differ by
+    their codes alone."""
+    assert opts.response is not None
+    source, start = carry
+    X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
+    Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
+    joint = plan_use_codes(fit, opts, read, seed, [(u, p) for u, _, p in jobs], X, Y, codes)
+    nets, _ = calibrate_by_response(
+        fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, opts.response.recipe(), seed,
+        [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress, start, joint)
+    preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u, _, _ in jobs])
+    ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated with their ordinary use")
+    rows = [{"method": WITH_USE + plan_suffix(b), "unit": u, **budget_fields(b, plan),
+             **use_fields(read.uses[u]), **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
+            for (u, b, plan), pred in zip(jobs, preds, strict=True) if u in sd.split.test]
+    return rows, budget_losses(preds, jobs, sd, arrays)
+
+
+def budget_losses(preds: list[np.ndarray], jobs: list[tuple[str, Budget, Plan]], sd: SeedData,
+                  arrays: FleetArrays) -> dict[Budget, float]:
+    """The validation units' mean standardised MSE per budget of the jobs' predictions."""
+    loss = validation_losses([(u, b, 0.0) for u, b, _ in jobs], preds, sd, arrays, set(sd.split.val),
+                             pooled_scaler(sd.train.Y_train, sd.train.n_train))
+    return {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
+
+
+def val_by_method(got: ResponseRows) -> dict[str, dict[str, float]]:
+    """{row method: {budget: validation-unit loss}} of every method of response transfer's rows."""
+    out = validation_by_method(METHOD, got.val_loss) | validation_by_method(WITH_USE, got.use_val_loss)
+    if got.label_free_loss is not None:
+        out[LABEL_FREE] = {"0": got.label_free_loss}
+    return out
 
 
 def _finite_by_name(names: tuple[str, ...], values: np.ndarray) -> dict[str, float | None]:

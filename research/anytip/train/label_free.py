@@ -338,3 +338,16 @@ def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRe
         return X.new_zeros(fit.model.n_channels, fit.model.config.code_dim), Y0, []
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds, scale, codes)
     return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
+
+
+def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
+                       n_eff: float, candidates: Tensor, seed: int, labeled: Labeled, codes: Tensor,
+                       scale: ForceScale | None = None) -> Tensor:
+    """A unit's codes (C, k) from its plan's labeled rows and its ordinary use's unlabeled pressures
+    X (n, C) Pa together (entry 45): each unlabeled row's first contact is its nearest candidate under
+    the plan's own codes `codes` (C, k), scaled to the force prior where given, then the joint fit
+    with the labeled rows, pulled towards contacts Y0 (n, D). Without unlabeled rows: `codes`."""
+    if not len(X):
+        return codes
+    start = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes)
+    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale, labeled)[0]

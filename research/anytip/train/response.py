@@ -367,18 +367,19 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
                           n_effective: list[float], shape: MLPConfig,
                           recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0,
                           ids: list[str] | None = None, output_names: tuple[str, ...] = OUTPUT_NAMES,
-                          progress: bool = False,
-                          start: FitResult | LoadedModels | None = None) -> tuple[FitResult, Tensor]:
+                          progress: bool = False, start: FitResult | LoadedModels | None = None,
+                          codes: Tensor | None = None) -> tuple[FitResult, Tensor]:
     """M new units' plain networks of `shape` (one batched fleet) and their codes (M, C, k).
 
     Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
-    n_effective[m] rows; its network trained on the transferred source rows and its own
-    calibration rows (`unit_networks`), from `start` (`start_network`) where the recipe's
-    `inverse_start` is `pooled`."""
+    n_effective[m] rows (or given as `codes`); its network trained on the transferred source rows
+    and its own calibration rows (`unit_networks`), from `start` (`start_network`) where the
+    recipe's `inverse_start` is `pooled`."""
     if (start is None) != (recipe.inverse_start == "scratch"):
         raise ValueError(f"inverse_start {recipe.inverse_start!r} with{'out' if start is None else ''} "
                          "a start network")
-    codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
+    if codes is None:
+        codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
     rows = ((torch.cat([transfer(fit, source, codes[m]), x.to(fit.device)]),
              torch.cat([source.Y, y.to(fit.device)])) for m, (x, y) in enumerate(zip(X, Y, strict=True)))
     return unit_networks(rows, shape, recipe, seed, ids, output_names, fit.device, progress, start), codes
