@@ -34,8 +34,8 @@ from the run's pooled start network:
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
   run's own strategy), for comparison: the labeled method without the unit's rows in its network;
-- `plan_joint`: the plan's labeled rows and the unlabeled rows in one joint fit (`joint_fit` with
-  `Labeled`), its search from the `plan` codes, held to the force scale (entry 45);
+- `plan_joint`: the plan's labeled rows and the unlabeled rows in one joint fit
+  (`plan_and_use_codes`), started from the `plan` codes, held to the force scale (entry 45);
 - `input_stats`: no codes; the run's shared model without adapters, scaled by the unit's unlabeled
   input statistics (the benchmark's zero-shot method; always the stream's first `--seconds`, as its
   shared model's training units were scaled);

@@ -137,7 +137,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         rows += free_rows
         if opts.response.label_free.with_plans and jobs:
             use_rows, use_loss = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start), read, jobs,
-                                               codes)
+                                               (X, Y, codes))
             rows += use_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
@@ -159,18 +159,18 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
 
 def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
                   carry: tuple[SourceRows, FitResult], read: OrdinaryUse,
-                  jobs: list[tuple[str, Budget, Plan]], codes: Tensor
+                  jobs: list[tuple[str, Budget, Plan]], plans: tuple[list[Tensor], list[Tensor], Tensor]
                   ) -> tuple[list[dict[str, Any]], dict[Budget, float]]:
     """Rows `response+use@<strategy>` of the held-out units, and the validation units' loss per
     budget: every job (unit, budget, plan) calibrated again as `response@` is (`carry`: the source
     rows and the start network), its codes from one joint fit of its plan's rows and its unit's
-    ordinary use `read`, started from the plan's own codes `codes` (M, C, k) (entry 45). Each network
-    keeps its job's id, so it starts as the job's `response@` network did and the two differ by
-    their codes alone."""
+    ordinary use `read`, started from the plan's own codes (`plans`: each job's pressures (n_m, C)
+    Pa and contacts (n_m, D), and the codes (M, C, k) `response@` fitted on them; entry 45). Each
+    network keeps its job's id, so it starts as the job's `response@` network did and the two
+    differ by their codes alone."""
     assert opts.response is not None
     source, start = carry
-    X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
-    Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
+    X, Y, codes = plans
     joint = plan_use_codes(fit, opts, read, seed, [(u, p) for u, _, p in jobs], X, Y, codes)
     nets, _ = calibrate_by_response(
         fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, opts.response.recipe(), seed,

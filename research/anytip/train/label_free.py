@@ -144,8 +144,9 @@ def fleet_code_encoder(fit: ResponseFit, sources: list[FleetArrays], protocol: s
     feats, index = [], []
     for i, u in enumerate(fit.unit_ids):
         arrays = next((a for a in sources if u in a.units), None)
-        rows = np.zeros(0, np.int64) if arrays is None else ordinary_rows(arrays, u, protocol, interleave,
-                                                                           seconds, seed)
+        if arrays is None:
+            continue
+        rows = ordinary_rows(arrays, u, protocol, interleave, seconds, seed)
         if len(rows) > 1:
             feats.append(stream_features(arrays.pressure[rows]))
             index.append(i)
