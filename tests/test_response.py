@@ -451,8 +451,10 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     reg = Registry(tmp_path / "registry")
     reg.import_paths([files])
     over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
+    free = "" if start == "scratch" else (", label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, "
+                                           "iterations: 2, with_plans: true}")
     over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 1500, source_rows: 2000, "
-             f"inverse_epochs: 10, inverse_start: {start}}}", "data.protocol=null",
+             f"inverse_epochs: 10, inverse_start: {start}{free}}}", "data.protocol=null",
              "options.calibration_protocol=null", "options.budgets=[0,20]",
              "options.plan_strategies=[spread]"]
     run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
@@ -466,6 +468,11 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     assert (run / "models" / "response_seed0_start.safetensors").is_file() == (start == "pooled")
     for key in ("u_rmse", "v_rmse", "fz_rmse"):  # the place is where units differ most
         assert np.mean([mine[u][key] for u in mine]) < np.mean([pooled[u][key] for u in mine]), key
+    if start == "pooled":  # ordinary use read from such runs: zero-shot and with each plan
+        for method in ("response:label_free", "response+use@spread"):
+            got = {r["unit"]: r for r in rows if r["method"] == method}
+            assert set(got) == set(prov["test"]), method
+            assert all(0 < r["unlabeled_seconds"] <= 20 and np.isfinite(r["u_rmse"]) for r in got.values())
     if start == "pooled":  # the label-free script reads such a run too, its own targets' ratios
         out = tmp_path / "codes.json"
         assert _script("label_free_codes").main([str(run), "--registry", str(reg.root), "--out", str(out),
