@@ -35,7 +35,9 @@ from the run's pooled start network:
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
   run's own strategy), for comparison: the labeled method without the unit's rows in its network;
 - `plan_joint`: the plan's labeled rows and the unlabeled rows in one joint fit
-  (`plan_and_use_codes`), started from the `plan` codes, held to the force scale (entry 45);
+  (`plan_and_use_codes`), started from the `plan` codes, held to the force scale (entry 45), with at
+  most `LabelFreeRecipe.plan_rows` of the plan's rows, evenly spaced (entry 46); `plan_joint_all`: the
+  same with every row of the plan (as entry 45 ran it); each records its fit's seconds;
 - `input_stats`: no codes; the run's shared model without adapters, scaled by the unit's unlabeled
   input statistics (the benchmark's zero-shot method; always the stream's first `--seconds`, as its
   shared model's training units were scaled);
@@ -61,6 +63,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -111,10 +114,11 @@ from anytip.train.response import (
 from anytip.train.shared_split import predict_rows
 
 SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws", "joint_scale_encoder",
-          "plan_joint")  # the arms with the force-scale prior
+          "plan_joint", "plan_joint_all")  # the arms with the force-scale prior
 ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale",
         "joint_scale_start", "joint_scale_draws", "joint_scale_encoder", "encoder", "encoder_own",
-        "encoder_more", "stream_labels", "all_labels", "plan", "plan_joint")
+        "encoder_more", "stream_labels", "all_labels", "plan", "plan_joint",
+        "plan_joint_all")
 JOINT = ("joint", "joint_truth", "joint_search", *SCALED)  # the joint fit's arms
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and default rounds (the joint_search arms)
 DRAWS = 3  # candidate draws the joint_scale_draws arm averages by default
@@ -317,17 +321,21 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
         if {"joint_scale_start", "joint_scale_encoder"} <= set(arms):  # do the two starts end apart?
             apart = codes["joint_scale_encoder"] - codes["joint_scale_start"]
             found["code_rms_encoder_start_off_zero_start"] = float(apart.pow(2).mean().sqrt())
-    if {"plan", "plan_joint"} & set(arms):
+    if {"plan", "plan_joint", "plan_joint_all"} & set(arms):
         plan = plan_of(sd, u, Budget(args.plan_seconds, "seconds", opts.plan_strategies[0]), opts, seed)
         Xp, Yp = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
         codes["plan"] = fit_codes(fit, [Xp], [Yp], [plan.n_effective], recipe, seed)[0]
         found["code_rms_plan_off_truth"] = float((codes["plan"] - labelled).pow(2).mean().sqrt())
-        if "plan_joint" in arms:
-            free = LabelFreeRecipe(args.seconds, args.rows, args.pull, iterations=args.iterations)
-            codes["plan_joint"] = plan_and_use_codes(fit, recipe, free, X, Y0, n_eff, candidates, seed,
-                                                     Labeled(Xp, Yp, plan.n_effective), codes["plan"], scale)
-            off = codes["plan_joint"] - labelled
-            found["code_rms_plan_joint_off_truth"] = float(off.pow(2).mean().sqrt())
+        for arm, plan_rows in (("plan_joint", LabelFreeRecipe.plan_rows), ("plan_joint_all", None)):
+            if arm not in arms:
+                continue
+            free = LabelFreeRecipe(args.seconds, args.rows, args.pull, iterations=args.iterations,
+                                   plan_rows=plan_rows)
+            began = time.perf_counter()
+            codes[arm] = plan_and_use_codes(fit, recipe, free, X, Y0, n_eff, candidates, seed,
+                                            Labeled(Xp, Yp, plan.n_effective), codes["plan"], scale)
+            found[f"seconds_{arm}"] = time.perf_counter() - began
+            found[f"code_rms_{arm}_off_truth"] = float((codes[arm] - labelled).pow(2).mean().sqrt())
     return {a: c for a, c in codes.items() if a in arms}, found
 
 

@@ -153,6 +153,10 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.start, description="the search's first codes: predicted from the unit's "
         "pressure statistics by an encoder learnt across the response model's units whose streams the run "
         "holds (zero where it explains nothing of left-out units' codes), or zero (research log entry 44)")
+    plan_rows: int | None = Field(
+        default=LabelFreeRecipe.plan_rows, ge=1, le=2**22, description="at most this many of a plan's "
+        "labeled rows, evenly spaced, enter its joint fit with the ordinary use (null: all of them; "
+        "research log entry 46)")
     with_plans: bool = Field(
         default=False, description="also calibrate every labeled budget with the unit's ordinary use: its "
         "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "

@@ -61,7 +61,9 @@ class LabelFreeRecipe:
     `candidates` labeled contacts searched in `rounds` alternations; `iterations` joint steps;
     `force_scale`: hold the search and the fit to the fleet's force scale (`ForceScale`, entry 40);
     `start`: the search's first codes, the fleet's code encoder's for the unit (`fleet_code_encoder`,
-    entry 44) or zero (the fleet's typical unit)."""
+    entry 44) or zero (the fleet's typical unit); `plan_rows`: at most this many of a plan's labeled
+    rows, evenly spaced, enter a joint fit with them (`plan_and_use_codes`; None: all of them, entry
+    45), as `fit_codes` reads `code_rows` of them (entry 46)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -71,6 +73,7 @@ class LabelFreeRecipe:
     iterations: int = 30
     force_scale: bool = True
     start: Literal["encoder", "zero"] = "encoder"
+    plan_rows: int | None = 2048
 
 
 @dataclass(frozen=True)
@@ -185,6 +188,13 @@ class Labeled:
         with torch.no_grad():
             r = self.X - fit.model(self.Y, codes)
         return float((r**2 * (self.n_eff / len(self.X) / fit.noise_var)).sum() / 2)
+
+    def thinned(self, at_most: int | None) -> Labeled:
+        """At most `at_most` of the rows, evenly spaced, still worth n_eff (all of them for None)."""
+        if at_most is None:
+            return self
+        take = evenly_spaced(len(self.X), at_most).to(self.X.device)
+        return Labeled(self.X[take], self.Y[take], self.n_eff)
 
 
 def joint_objective(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, codes: Tensor,
@@ -347,8 +357,10 @@ def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFree
     """A unit's codes (C, k) from its plan's labeled rows and its ordinary use's unlabeled pressures
     X (n, C) Pa together (entry 45): each unlabeled row's first contact is its nearest candidate under
     the plan's own codes `codes` (C, k), scaled to the force prior where given, then the joint fit
-    with the labeled rows, pulled towards contacts Y0 (n, D). Without unlabeled rows: `codes`."""
+    with at most `free.plan_rows` of the labeled rows (entry 46), pulled towards contacts Y0 (n, D).
+    Without unlabeled rows: `codes`."""
     if not len(X):
         return codes
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes)
-    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale, labeled)[0]
+    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale,
+                     labeled.thinned(free.plan_rows))[0]
