@@ -1,5 +1,8 @@
 """anytip.train.label_free: a unit's codes from unlabeled pressures alone."""
 
+import json
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import torch
@@ -7,6 +10,7 @@ import torch
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.train.code_encoder import ENCODER_QUANTILES, PA_FLOOR, CodeEncoder, stream_features
 from anytip.train.label_free import (
+    FleetUse,
     ForceScale,
     Labeled,
     LabelFreeRecipe,
@@ -14,6 +18,7 @@ from anytip.train.label_free import (
     label_free_codes,
     mean_square_force,
     nearest_contacts,
+    plan_and_use_codes,
     schur_step,
     searched_start,
 )
@@ -202,3 +207,58 @@ def test_the_stream_features_ignore_row_order_and_floor_quiet_barometers():
     np.testing.assert_allclose(stream_features(P[g.permutation(500)]), f, rtol=1e-12)
     quiet = [q * 8 + 3 for q in range(len(ENCODER_QUANTILES))] + [len(ENCODER_QUANTILES) * 8 + 3]
     np.testing.assert_allclose(f[quiet], np.log(PA_FLOOR))
+
+
+def test_a_plans_rows_are_thinned_in_the_joint_fit_still_weighing_the_whole_plan():
+    """Labeled.thinned: at most that many rows, evenly spaced, worth the same n_eff (None: all);
+    `plan_and_use_codes` fits `plan_rows` of them: the same codes as the thinned rows handed in."""
+    fit, y = _fit(), _contacts(300, 11)
+    codes = 0.2 * torch.randn(8, 4, generator=torch.Generator().manual_seed(5))
+    with torch.no_grad():
+        X_l, X = fit.model(y, codes), fit.model(_contacts(80, 12), codes)
+    plan = Labeled(X_l, y, 150.0)
+    few = plan.thinned(50)
+    assert len(few.X) == 50 and few.n_eff == 150.0 and plan.thinned(None) is plan
+    assert torch.equal(few.Y[0], y[0]) and torch.equal(few.Y[-1], y[-1])
+    start = fit_codes(fit, [X_l], [y], [150.0], ResponseRecipe())[0]
+    args = (fit, ResponseRecipe())
+    rest = (X, _contacts(80, 13), 80.0, _contacts(200, 14), 0)
+    thinned = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=50), *rest, plan, start)
+    handed = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, few, start)
+    every = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, plan, start)
+    torch.testing.assert_close(thinned, handed)
+    assert not torch.equal(thinned, every)
+
+
+def test_how_a_fleet_reads_ordinary_use_survives_json_and_a_bad_value_is_named():
+    """FleetUse.to_json / from_json (a response model's metadata): the recipe, force scale and encoder
+    read back predict the same; a missing, non-finite or misshapen entry raises naming its key."""
+    g = np.random.default_rng(3)
+    coder = CodeEncoder.fit(g.normal(size=(30, 6)), g.normal(size=(30, 2, 3)), np.array([0.5, 1.0, 2.0]))
+    scale = ForceScale((0, 1, 2), 40.0, 9.0)
+    fleet = FleetUse(LabelFreeRecipe(seconds=300, plan_rows=None), 10.0, scale, coder)
+    values = json.loads(json.dumps(fleet.to_json()))
+    back = FleetUse.from_json(values, 5)
+    assert back.free == fleet.free and back.scale == fleet.scale and back.effective_hz == 10.0
+    x = g.normal(size=6)
+    torch.testing.assert_close(back.coder(x), coder(x))
+    assert FleetUse.from_json({**values, "encoder": None, "force_scale": None}, 5).coder is None
+    with pytest.raises(ValueError, match="reads 6 features"):
+        coder(np.zeros(7))
+    bad = {
+        "encoder: weights: shape": ("encoder", {**values["encoder"], "weights": [[1.0]]}),
+        "encoder: f_mean: not finite": ("encoder", {**values["encoder"], "f_mean": [float("nan")] * 6}),
+        "encoder: scale: missing": ("encoder", {k: v for k, v in values["encoder"].items() if k != "scale"}),
+        "force_scale: columns": ("force_scale", {**values["force_scale"], "columns": [0, 7]}),
+        "force_scale: var": ("force_scale", {**values["force_scale"], "var": -1.0}),
+        "recipe: start": ("recipe", {**values["recipe"], "start": "anywhere"}),
+        "recipe: rows": ("recipe", {**values["recipe"], "rows": 2.5}),
+        "recipe: seconds": ("recipe", {**values["recipe"], "seconds": 900}),
+        "recipe: unknown keys": ("recipe", {**values["recipe"], "extra": 1}),
+        "effective_hz": ("effective_hz", 0),
+    }
+    for message, (key, value) in bad.items():
+        with pytest.raises(ValueError, match=message):
+            FleetUse.from_json({**values, key: value}, 5)
+    with pytest.raises(ValueError, match="plan_rows"):
+        replace(LabelFreeRecipe(), plan_rows=0)

@@ -704,7 +704,8 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
     budget and no rig time, its unlabeled contact seconds within the option's, a validation loss
     the report chooses the zero-shot method on; refused without the pooled start it pulls towards."""
     free = "label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2, with_plans: true}"
-    over = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"), "options.adapters=[]"]
+    over = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"),
+            "options.adapters=[input_affine]", "options.fits=[{}]"]  # calibrate needs a shared model
     run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
     prov = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]
@@ -730,6 +731,44 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
     bad = [*SECONDS, RESPONSE.replace("}", f", {free}}}")]
     with pytest.raises(AnytipError, match="label_free needs inverse_start: pooled"):
         run_experiment(SPEC, fleet, out=tmp_path / "bad", overrides=bad, progress=False)
+    _calibrate_with_ordinary_use(run, fleet, tmp_path)
+
+
+def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> None:
+    """`anytip calibrate --ordinary-use`: the run's response model records how its benchmark read
+    ordinary use; a unit calibrated with its plan and ordinary use gets other codes than from the plan
+    alone, with the unlabeled seconds asked for; at budget 0 from the ordinary use alone; the adapter,
+    too many seconds and a crafted record are refused, naming what is wrong."""
+    unit = _held_out(run)
+    response = run / "models" / "response_seed0.safetensors"
+    saved = load_response(response).meta
+    assert saved["label_free"]["recipe"]["seconds"] == 20 and saved["use_val_loss_by_strategy"]["spread"]
+    header = json.loads(response.with_suffix(".json").read_text())
+    header["meta"]["label_free"]["recipe"]["iterations"] = 30  # the run's 2 steps leave a 40 s plan's codes
+    response.with_suffix(".json").write_text(json.dumps(header))
+    plain = calibrate_unit(run, unit, fleet, tmp_path / "plain", budget_seconds=40, method="response")
+    both = calibrate_unit(run, unit, fleet, tmp_path / "both", budget_seconds=40, use_seconds=15)
+    assert both.calib_seconds == plain.calib_seconds and 0 < both.unlabeled_seconds <= 15
+    codes = {k: load_models(tmp_path / k).meta for k in ("plain", "both")}
+    assert codes["both"]["method"] == "response+use" and codes["plain"]["method"] == "response"
+    assert codes["both"]["codes"] != codes["plain"]["codes"]
+    alone = calibrate_unit(run, unit, fleet, tmp_path / "alone", budget_seconds=0, use_seconds=15)
+    assert alone.calib_samples == 0 and alone.unlabeled_samples > 0
+    assert load_models(tmp_path / "alone").meta["method"] == "response:label_free"
+    assert main(["calibrate", "--model", str(run), "--unit", unit, "--budget-seconds", "0", "--ordinary-use",
+                 "15", "--registry", str(fleet.root), "--out", str(tmp_path / "cli")]) == 0
+    with pytest.raises(AnytipError, match="--ordinary-use is read by response transfer alone"):
+        calibrate_unit(run, unit, fleet, tmp_path / "a", budget_seconds=40, method="adapter", use_seconds=15)
+    with pytest.raises(AnytipError, match=r"--ordinary-use must lie in \[0, 600\]"):
+        calibrate_unit(run, unit, fleet, tmp_path / "b", budget_seconds=40, use_seconds=601)
+    header["meta"]["label_free"]["recipe"]["rows"] = 0
+    response.with_suffix(".json").write_text(json.dumps(header))
+    with pytest.raises(AnytipError, match=r"response_seed0.json: meta.label_free: recipe: rows"):
+        calibrate_unit(run, unit, fleet, tmp_path / "c", budget_seconds=40, use_seconds=15)
+    del header["meta"]["label_free"]  # benchmarked without the option: the defaults, said so
+    response.with_suffix(".json").write_text(json.dumps(header))
+    old = calibrate_unit(run, unit, fleet, tmp_path / "d", budget_seconds=40, use_seconds=15)
+    assert any("records no ordinary-use reading" in n for n in old.notes) and old.unlabeled_samples > 0
 
 
 def test_the_fleet_code_encoder_learns_from_the_units_whose_ordinary_use_the_run_holds(fleet):

@@ -15,21 +15,24 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import torch
+from torch import Tensor
 
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Plan, RigTiming, find_presses, select_presses, stream_plan
+from anytip.data.plans import Plan, RigTiming, find_presses, select_presses, stream_ordinary_use, stream_plan
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import (
     RESPONSE_FORMAT,
     SHARED_FORMAT,
+    LoadedModels,
+    LoadedResponse,
     LoadedShared,
     load_models,
     load_response,
@@ -43,13 +46,24 @@ from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
+from anytip.train.code_encoder import stream_features
 from anytip.train.data import FleetBatchData, UnitTensors
-from anytip.train.fleet import start_mismatch
+from anytip.train.fleet import FitResult, start_mismatch
+from anytip.train.label_free import (
+    FleetUse,
+    Labeled,
+    LabelFreeRecipe,
+    fleet_force_scale,
+    search_candidates,
+    unit_codes_with_use,
+)
 from anytip.train.metrics import predict, scores, target_key
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
+    SourceRows,
     calibrate_by_response,
+    evenly_spaced,
     plan_residual,
     source_rows,
     start_network_path,
@@ -59,6 +73,7 @@ from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 from anytip.validation import read_yaml
 
 METHODS = ("auto", "adapter", "response")
+MAX_USE_S = 600.0  # seconds of ordinary use after mounting a calibration may read (the issue's allowance)
 
 # A new unit whose own check exceeds the worst validation unit's by more than this is flagged.
 # Every cross_sensor report shows how often it fires on held-out units, which are ordinary units
@@ -83,6 +98,19 @@ class Calibrated:
     intervals: dict[str, Any] | None = None  # from the plan's residuals (`plan_intervals`)
     check_s: float = 0.0  # the fold fits behind the own check and the intervals
     response_check: dict[str, Any] | None = None  # response transfer: the plan about its fitted response
+    unlabeled_seconds: float = 0.0  # contact seconds of ordinary use read (response transfer)
+
+
+@dataclass(frozen=True)
+class UseRequest:
+    """A calibration's ordinary use (`--ordinary-use`): contact seconds of whole presses of the unit's
+    stream read without their labels, and how the stream is read (the shared model's protocol,
+    interleaving and rig's effective_hz, the defaults of a response model that records none)."""
+
+    seconds: float
+    protocol: str | None
+    interleave: bool
+    effective_hz: float
 
 
 def find_shared(model: str | Path, adapter: str | None = None, seed: int | None = None,
@@ -386,14 +414,18 @@ def own_check(loss: float | None, plan: Plan, fleet_loss: float | None,
 def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | Path,
                    budget_samples: int | None = None, budget_seconds: float | None = None,
                    adapter: str | None = None, seed: int | None = None,
-                   interval_level: float | None = 0.9, method: str = "auto") -> Calibrated:
+                   interval_level: float | None = 0.9, method: str = "auto",
+                   use_seconds: float = 0.0) -> Calibrated:
     """Fit, fold and save one unit's model; see the module docstring. `interval_level`: the
     nominal coverage of the intervals from the plan (None: none). `method`: `adapter` (the shared
     model's adapter, folded), `response` (response transfer; a run with a response model) or
     `auto` (response where the run's validation units scored it below the chosen shared model at
-    this budget)."""
+    this budget). `use_seconds`: contact seconds of the unit's ordinary use read without labels
+    (response transfer alone reads them: with the plan, or alone at budget 0)."""
     if method not in METHODS:
         raise AnytipError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
+    if not 0 <= use_seconds <= MAX_USE_S:
+        raise AnytipError(f"--ordinary-use must lie in [0, {MAX_USE_S:g}] seconds, got {use_seconds}")
     if interval_level is not None and not 0 < interval_level < 1:
         raise AnytipError(f"--interval-level must lie strictly between 0 and 1, got {interval_level}")
     if budget_samples is not None and budget_seconds is not None:
@@ -422,11 +454,16 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     if unit in meta.get("unit_ids", []):
         notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
                      "calibration check is not an unseen-unit result")
-    response, why = choose_response(model, seed, meta, budget, method, adapter)
+    response, why = choose_response(model, seed, meta, budget, method, adapter, use_seconds)
     notes += [why] if why else []
     if response is not None:
+        use = None
+        if use_seconds > 0:
+            rig = RigTiming(**{k: float(v) for k, v in meta.get("rig", {}).items()})
+            use = UseRequest(use_seconds, meta.get("calibration_protocol"),
+                             bool(meta.get("calibration_interleave", False)), rig.effective_hz)
         return calibrate_by_response_unit(response, registry, arrays, stream, plan, budget, Path(out), notes,
-                                          interval_level, str(meta.get("plan_strategy", "spread")))
+                                          interval_level, str(meta.get("plan_strategy", "spread")), use)
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
     tick = time.perf_counter()
@@ -500,9 +537,12 @@ def _strategy_table(meta: dict[str, Any], key: str, strategy: str) -> dict[float
 
 
 def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], budget: float, method: str,
-                    adapter: str | None) -> tuple[Path | None, str]:
-    """The response model file to calibrate by (None: the shared model's adapter) and a note why."""
+                    adapter: str | None, use_seconds: float = 0.0) -> tuple[Path | None, str]:
+    """The response model file to calibrate by (None: the shared model's adapter) and a note why.
+    With ordinary use (`use_seconds` > 0) it is response transfer or an error: nothing else reads it."""
     model = Path(model)
+    if use_seconds > 0:
+        return _response_for_use(model, seed, meta, budget, method, adapter, use_seconds)
     if method == "adapter" or model.suffix in (".safetensors", ".json"):
         if method == "response":
             raise AnytipError(f"--method response needs a cross_sensor run directory with a response model, "
@@ -534,6 +574,21 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
                   f"shared model's {ours:.3g} at this budget")
 
 
+def _response_for_use(model: Path, seed: int | None, meta: dict[str, Any], budget: float, method: str,
+                      adapter: str | None, use_seconds: float) -> tuple[Path, str]:
+    """`choose_response` where the calibration reads `use_seconds` of ordinary use."""
+    if method == "adapter" or adapter is not None or model.suffix in (".safetensors", ".json"):
+        raise AnytipError("--ordinary-use is read by response transfer alone: give a cross_sensor run "
+                          "directory with a response model, without --adapter or --method adapter")
+    path = model / "models" / f"response_seed{int(meta.get('seed', 0) if seed is None else seed)}.safetensors"
+    if not path.is_file():
+        raise AnytipError(f"{path}: the run holds no response model (its spec had no options.response), "
+                          "and --ordinary-use needs one")
+    what = "alone (no labels)" if budget <= 0 else "with the plan's labeled presses"
+    return path, (f"calibration by response transfer: the codes from {use_seconds:g} s of the unit's "
+                  f"ordinary use {what} (research log entries 44-46)")
+
+
 def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: float, strategy: str,
                         level: float, names: tuple[str, ...], other: tuple[np.ndarray, np.ndarray] | None,
                         notes: list[str]) -> dict[str, Any] | None:
@@ -550,8 +605,10 @@ def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: flo
     return plan_intervals(residuals, level, names, other, factor, folds=None)
 
 
-def _training_rows(registry: Registry, units: list[str], sensor_model: str) -> FleetBatchData:
-    """The response model's training units' rows from the registry, in its order (source rows)."""
+def _training_rows(registry: Registry, units: list[str], sensor_model: str
+                   ) -> tuple[FleetArrays, FleetBatchData]:
+    """The response model's training units' runs from the registry, and their rows in its order
+    (source rows)."""
     runs = {u: registry.list_runs(unit=u, sensor_model=sensor_model) for u in units}
     missing = [u for u, records in runs.items() if not records]
     if missing:
@@ -565,18 +622,19 @@ def _training_rows(registry: Registry, units: list[str], sensor_model: str) -> F
         rows = np.flatnonzero(arrays.unit == arrays.units.index(u))
         x, y = torch.from_numpy(arrays.pressure[rows]), torch.from_numpy(arrays.targets[rows])
         members.append(UnitTensors(x, y, x[:1], y[:1], u))
-    return FleetBatchData.from_units(members, "cpu", arrays.output_names)
+    return arrays, FleetBatchData.from_units(members, "cpu", arrays.output_names)
 
 
 def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArrays,
                                stream: CalibrationStream, plan: Plan, budget: float, out: Path,
                                notes: list[str], interval_level: float | None = 0.9,
-                               strategy: str = "spread") -> Calibrated:
+                               strategy: str = "spread", use: UseRequest | None = None) -> Calibrated:
     """A new unit's own network by response transfer (train/response.py) on its plan, saved in the
     per-unit format; its own check is the RMS of the plan's pressures about its fitted response
     beside the benchmark's validation units' (alarm above OWN_CHECK_ALARM times the worst).
     `strategy`: how the plan was chosen (the shared model's `plan_strategy`), the key of what the
-    response model recorded for such plans."""
+    response model recorded for such plans. `use`: the codes also (or, for an empty plan, only)
+    from the unit's ordinary use (`unit_codes_with_use`)."""
     loaded = load_response(path)
     meta = loaded.meta
     # the units whose rows are carried over (every training unit of a model saved before the choice)
@@ -588,7 +646,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         raise AnytipError(f"{path}: {e}") from None
     fit = ResponseFit.from_loaded(loaded)
     seed = int(meta.get("seed", 0))
-    training = _training_rows(registry, units, arrays.runs[0].sensor_model)
+    training_arrays, training = _training_rows(registry, units, arrays.runs[0].sensor_model)
     X, Y = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
     shape = MLPConfig(**meta["shape"]) if isinstance(meta.get("shape"), dict) else MLPConfig()
     # where the unit's network starts: one the benchmark trained once on the same source rows
@@ -601,9 +659,16 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
             raise AnytipError(f"{start_network_path(path)}: {problem}")
     tick = time.perf_counter()
     source = source_rows(fit, training, recipe.source_rows, seed)
+    given, used = None, Plan.empty()
+    if use is not None:
+        fleet = _fleet_use(path, meta, fit, use, (training_arrays, units), seed, notes)
+        given, used = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays, stream,
+                                      Labeled(X, Y, plan.n_effective), seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
-                                        [stream.unit], arrays.output_names, start=start)
+                                        [stream.unit], arrays.output_names, start=start, codes=given)
     wall_s = time.perf_counter() - tick
+    if not len(plan.rows):
+        return _label_free_unit(path, out, nets, codes[0], arrays, stream, used, notes, wall_s, loaded)
     residual = plan_residual(fit, X, Y, codes[0])
     validation = _at_budget(_strategy_table(meta, "residual", strategy), budget)
     own: dict[str, Any] = {"presses": plan.presses, "rows": int(len(plan.rows)), "residual_pa": residual,
@@ -615,26 +680,107 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
             notes.append(f"warning: the plan's pressures lie {own['over_validation']:.1f}x further from the "
                          "unit's fitted response than the worst validation unit's (alarm above "
                          f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels")
-    other = stream.outside(arrays)
-    check, on_other = None, None
-    if other.any():
-        X_other = torch.from_numpy(arrays.pressure[other])[None]
-        pred = predict(nets.model, nets.in_scaler, nets.out_scaler, X_other)[0].numpy()
-        on_other = (pred, arrays.targets[other])
-        check = {"rows": int(other.sum()), **scores(pred, arrays.targets[other], arrays.layout),
-                 "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
+    check, on_other = _check_on_other_runs(nets, arrays, stream)
     bands = None
     if interval_level is not None:
         fitted = predict(nets.model, nets.in_scaler, nets.out_scaler, X[None])[0].numpy()
         residuals = fitted - arrays.targets[plan.rows]
         bands = _response_intervals(meta, residuals, budget, strategy, interval_level, arrays.output_names,
                                     on_other, notes)
-    result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, 0, 0.0, check, notes,
-                        None, wall_s, bands, 0.0, own)
+    if use is not None and bands is not None:
+        notes.append("the intervals' fleet factor was learnt for codes from the plan alone; with ordinary "
+                     "use the benchmark measured no intervals")
+    result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, len(used.rows), 0.0, check,
+                        notes, None, wall_s, bands, 0.0, own, used.contact_seconds)
     save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
         "unit_ids": [stream.unit], "output_names": list(arrays.output_names), "response_model": str(path),
-        "method": "response", "codes": codes[0].tolist(), "calib_samples": result.calib_samples,
-        "calib_seconds": plan.calib_seconds, "calib_presses": plan.presses, "n_effective": plan.n_effective,
-        "calibration_runs": list(stream.runs), "check_on_other_runs": check, "response_check": own,
-        "intervals": bands})
+        "method": "response" if use is None else "response+use", "codes": codes[0].tolist(),
+        "calib_samples": result.calib_samples, "calib_seconds": plan.calib_seconds,
+        "calib_presses": plan.presses, "n_effective": plan.n_effective, "unlabeled_samples": len(used.rows),
+        "unlabeled_seconds": used.contact_seconds, "calibration_runs": list(stream.runs),
+        "check_on_other_runs": check, "response_check": own, "intervals": bands})
+    return _write_calibration(result)
+
+
+def _check_on_other_runs(nets: FitResult, arrays: FleetArrays, stream: CalibrationStream
+                         ) -> tuple[dict[str, Any] | None, tuple[np.ndarray, np.ndarray] | None]:
+    """A unit's network scored on its runs outside the calibration stream (None where it has none),
+    and its predictions and targets there (n, D)."""
+    other = stream.outside(arrays)
+    if not other.any():
+        return None, None
+    X_other = torch.from_numpy(arrays.pressure[other])[None]
+    pred = predict(nets.model, nets.in_scaler, nets.out_scaler, X_other)[0].numpy()
+    on_other = (pred, arrays.targets[other])
+    return {"rows": int(other.sum()), **scores(*on_other, arrays.layout),
+            "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}, on_other
+
+
+def _fleet_use(path: Path, meta: dict[str, Any], fit: ResponseFit, use: UseRequest,
+               training: tuple[FleetArrays, list[str]], seed: int, notes: list[str]) -> FleetUse:
+    """How the unit's ordinary use is read: as the response model's benchmark recorded it (metadata
+    `label_free`), or, for a model benchmarked without it, the default recipe with the force scale of
+    the training units' own ordinary use and no code encoder; `use.seconds` of it either way."""
+    saved = meta.get("label_free")
+    if saved is not None:
+        try:
+            fleet = FleetUse.from_json(saved, int(fit.model.label_mean.shape[0]))
+        except ValueError as e:
+            raise AnytipError(f"{model_paths(path)[1]}: meta.label_free: {e}") from None
+    else:
+        free = LabelFreeRecipe()
+        try:
+            scale = fleet_force_scale(training[0], training[1], use.protocol, use.interleave, free, seed)
+        except ValueError as e:
+            raise AnytipError(f"the response model's training units in the registry: {e}") from None
+        fleet = FleetUse(free, use.effective_hz, scale, None)
+        notes.append("the response model records no ordinary-use reading (benchmarked without "
+                     "options.response.label_free): the default recipe, the training units' force scale, "
+                     "and without labels a search from codes zero (research log entry 40)")
+    return replace(fleet, free=replace(fleet.free, seconds=use.seconds))
+
+
+def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUse,
+                    fleet_rows: tuple[SourceRows, LoadedModels | None], arrays: FleetArrays,
+                    stream: CalibrationStream, plan: Labeled, seed: int) -> tuple[Tensor, Plan]:
+    """The unit's codes (1, C, k) from its ordinary use (whole presses of its stream, labels unread)
+    and its plan's labeled rows `plan` (none: label-free), and the ordinary use read."""
+    source, start = fleet_rows
+    if start is None:
+        raise AnytipError(f"{path}: its recipe trains a unit's network from scratch; reading ordinary use "
+                          "pulls each unlabeled row's contact towards the pooled start network's "
+                          "(benchmark with options.response.inverse_start: pooled)")
+    used = stream_ordinary_use(arrays, stream.unit, stream, fleet.free.seconds, seed)
+    if len(used.rows) < 2:
+        raise AnytipError(f"unit {stream.unit}: its calibration stream holds no whole presses to read as "
+                          "ordinary use")
+    rows = used.rows[evenly_spaced(len(used.rows), fleet.free.rows).numpy()]
+    X = torch.from_numpy(arrays.pressure[rows])
+    Y0 = predict(start.model, start.in_scaler, start.out_scaler, X[None])[0]
+    first = None
+    if fleet.coder is not None and fleet.free.start == "encoder":
+        try:
+            first = fleet.coder(stream_features(arrays.pressure[used.rows]))
+        except ValueError as e:
+            raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.encoder: {e}") from None
+    candidates = search_candidates(source.Y, fleet.free.candidates, seed)
+    codes = unit_codes_with_use(fit, recipe, fleet, X, Y0, candidates, seed, plan, first)
+    return codes[None], used
+
+
+def _label_free_unit(path: Path, out: Path, nets: FitResult, codes: Tensor, arrays: FleetArrays,
+                     stream: CalibrationStream, used: Plan, notes: list[str], wall_s: float,
+                     loaded: LoadedResponse) -> Calibrated:
+    """A unit calibrated by response transfer from its ordinary use alone: saved like any, with its
+    check on its other runs; without labels it has no own check and no intervals."""
+    check, _ = _check_on_other_runs(nets, arrays, stream)
+    notes.append("no labels: no own check of the plan and no intervals")
+    own = {"presses": 0, "rows": 0, "fleet_noise_pa": float(loaded.noise_var.mean().sqrt())}
+    result = Calibrated(out, stream.unit, 0, 0.0, len(used.rows), 0.0, check, notes, None, wall_s, None, 0.0,
+                        own, used.contact_seconds)
+    save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
+        "unit_ids": [stream.unit], "output_names": list(arrays.output_names), "response_model": str(path),
+        "method": "response:label_free", "codes": codes.tolist(), "calib_samples": 0, "calib_seconds": 0.0,
+        "unlabeled_samples": len(used.rows), "unlabeled_seconds": used.contact_seconds,
+        "calibration_runs": list(stream.runs), "check_on_other_runs": check, "response_check": own})
     return _write_calibration(result)

@@ -174,7 +174,8 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     if (out / "model.safetensors").exists() and not args.force:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
     r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
-                       args.budget_seconds, args.adapter, args.seed, args.interval_level or None, args.method)
+                       args.budget_seconds, args.adapter, args.seed, args.interval_level or None, args.method,
+                       args.ordinary_use)
     for note in r.notes:
         print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
     if r.response_check is not None:
@@ -216,11 +217,17 @@ def _check_line(check: dict[str, Any]) -> str:
 def _print_response(r: Any) -> int:
     """A unit calibrated by response transfer, on the console."""
     own = r.response_check
+    use = (f", {r.unlabeled_samples} unlabeled samples ({r.unlabeled_seconds:.1f} s of ordinary use, no rig "
+           "time)") if r.unlabeled_samples else ""
     print(f"calibrated {r.unit} by response transfer: {r.calib_samples} labeled samples "
-          f"({r.calib_seconds:.1f} robot-s, {own['presses']} presses); its own network in "
+          f"({r.calib_seconds:.1f} robot-s, {own['presses']} presses){use}; its own network in "
           f"{r.path / 'model.safetensors'}")
     if r.check is not None:
         print(_check_line(r.check))
+    if "residual_pa" not in own:  # label-free: no plan to check
+        print(f"codes fitted, the training units' rows carried over and the unit's network trained in "
+              f"{r.wall_s:.1f} s")
+        return 0
     line = (f"own check: the plan's pressures lie {own['residual_pa']:.0f} Pa (RMS) from the unit's fitted "
             f"response; the training units' rows lie {own['fleet_noise_pa']:.0f} Pa from theirs")
     if "over_validation" in own:
@@ -385,6 +392,11 @@ def build_parser() -> argparse.ArgumentParser:
                      help="adapter: fold the shared model's adapter; response: response transfer (a run "
                           "with a response model); auto (default): response where the run's validation "
                           "units scored it lower at this budget")
+    cal.add_argument("--ordinary-use", type=float, default=0.0, metavar="SECONDS",
+                     help="also read SECONDS (at most 600) of contact of the unit's ordinary use, whole "
+                          "presses of its calibration stream with their labels unread, and fit its codes "
+                          "from them and the plan together (with --budget-seconds 0, from them alone); "
+                          "response transfer only (research log entries 44-46)")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",

@@ -27,14 +27,15 @@ from anytip.train.adapt import pooled_scaler
 from anytip.train.code_encoder import CodeEncoder, stream_features
 from anytip.train.fleet import FitResult
 from anytip.train.label_free import (
+    FleetUse,
     ForceScale,
     Labeled,
     LabelFreeRecipe,
     fleet_code_encoder,
     fleet_force_scale,
-    label_free_codes,
     plan_and_use_codes,
     search_candidates,
+    unit_codes_with_use,
 )
 from anytip.train.metrics import scores
 from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
@@ -49,18 +50,15 @@ class OrdinaryUse:
     """What the label-free fits read of the validation and held-out units: per unit the whole presses
     of its ordinary use (`uses`), the fitted rows' pressures X (n, C) Pa and the pooled start
     network's contacts Y0 (n, D) there, and the code encoder's first codes (C, k) or None (`first`);
-    the fleet's candidates (S, D), force-scale prior and encoder, and the effective row count of
-    `free.seconds`."""
+    the fleet's candidates (S, D), and what it learnt for reading ordinary use (`fleet`: the recipe,
+    force-scale prior and encoder, saved with the response model for `anytip calibrate`)."""
 
-    free: LabelFreeRecipe
+    fleet: FleetUse
     uses: dict[str, Plan]
     X: dict[str, Tensor]
     Y0: dict[str, Tensor]
     first: dict[str, Tensor | None]
     candidates: Tensor
-    scale: ForceScale | None
-    coder: CodeEncoder | None
-    n_eff: float
 
 
 def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
@@ -82,8 +80,8 @@ def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: in
         first[u] = None
         if coder is not None and len(use.rows) > 1:
             first[u] = coder(stream_features(arrays.pressure[use.rows])).to(fit.device)
-    return OrdinaryUse(free, uses, X, Y0, first, search_candidates(source.Y, free.candidates, seed),
-                       force_scale(arrays, sd, opts, free, seed), coder, free.seconds * opts.rig.effective_hz)
+    fleet = FleetUse(free, opts.rig.effective_hz, force_scale(arrays, sd, opts, free, seed), coder)
+    return OrdinaryUse(fleet, uses, X, Y0, first, search_candidates(source.Y, free.candidates, seed))
 
 
 def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
@@ -94,8 +92,8 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     pooled network it starts from; `read`: the units' ordinary use (`read_ordinary_use`)."""
     assert opts.response is not None
     recipe, units = opts.response.recipe(), [*sd.split.val, *sd.split.test]
-    codes = [label_free_codes(fit, recipe, read.free, read.X[u], read.Y0[u], read.n_eff, read.candidates,
-                              seed, read.scale, read.first[u])[0] for u in units]
+    codes = [unit_codes_with_use(fit, recipe, read.fleet, read.X[u], read.Y0[u], read.candidates, seed,
+                                 first=read.first[u]) for u in units]
     carried = ((transfer(fit, source, z), source.Y) for z in codes)
     nets = unit_networks(carried, ctx.spec.model, recipe, seed, [f"{u}@label_free" for u in units],
                          arrays.output_names, fit.device, ctx.progress, start)
@@ -105,10 +103,10 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     loss = validation_losses([(u, zero, 0.0) for u in units], preds, sd, arrays, set(sd.split.val),
                              pooled_scaler(sd.train.Y_train, sd.train.n_train)).get((zero, 0.0))
     said = "codes zero"
-    if read.coder is not None:
-        said = f"an encoder's codes (left-out units' R^2 {read.coder.loo_r2:.2f})"
-    ctx.say(f"seed {seed}: {len(units)} units' codes fitted from {read.free.seconds:g} s of unlabeled use, "
-            f"searched from {said}")
+    if read.fleet.coder is not None:
+        said = f"an encoder's codes (left-out units' R^2 {read.fleet.coder.loo_r2:.2f})"
+    ctx.say(f"seed {seed}: {len(units)} units' codes fitted from {read.fleet.free.seconds:g} s of unlabeled "
+            f"use, searched from {said}")
     out = [{"method": METHOD, "unit": u, **budget_fields(zero, Plan.empty()), **use_fields(read.uses[u]),
             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
            for u, pred in zip(units, preds, strict=True) if u in sd.split.test]
@@ -121,10 +119,11 @@ def plan_use_codes(fit: ResponseFit, opts: Options, read: OrdinaryUse, seed: int
     from one joint fit of its plan's rows and its unit's ordinary use (`plan_and_use_codes`, entry 45),
     started from the plan's own codes `codes` (M, C, k)."""
     assert opts.response is not None
-    recipe = opts.response.recipe()
+    recipe, fleet = opts.response.recipe(), read.fleet
     return torch.stack([
-        plan_and_use_codes(fit, recipe, read.free, read.X[u], read.Y0[u], read.n_eff, read.candidates, seed,
-                           Labeled(x.to(fit.device), y.to(fit.device), plan.n_effective), z, read.scale)
+        plan_and_use_codes(fit, recipe, fleet.free, read.X[u], read.Y0[u], fleet.n_effective(),
+                           read.candidates, seed,
+                           Labeled(x.to(fit.device), y.to(fit.device), plan.n_effective), z, fleet.scale)
         for (u, plan), x, y, z in zip(jobs, X, Y, codes, strict=True)])
 
 

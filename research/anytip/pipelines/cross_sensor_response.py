@@ -130,20 +130,24 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
     use_loss: dict[Budget, float] = {}
+    saved_use: dict[str, Any] = {}  # what calibrate reads a new unit's ordinary use with
     if opts.response.label_free is not None:
         assert start is not None  # the option needs inverse_start: pooled
         read = read_ordinary_use(arrays, sd, opts, seed, fit, source, start, extra)
         free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, read)
         rows += free_rows
+        saved_use["label_free"] = read.fleet.to_json()
         if opts.response.label_free.with_plans and jobs:
             use_rows, use_loss = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start), read, jobs,
                                                (X, Y, codes))
             rows += use_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
-            "residual_by_strategy": by_strategy(residual)}
+            "residual_by_strategy": by_strategy(residual), **saved_use}
     if free_loss is not None:
         meta["label_free_val_loss"] = free_loss
+    if use_loss:
+        meta["use_val_loss_by_strategy"] = by_strategy(use_loss)
     if opts.intervals is not None and jobs:
         names = arrays.output_names
         meta["intervals"] = {"level": opts.intervals.level, "residuals": INTERVAL_RESIDUALS,

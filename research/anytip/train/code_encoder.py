@@ -13,6 +13,7 @@ Shapes: n rows, C barometers, f features (C * 6 + C * (C - 1) / 2), k code_dim.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import torch
@@ -71,7 +72,47 @@ class CodeEncoder:
         total = float((Yc**2).mean())
         return cls(f_mean, f_std, z_mean, weights, scale, alpha, 1 - err / total if total > 0 else 0.0)
 
+    def to_json(self) -> dict[str, Any]:
+        """The encoder as JSON values (what a response model's metadata records, `from_json`)."""
+        return {"f_mean": self.f_mean.tolist(), "f_std": self.f_std.tolist(), "z_mean": self.z_mean.tolist(),
+                "weights": self.weights.tolist(), "scale": self.scale.tolist(), "alpha": float(self.alpha),
+                "loo_r2": float(self.loo_r2)}
+
+    @classmethod
+    def from_json(cls, values: Any) -> CodeEncoder:
+        """`to_json`'s values read back; ValueError naming the key where one is missing, not finite, of
+        the wrong shape, or where a spread is not positive."""
+        if not isinstance(values, dict):
+            raise ValueError(f"expected a mapping, got {type(values).__name__}")
+        got = {key: _finite_array(values, key) for key in ("f_mean", "f_std", "z_mean", "weights", "scale",
+                                                             "alpha", "loo_r2")}
+        f, m, k = len(got["f_mean"]), len(got["z_mean"]), len(got["scale"])
+        wanted = {"f_mean": (f,), "f_std": (f,), "z_mean": (m,), "weights": (f, m), "scale": (k,),
+                  "alpha": (), "loo_r2": ()}
+        for key, shape in wanted.items():
+            if got[key].shape != shape:
+                raise ValueError(f"{key}: shape {got[key].shape}, expected {shape}")
+        if not k or m % k or not (got["f_std"] > 0).all() or not (got["scale"] > 0).all():
+            raise ValueError("f_std and scale must be positive, and z_mean a whole number of codes of "
+                             f"len(scale) = {k}")
+        return cls(got["f_mean"], got["f_std"], got["z_mean"], got["weights"], got["scale"],
+                   float(got["alpha"]), float(got["loo_r2"]))
+
     def __call__(self, features: np.ndarray) -> Tensor:
-        """The codes (C, k) float32 of a unit's features (f,)."""
+        """The codes (C, k) float32 of a unit's features (f,); ValueError for features of another
+        length (a unit with another barometer count)."""
+        if features.shape != self.f_mean.shape:
+            raise ValueError(f"the encoder reads {len(self.f_mean)} features, got {features.shape}")
         y = self.z_mean + ((features - self.f_mean) / self.f_std) @ self.weights
         return torch.from_numpy((y.reshape(-1, len(self.scale)) * self.scale).astype(np.float32))
+
+
+def _finite_array(values: dict[str, Any], key: str) -> np.ndarray:
+    """values[key] as a float64 array; ValueError naming the key where it is missing or not finite."""
+    try:
+        out = np.asarray(values[key], dtype=np.float64)
+    except (KeyError, TypeError, ValueError) as e:
+        raise ValueError(f"{key}: missing or not numbers ({e})") from None
+    if not np.isfinite(out).all():
+        raise ValueError(f"{key}: not finite")
+    return out

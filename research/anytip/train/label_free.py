@@ -32,8 +32,9 @@ Shapes: n unlabeled rows, C barometers, D label columns, k code_dim, S candidate
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Literal
+import math
+from dataclasses import asdict, dataclass, fields
+from typing import Any, Literal
 
 import numpy as np
 import torch
@@ -75,6 +76,31 @@ class LabelFreeRecipe:
     start: Literal["encoder", "zero"] = "encoder"
     plan_rows: int | None = 2048
 
+    def __post_init__(self) -> None:
+        counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1}
+        for key, least in counts.items():
+            v = getattr(self, key)
+            if not (v is None and key == "plan_rows") and (type(v) is not int or v < least):
+                raise ValueError(f"{key}: expected a whole number >= {least}, got {v!r}")
+        for key, most in (("seconds", 600.0), ("pull", math.inf)):
+            v = getattr(self, key)
+            if type(v) not in (int, float) or not 0 < v <= most:
+                raise ValueError(f"{key}: expected a number in (0, {most:g}], got {v!r}")
+        if type(self.force_scale) is not bool:
+            raise ValueError(f"force_scale: expected true or false, got {self.force_scale!r}")
+        if self.start not in ("encoder", "zero"):
+            raise ValueError(f"start: expected 'encoder' or 'zero', got {self.start!r}")
+
+    @classmethod
+    def from_json(cls, values: Any) -> LabelFreeRecipe:
+        """A recipe from JSON values (`asdict`'s); ValueError naming an unknown or bad key."""
+        if not isinstance(values, dict):
+            raise ValueError(f"expected a mapping, got {type(values).__name__}")
+        unknown = set(values) - {f.name for f in fields(cls)}
+        if unknown:
+            raise ValueError(f"unknown keys {sorted(unknown)}")
+        return cls(**values)
+
 
 @dataclass(frozen=True)
 class ForceScale:
@@ -98,6 +124,22 @@ class ForceScale:
                              f"({float(m[0]):.6g} N^2 mean square): a force-scale prior needs a spread")
         return cls(tuple(columns), float(m.mean()), float(m.var()))
 
+    @classmethod
+    def from_json(cls, values: Any, n_labels: int) -> ForceScale:
+        """`asdict`'s values read back for contacts of `n_labels` columns; ValueError naming the key
+        where one is missing or bad."""
+        if not isinstance(values, dict):
+            raise ValueError(f"expected a mapping, got {type(values).__name__}")
+        columns = values.get("columns")
+        if (not isinstance(columns, list) or not columns
+                or any(type(c) is not int or not 0 <= c < n_labels for c in columns)):
+            raise ValueError(f"columns: expected label columns in [0, {n_labels}), got {columns!r}")
+        mean, var = values.get("mean"), values.get("var")
+        for key, v in (("mean", mean), ("var", var)):
+            if type(v) not in (int, float) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"{key}: expected a positive number, got {v!r}")
+        return cls(tuple(columns), float(mean), float(var))  # type: ignore[arg-type]
+
     def penalty(self, Y: Tensor) -> float:
         """(m(Y) - mean)^2 / (2 var) for physical contacts Y (n, D)."""
         return (mean_square_force(Y, self.columns) - self.mean) ** 2 / (2 * self.var)
@@ -110,6 +152,49 @@ class ForceScale:
         if m > 0:
             out[:, list(self.columns)] *= (self.mean / m) ** 0.5
         return out
+
+
+@dataclass(frozen=True)
+class FleetUse:
+    """What a benchmark learnt for reading a new unit's ordinary use, saved with its response model
+    (metadata key `label_free`) so `anytip calibrate` reads a unit as the benchmark did: the recipe,
+    the rows per second of contact worth one independent row (`effective_hz`), the force-scale prior
+    and the code encoder (None where the run had none)."""
+
+    free: LabelFreeRecipe
+    effective_hz: float
+    scale: ForceScale | None
+    coder: CodeEncoder | None
+
+    def n_effective(self) -> float:
+        """Independent rows of the recipe's seconds of ordinary use."""
+        return self.free.seconds * self.effective_hz
+
+    def to_json(self) -> dict[str, Any]:
+        """JSON values (`from_json`)."""
+        return {"recipe": asdict(self.free), "effective_hz": self.effective_hz,
+                "force_scale": None if self.scale is None else {**asdict(self.scale),
+                                                                 "columns": list(self.scale.columns)},
+                "encoder": None if self.coder is None else self.coder.to_json()}
+
+    @classmethod
+    def from_json(cls, values: Any, n_labels: int) -> FleetUse:
+        """`to_json`'s values read back for contacts of `n_labels` columns; ValueError naming the key
+        and the bad entry (`recipe: rows: ...`, `encoder: weights: ...`) where one is missing or bad."""
+        if not isinstance(values, dict):
+            raise ValueError(f"expected a mapping, got {type(values).__name__}")
+        hz = values.get("effective_hz")
+        if type(hz) not in (int, float) or not math.isfinite(hz) or hz <= 0:
+            raise ValueError(f"effective_hz: expected a positive number, got {hz!r}")
+        parts: dict[str, Any] = {}
+        for key, read in (("recipe", LabelFreeRecipe.from_json),
+                          ("force_scale", lambda v: ForceScale.from_json(v, n_labels)),
+                          ("encoder", CodeEncoder.from_json)):
+            try:
+                parts[key] = None if values.get(key) is None and key != "recipe" else read(values.get(key))
+            except ValueError as e:
+                raise ValueError(f"{key}: {e}") from None
+        return cls(parts["recipe"], float(hz), parts["force_scale"], parts["encoder"])
 
 
 def fleet_force_scale(arrays: FleetArrays, units: list[str], protocol: str | None, interleave: bool,
@@ -169,7 +254,14 @@ def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, T
     """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
     in c (n, C, D) and in each barometer's own code (n, C, k)."""
     mean, std = model.label_mean, model.label_std
-    Jc = torch.func.vmap(torch.func.jacfwd(lambda ci: model(ci * std + mean, codes)))(c)
+
+    def respond_to(cc: Tensor) -> Tensor:
+        return model(cc * std + mean, codes)
+
+    # A row's pressures depend on its own contact alone, so one forward-mode pass per label column
+    # over every row at once gives every row's Jacobian column (twice as fast as vmap over rows).
+    tangents = torch.eye(c.shape[1], dtype=c.dtype, device=c.device)[:, None, :].expand(-1, len(c), -1)
+    Jc = torch.stack([torch.func.jvp(respond_to, (c,), (t,))[1] for t in tangents], -1)
     pred, Jz = code_jacobian(model, c * std + mean, codes)
     return pred, Jc.detach(), Jz
 
@@ -364,3 +456,18 @@ def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFree
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes)
     return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale,
                      labeled.thinned(free.plan_rows))[0]
+
+
+def unit_codes_with_use(fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUse, X: Tensor, Y0: Tensor,
+                        candidates: Tensor, seed: int, plan: Labeled | None = None,
+                        first: Tensor | None = None) -> Tensor:
+    """One new unit's codes (C, k) from its ordinary use's pressures X (n, C) Pa, each row's contact
+    pulled towards Y0 (n, D), read as `fleet` says: with a plan's labeled rows, their joint fit
+    started from the plan's own codes (`plan_and_use_codes`, entries 45-46); without (or with an empty
+    plan), the label-free fit searched from `first` (C, k) (`label_free_codes`, entry 44)."""
+    n_eff = fleet.n_effective()
+    if plan is not None and len(plan.X):
+        codes = fit_codes(fit, [plan.X], [plan.Y], [plan.n_eff], recipe, seed)[0]
+        return plan_and_use_codes(fit, recipe, fleet.free, X, Y0, n_eff, candidates, seed, plan, codes,
+                                  fleet.scale)
+    return label_free_codes(fit, recipe, fleet.free, X, Y0, n_eff, candidates, seed, fleet.scale, first)[0]
