@@ -728,6 +728,15 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
         assert 0 < r["unlabeled_seconds"] <= 20 and r["force_rmse_n"] > 0
     assert any(r["force_rmse_n"] != plain[key]["force_rmse_n"] for key, r in joint.items())  # other codes
     assert set(prov["val_loss"]["response+use@spread"]) == set(prov["val_loss"]["response@spread"])
+    # zero_shot: false scores the same labeled rows with ordinary use, without the zero-shot row
+    use_free = free.replace("}", ", zero_shot: false}")
+    alone = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {use_free}}}"), "options.adapters=[]"]
+    use_only = run_experiment(SPEC, fleet, out=tmp_path / "use_only", overrides=alone, progress=False)
+    again = json.loads((use_only / "metrics.json").read_text())["results"]
+    assert not any(r["method"] == "response:label_free" for r in again)
+    assert {k: r["force_rmse_n"] for k, r in joint.items()} == {
+        (r["unit"], r["method"].replace("response+use@", ""), r["budget_s"]): r["force_rmse_n"]
+        for r in again if r["method"].startswith("response+use@")}
     bad = [*SECONDS, RESPONSE.replace("}", f", {free}}}")]
     with pytest.raises(AnytipError, match="label_free needs inverse_start: pooled"):
         run_experiment(SPEC, fleet, out=tmp_path / "bad", overrides=bad, progress=False)

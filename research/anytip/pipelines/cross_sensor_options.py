@@ -162,8 +162,18 @@ class LabelFreeOptions(BaseModel):
         "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "
         "`response+use@<strategy>` beside `response@<strategy>` (research log entry 45)")
 
+    zero_shot: bool = Field(
+        default=True, description="the zero-shot row `response:label_free`; false (with with_plans) scores "
+        "only the labeled budgets with ordinary use, without the label-free search's cost")
+
+    @model_validator(mode="after")
+    def _something_to_score(self) -> LabelFreeOptions:
+        if not self.zero_shot and not self.with_plans:
+            raise ValueError("zero_shot: false leaves nothing to score without with_plans: true")
+        return self
+
     def recipe(self) -> LabelFreeRecipe:
-        return LabelFreeRecipe(**self.model_dump(exclude={"with_plans"}))
+        return LabelFreeRecipe(**self.model_dump(exclude={"with_plans", "zero_shot"}))
 
 
 class ResponseOptions(BaseModel):

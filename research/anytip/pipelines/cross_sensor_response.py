@@ -134,8 +134,9 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     if opts.response.label_free is not None:
         assert start is not None  # the option needs inverse_start: pooled
         read = read_ordinary_use(arrays, sd, opts, seed, fit, source, start, extra)
-        free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, read)
-        rows += free_rows
+        if opts.response.label_free.zero_shot:
+            free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, read)
+            rows += free_rows
         saved_use["label_free"] = read.fleet.to_json()
         if opts.response.label_free.with_plans and jobs:
             use_rows, use_loss = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start), read, jobs,
