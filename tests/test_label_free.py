@@ -262,3 +262,21 @@ def test_how_a_fleet_reads_ordinary_use_survives_json_and_a_bad_value_is_named()
             FleetUse.from_json({**values, key: value}, 5)
     with pytest.raises(ValueError, match="plan_rows"):
         replace(LabelFreeRecipe(), plan_rows=0)
+
+
+@pytest.mark.parametrize("force_cols", [[0, 1, 2], []])
+def test_the_written_out_label_jacobian_is_autograds(force_cols):
+    """ResponseModel.label_jacobian: the pressures and their derivative in each row's labels equal
+    forward-mode autograd's, in float64 to its rounding, with and without a force target, and for a
+    row pressed with no force (its magnitude's derivative taken as zero)."""
+    config = ResponseConfig(code_dim=3, channel_dim=4, hidden=16, layers=2)
+    model = ResponseModel(2, 6, 5, force_cols, config, seed=3).double()
+    model.set_scales(_contacts(50, 1).double(), torch.rand(50, 6, dtype=torch.float64) * 1e4)
+    y = _contacts(40, 2).double()
+    y[0, :3] = 0.0
+    codes = 0.3 * torch.randn(6, 3, generator=torch.Generator().manual_seed(6), dtype=torch.float64)
+    pressure, J = model.label_jacobian(y, codes)
+    want = torch.func.vmap(torch.func.jacfwd(lambda row: model(row, codes)))(y[1:])
+    torch.testing.assert_close(pressure, model(y, codes).detach(), rtol=1e-12, atol=1e-9)
+    torch.testing.assert_close(J[1:], want.detach(), rtol=1e-10, atol=1e-9)
+    assert torch.isfinite(J[0]).all()

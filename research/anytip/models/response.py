@@ -118,6 +118,51 @@ class ResponseModel(nn.Module):
             pressure = out[..., 0]
         return pressure * self.pressure_scale
 
+    def label_jacobian(self, labels: Tensor, codes: Tensor) -> tuple[Tensor, Tensor]:
+        """labels (n, D) physical; codes broadcastable to (n, C, k) -> pressures (n, C) Pa and their
+        derivative in each row's own labels (n, C, D) Pa per label unit, by forward tangents through
+        the network written out (one matmul per layer and label column; about four times faster than
+        `torch.func.jvp`, which recomputes the forward pass for each column). Detached."""
+        with torch.no_grad():
+            n, D = labels.shape
+            cols = self._context_cols(D, self.force_cols.tolist())
+            context = (labels[:, cols] - self.label_mean[cols]) / self.label_std[cols]
+            d_in = torch.zeros(n, len(cols) + (1 if len(self.force_cols) else 0), D, dtype=labels.dtype,
+                               device=labels.device)  # d(the network's label inputs) / d labels
+            d_in[:, torch.arange(len(cols)), cols] = 1 / self.label_std[cols]
+            if len(self.force_cols):
+                force = labels[:, self.force_cols] / self.force_scale
+                magnitude = force.norm(dim=-1, keepdim=True)
+                d_in[:, -1, self.force_cols] = torch.where(magnitude > 0, force / magnitude.clamp_min(1e-30),
+                                                           0.0) / self.force_scale
+                context = torch.cat([context, magnitude], -1)
+            C = self.n_channels
+            a = torch.cat([context[:, None].expand(n, C, -1), self.channel.expand(n, C, -1),
+                           codes.expand(n, C, codes.shape[-1])], -1)
+            da: Tensor | None = None  # (n, C, D, width); None while it is the same for every channel
+            for layer in self.net:
+                if isinstance(layer, nn.Linear):
+                    W = layer.weight
+                    da = ((d_in.transpose(1, 2) @ W[:, : d_in.shape[1]].T)[:, None] if da is None
+                          else da @ W.T)
+                    a = layer(a)
+                else:
+                    sig = torch.sigmoid(a)
+                    da = da * (sig * (1 + a * (1 - sig)))[:, :, None]
+                    a = a * sig
+            assert da is not None
+            if len(self.force_cols):
+                nf = len(self.force_cols)
+                pressure = (a[..., :nf] * force[:, None]).sum(-1) + a[..., nf] * magnitude
+                d_force = torch.zeros(n, nf, D, dtype=labels.dtype, device=labels.device)
+                d_force[:, torch.arange(nf), self.force_cols] = 1 / self.force_scale
+                d_pressure = ((da[..., :nf] * force[:, None, None]).sum(-1)
+                              + torch.einsum("ncf,nfd->ncd", a[..., :nf], d_force)
+                              + da[..., nf] * magnitude[..., None] + a[..., nf, None] * d_in[:, None, -1])
+            else:
+                pressure, d_pressure = a[..., 0], da[..., 0]
+            return pressure * self.pressure_scale, d_pressure * self.pressure_scale
+
     def code_parameters(self) -> list[nn.Parameter]:
         return [self.codes]
 
