@@ -726,6 +726,8 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
     for key, r in joint.items():
         assert r["calib_seconds"] == plain[key]["calib_seconds"] and r["presses"] == plain[key]["presses"]
         assert 0 < r["unlabeled_seconds"] <= 20 and r["force_rmse_n"] > 0
+        assert r["interval_level"] == plain[key]["interval_level"] == 0.8  # intervals as response@'s
+        assert r["interval_rows"] == plain[key]["interval_rows"]
     assert any(r["force_rmse_n"] != plain[key]["force_rmse_n"] for key, r in joint.items())  # other codes
     assert set(prov["val_loss"]["response+use@spread"]) == set(prov["val_loss"]["response@spread"])
     # zero_shot: false scores the same labeled rows with ordinary use, without the zero-shot row
@@ -752,6 +754,7 @@ def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> 
     response = run / "models" / "response_seed0.safetensors"
     saved = load_response(response).meta
     assert saved["label_free"]["recipe"]["seconds"] == 20 and saved["use_val_loss_by_strategy"]["spread"]
+    assert saved["intervals"]["use_fleet_factor_by_strategy"]["spread"]
     header = json.loads(response.with_suffix(".json").read_text())
     header["meta"]["label_free"]["recipe"]["iterations"] = 30  # the run's 2 steps leave a 40 s plan's codes
     response.with_suffix(".json").write_text(json.dumps(header))
@@ -761,6 +764,7 @@ def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> 
     codes = {k: load_models(tmp_path / k).meta for k in ("plain", "both")}
     assert codes["both"]["method"] == "response+use" and codes["plain"]["method"] == "response"
     assert codes["both"]["codes"] != codes["plain"]["codes"]
+    assert both.intervals is not None and not any("no fleet factor" in n for n in both.notes)
     alone = calibrate_unit(run, unit, fleet, tmp_path / "alone", budget_seconds=0, use_seconds=15)
     assert alone.calib_samples == 0 and alone.unlabeled_samples > 0
     assert load_models(tmp_path / "alone").meta["method"] == "response:label_free"

@@ -591,16 +591,22 @@ def _response_for_use(model: Path, seed: int | None, meta: dict[str, Any], budge
 
 def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: float, strategy: str,
                         level: float, names: tuple[str, ...], other: tuple[np.ndarray, np.ndarray] | None,
-                        notes: list[str]) -> dict[str, Any] | None:
+                        notes: list[str], with_use: bool = False) -> dict[str, Any] | None:
     """A response-transferred unit's intervals: its network's residuals on the plan's rows (n, D),
     which also trained it, times the fleet factor the benchmark's validation units learnt for
-    plans of `strategy` (`intervals.fleet_factor_by_strategy`); a note where there is none."""
+    plans of `strategy` (`intervals.fleet_factor_by_strategy`; `use_fleet_factor_by_strategy` for
+    codes fitted `with_use` of ordinary use); a note where there is none."""
     rec = meta.get("intervals")
     factor, why = None, ("the response model's benchmark learnt no fleet factor for intervals: intervals "
                          "from the plan's rows alone, which also trained the network (too narrow)")
     if isinstance(rec, dict):
-        table = _strategy_table(rec, "fleet_factor", strategy)
-        factor, why = _usable_factor(rec, table, budget, level, names)
+        key = "fleet_factor"
+        if with_use and _strategy_table(rec, "use_fleet_factor", strategy):
+            key = "use_fleet_factor"
+        elif with_use:
+            notes.append("the response model's benchmark learnt no fleet factor for codes fitted with "
+                         "ordinary use: the one learnt for codes from the plan alone is applied")
+        factor, why = _usable_factor(rec, _strategy_table(rec, key, strategy), budget, level, names)
     notes += [why] if why else []
     return plan_intervals(residuals, level, names, other, factor, folds=None)
 
@@ -686,10 +692,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         fitted = predict(nets.model, nets.in_scaler, nets.out_scaler, X[None])[0].numpy()
         residuals = fitted - arrays.targets[plan.rows]
         bands = _response_intervals(meta, residuals, budget, strategy, interval_level, arrays.output_names,
-                                    on_other, notes)
-    if use is not None and bands is not None:
-        notes.append("the intervals' fleet factor was learnt for codes from the plan alone; with ordinary "
-                     "use the benchmark measured no intervals")
+                                    on_other, notes, use is not None)
     result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, len(used.rows), 0.0, check,
                         notes, None, wall_s, bands, 0.0, own, used.contact_seconds)
     save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {

@@ -130,6 +130,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
     use_loss: dict[Budget, float] = {}
+    use_factors: dict[Budget, np.ndarray] = {}
     saved_use: dict[str, Any] = {}  # what calibrate reads a new unit's ordinary use with
     if opts.response.label_free is not None:
         assert start is not None  # the option needs inverse_start: pooled
@@ -139,8 +140,8 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
             rows += free_rows
         saved_use["label_free"] = read.fleet.to_json()
         if opts.response.label_free.with_plans and jobs:
-            use_rows, use_loss = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start), read, jobs,
-                                               (X, Y, codes))
+            use_rows, use_loss, use_factors = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start),
+                                                            read, jobs, (X, Y, codes))
             rows += use_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
@@ -155,6 +156,9 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                              "fleet_factor_by_strategy": by_strategy(
                                  {b: dict(zip(names, map(float, f), strict=True))
                                   for b, f in bands.factors.items()}),
+                             "use_fleet_factor_by_strategy": by_strategy(
+                                 {b: dict(zip(names, map(float, f), strict=True))
+                                  for b, f in use_factors.items()}),
                              "log_ratio_spread_by_strategy": {kind: by_strategy(
                                  {b: _finite_by_name(names, f) for b, f in spread.items()})
                                  for kind, spread in bands.spreads.items()}}
@@ -165,14 +169,15 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
 def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
                   carry: tuple[SourceRows, FitResult], read: OrdinaryUse,
                   jobs: list[tuple[str, Budget, Plan]], plans: tuple[list[Tensor], list[Tensor], Tensor]
-                  ) -> tuple[list[dict[str, Any]], dict[Budget, float]]:
-    """Rows `response+use@<strategy>` of the held-out units, and the validation units' loss per
-    budget: every job (unit, budget, plan) calibrated again as `response@` is (`carry`: the source
-    rows and the start network), its codes from one joint fit of its plan's rows and its unit's
-    ordinary use `read`, started from the plan's own codes (`plans`: each job's pressures (n_m, C)
-    Pa and contacts (n_m, D), and the codes (M, C, k) `response@` fitted on them; entry 45). Each
-    network keeps its job's id, so it starts as the job's `response@` network did and the two
-    differ by their codes alone."""
+                  ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, np.ndarray]]:
+    """Rows `response+use@<strategy>` of the held-out units, the validation units' loss per budget
+    and, with `options.intervals`, the fleet factor (D,) per budget their intervals learnt (as
+    `response@` rows learn theirs, `plan_bands`): every job (unit, budget, plan) calibrated again as
+    `response@` is (`carry`: the source rows and the start network), its codes from one joint fit
+    of its plan's rows and its unit's ordinary use `read`, started from the plan's own codes
+    (`plans`: each job's pressures (n_m, C) Pa and contacts (n_m, D), and the codes (M, C, k)
+    `response@` fitted on them; entry 45). Each network keeps its job's id, so it starts as the job's
+    `response@` network did and the two differ by their codes alone."""
     assert opts.response is not None
     source, start = carry
     X, Y, codes = plans
@@ -183,10 +188,15 @@ def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated with their ordinary use")
+    bands = Bands({}, {}, {})
+    if opts.intervals is not None:
+        bands = plan_bands(nets, arrays, sd, list(zip([(u, b, 0.0) for u, b, _ in jobs], preds, strict=True)),
+                           [p for _, _, p in jobs], opts.intervals.level)
     rows = [{"method": WITH_USE + plan_suffix(b), "unit": u, **budget_fields(b, plan),
-             **use_fields(read.uses[u]), **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
-            for (u, b, plan), pred in zip(jobs, preds, strict=True) if u in sd.split.test]
-    return rows, budget_losses(preds, jobs, sd, arrays)
+             **use_fields(read.uses[u]), **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
+             **bands.fields.get(m, {})}
+            for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)) if u in sd.split.test]
+    return rows, budget_losses(preds, jobs, sd, arrays), bands.factors
 
 
 def budget_losses(preds: list[np.ndarray], jobs: list[tuple[str, Budget, Plan]], sd: SeedData,
