@@ -46,9 +46,8 @@ from anytip.models.scaler import Scaler
 from anytip.rundir import write_json
 from anytip.train.adapt import AdapterRecipe, calibrate_and_fold
 from anytip.train.adapter_prior import make_prior
-from anytip.train.code_encoder import stream_features
 from anytip.train.data import FleetBatchData, UnitTensors
-from anytip.train.fleet import FitResult, start_mismatch
+from anytip.train.fleet import start_mismatch
 from anytip.train.label_free import (
     FleetUse,
     Labeled,
@@ -56,6 +55,7 @@ from anytip.train.label_free import (
     fleet_force_scale,
     search_candidates,
     unit_codes_with_use,
+    use_inputs,
 )
 from anytip.train.metrics import predict, scores, target_key
 from anytip.train.response import (
@@ -63,7 +63,6 @@ from anytip.train.response import (
     ResponseRecipe,
     SourceRows,
     calibrate_by_response,
-    evenly_spaced,
     plan_residual,
     source_rows,
     start_network_path,
@@ -485,13 +484,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
                      f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels before "
                      "deploying it")
     out_scaler = Scaler(shared.out_scaler.mean.clone(), shared.out_scaler.std.clone())
-    other = stream.outside(arrays)
-    check, on_other = None, None
-    if other.any():
-        pred = predict(folded, stats, out_scaler, torch.from_numpy(arrays.pressure[other])[None])[0]
-        on_other = (pred.numpy(), arrays.targets[other])
-        check = {"rows": int(other.sum()), **scores(pred.numpy(), arrays.targets[other], arrays.layout),
-                 "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}
+    check, on_other = _check_on_other_runs((folded, stats, out_scaler), arrays, stream)
     bands = None
     folds = interval_folds(meta)
     if interval_level is not None and plan.presses >= folds:
@@ -673,31 +666,21 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given)
     wall_s = time.perf_counter() - tick
-    if not len(plan.rows):
-        return _label_free_unit(path, out, nets, codes[0], arrays, stream, used, notes, wall_s, loaded)
-    residual = plan_residual(fit, X, Y, codes[0])
-    validation = _at_budget(_strategy_table(meta, "residual", strategy), budget)
-    own: dict[str, Any] = {"presses": plan.presses, "rows": int(len(plan.rows)), "residual_pa": residual,
-                           "fleet_noise_pa": float(loaded.noise_var.mean().sqrt())}
-    if isinstance(validation, list) and validation:
-        own |= {"validation_units_pa": validation, "over_validation": residual / max(validation),
-                "alarm": residual / max(validation) > OWN_CHECK_ALARM}
-        if own["alarm"]:
-            notes.append(f"warning: the plan's pressures lie {own['over_validation']:.1f}x further from the "
-                         "unit's fitted response than the worst validation unit's (alarm above "
-                         f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels")
-    check, on_other = _check_on_other_runs(nets, arrays, stream)
+    own = _response_own_check(loaded, fit, plan, (X, Y, codes[0]), _at_budget(
+        _strategy_table(meta, "residual", strategy), budget), notes)
+    check, on_other = _check_on_other_runs((nets.model, nets.in_scaler, nets.out_scaler), arrays, stream)
     bands = None
-    if interval_level is not None:
+    if interval_level is not None and len(plan.rows):
         fitted = predict(nets.model, nets.in_scaler, nets.out_scaler, X[None])[0].numpy()
         residuals = fitted - arrays.targets[plan.rows]
         bands = _response_intervals(meta, residuals, budget, strategy, interval_level, arrays.output_names,
                                     on_other, notes, use is not None)
+    method = "response" if use is None else "response+use" if len(plan.rows) else "response:label_free"
     result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, len(used.rows), 0.0, check,
                         notes, None, wall_s, bands, 0.0, own, used.contact_seconds)
     save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
         "unit_ids": [stream.unit], "output_names": list(arrays.output_names), "response_model": str(path),
-        "method": "response" if use is None else "response+use", "codes": codes[0].tolist(),
+        "method": method, "codes": codes[0].tolist(),
         "calib_samples": result.calib_samples, "calib_seconds": plan.calib_seconds,
         "calib_presses": plan.presses, "n_effective": plan.n_effective, "unlabeled_samples": len(used.rows),
         "unlabeled_seconds": used.contact_seconds, "calibration_runs": list(stream.runs),
@@ -705,15 +688,38 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     return _write_calibration(result)
 
 
-def _check_on_other_runs(nets: FitResult, arrays: FleetArrays, stream: CalibrationStream
+def _response_own_check(loaded: LoadedResponse, fit: ResponseFit, plan: Plan,
+                        rows: tuple[Tensor, Tensor, Tensor], validation: Any, notes: list[str]
+                        ) -> dict[str, Any]:
+    """A response-transferred unit's own check: the RMS of its plan's pressures X (n, C) Pa about
+    its fitted response at contacts Y (n, D) and codes (C, k) (`rows`), beside the benchmark's
+    validation units' (`validation`, Pa; alarm above OWN_CHECK_ALARM times the worst). A plan
+    without rows (ordinary use alone) has none, and a note says so."""
+    own: dict[str, Any] = {"presses": plan.presses, "rows": int(len(plan.rows)),
+                           "fleet_noise_pa": float(loaded.noise_var.mean().sqrt())}
+    if not len(plan.rows):
+        notes.append("no labels: no own check of the plan and no intervals")
+        return own
+    residual = own["residual_pa"] = plan_residual(fit, *rows)
+    if isinstance(validation, list) and validation:
+        own |= {"validation_units_pa": validation, "over_validation": residual / max(validation),
+                "alarm": residual / max(validation) > OWN_CHECK_ALARM}
+        if own["alarm"]:
+            notes.append(f"warning: the plan's pressures lie {own['over_validation']:.1f}x further from the "
+                         "unit's fitted response than the worst validation unit's (alarm above "
+                         f"{OWN_CHECK_ALARM:g}x): check the unit's barometers, mounting and labels")
+    return own
+
+
+def _check_on_other_runs(net: tuple[Callable[[Tensor], Tensor], Scaler, Scaler], arrays: FleetArrays,
+                         stream: CalibrationStream
                          ) -> tuple[dict[str, Any] | None, tuple[np.ndarray, np.ndarray] | None]:
-    """A unit's network scored on its runs outside the calibration stream (None where it has none),
-    and its predictions and targets there (n, D)."""
+    """A unit's network (with its input and output scalers) scored on its runs outside the
+    calibration stream (None where it has none), and its predictions and targets there (n, D)."""
     other = stream.outside(arrays)
     if not other.any():
         return None, None
-    X_other = torch.from_numpy(arrays.pressure[other])[None]
-    pred = predict(nets.model, nets.in_scaler, nets.out_scaler, X_other)[0].numpy()
+    pred = predict(*net, torch.from_numpy(arrays.pressure[other])[None])[0].numpy()
     on_other = (pred, arrays.targets[other])
     return {"rows": int(other.sum()), **scores(*on_other, arrays.layout),
             "units": {target_key(n): t.unit for n, t in arrays.layout.items()}}, on_other
@@ -757,33 +763,11 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
     if len(used.rows) < 2:
         raise AnytipError(f"unit {stream.unit}: its calibration stream holds no whole presses to read as "
                           "ordinary use")
-    rows = used.rows[evenly_spaced(len(used.rows), fleet.free.rows).numpy()]
-    X = torch.from_numpy(arrays.pressure[rows])
-    Y0 = predict(start.model, start.in_scaler, start.out_scaler, X[None])[0]
-    first = None
-    if fleet.coder is not None and fleet.free.start == "encoder":
-        try:
-            first = fleet.coder(stream_features(arrays.pressure[used.rows]))
-        except ValueError as e:
-            raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.encoder: {e}") from None
+    coder = fleet.coder if fleet.free.start == "encoder" else None
+    try:
+        X, Y0, first = use_inputs(arrays.pressure[used.rows], fleet.free, start, coder, "cpu")
+    except ValueError as e:
+        raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.encoder: {e}") from None
     candidates = search_candidates(source.Y, fleet.free.candidates, seed)
     codes = unit_codes_with_use(fit, recipe, fleet, X, Y0, candidates, seed, plan, first)
     return codes[None], used
-
-
-def _label_free_unit(path: Path, out: Path, nets: FitResult, codes: Tensor, arrays: FleetArrays,
-                     stream: CalibrationStream, used: Plan, notes: list[str], wall_s: float,
-                     loaded: LoadedResponse) -> Calibrated:
-    """A unit calibrated by response transfer from its ordinary use alone: saved like any, with its
-    check on its other runs; without labels it has no own check and no intervals."""
-    check, _ = _check_on_other_runs(nets, arrays, stream)
-    notes.append("no labels: no own check of the plan and no intervals")
-    own = {"presses": 0, "rows": 0, "fleet_noise_pa": float(loaded.noise_var.mean().sqrt())}
-    result = Calibrated(out, stream.unit, 0, 0.0, len(used.rows), 0.0, check, notes, None, wall_s, None, 0.0,
-                        own, used.contact_seconds)
-    save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
-        "unit_ids": [stream.unit], "output_names": list(arrays.output_names), "response_model": str(path),
-        "method": "response:label_free", "codes": codes.tolist(), "calib_samples": 0, "calib_seconds": 0.0,
-        "unlabeled_samples": len(used.rows), "unlabeled_seconds": used.contact_seconds,
-        "calibration_runs": list(stream.runs), "check_on_other_runs": check, "response_check": own})
-    return _write_calibration(result)

@@ -24,7 +24,7 @@ from anytip.pipelines.common import Context
 from anytip.pipelines.cross_sensor_jobs import budget_fields, validation_losses
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.train.adapt import pooled_scaler
-from anytip.train.code_encoder import CodeEncoder, stream_features
+from anytip.train.code_encoder import CodeEncoder
 from anytip.train.fleet import FitResult
 from anytip.train.label_free import (
     FleetUse,
@@ -36,9 +36,10 @@ from anytip.train.label_free import (
     plan_and_use_codes,
     search_candidates,
     unit_codes_with_use,
+    use_inputs,
 )
 from anytip.train.metrics import scores
-from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
+from anytip.train.response import ResponseFit, SourceRows, transfer, unit_networks
 from anytip.train.shared_split import SeedData, predict_rows
 
 METHOD = "response:label_free"
@@ -73,13 +74,7 @@ def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: in
     uses, X, Y0, first = {}, {}, {}, {}
     for u in [*sd.split.val, *sd.split.test]:
         use = uses[u] = ordinary_use(sd.evals[u].presses, free.seconds, ordinary_use_seed(seed, u))
-        rows = use.rows[evenly_spaced(len(use.rows), free.rows).numpy()]
-        X[u] = torch.from_numpy(arrays.pressure[rows]).to(fit.device)
-        Y0[u] = torch.from_numpy(predict_rows(start.model, start.in_scaler, start.out_scaler, arrays,
-                                              [rows])[0]).to(fit.device)
-        first[u] = None
-        if coder is not None and len(use.rows) > 1:
-            first[u] = coder(stream_features(arrays.pressure[use.rows])).to(fit.device)
+        X[u], Y0[u], first[u] = use_inputs(arrays.pressure[use.rows], free, start, coder, fit.device)
     fleet = FleetUse(free, opts.rig.effective_hz, force_scale(arrays, sd, opts, free, seed), coder)
     return OrdinaryUse(fleet, uses, X, Y0, first, search_candidates(source.Y, free.candidates, seed))
 

@@ -43,8 +43,11 @@ from torch import Tensor
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.plans import stream_ordinary_use
+from anytip.models.io import LoadedModels
 from anytip.models.response import ResponseModel
 from anytip.train.code_encoder import CodeEncoder, stream_features
+from anytip.train.fleet import FitResult
+from anytip.train.metrics import predict
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
@@ -220,6 +223,18 @@ def ordinary_rows(arrays: FleetArrays, unit: str, protocol: str | None, interlea
     from its calibration stream (`anytip.data.plans.stream_ordinary_use`)."""
     stream = calibration_stream(arrays, unit, protocol, interleave=interleave)
     return stream_ordinary_use(arrays, unit, stream, seconds, seed).rows
+
+
+def use_inputs(P: np.ndarray, free: LabelFreeRecipe, start: FitResult | LoadedModels,
+               coder: CodeEncoder | None, device: torch.device | str) -> tuple[Tensor, Tensor, Tensor | None]:
+    """What a fit reads of a unit's ordinary use, its pressures P (n, C) Pa: at most `free.rows` of its
+    rows, evenly spaced, X (m, C) Pa; the start network's contacts there Y0 (m, D), which the fit pulls
+    each row towards; and the encoder's first codes (C, k) from the statistics of all of P (None
+    without an encoder or with fewer than two rows). All on `device`."""
+    X = torch.from_numpy(P[evenly_spaced(len(P), free.rows).numpy()])
+    Y0 = predict(start.model, start.in_scaler, start.out_scaler, X[None].to(start.in_scaler.mean.device))[0]
+    first = coder(stream_features(P)).to(device) if coder is not None and len(P) > 1 else None
+    return X.to(device), Y0.to(device), first
 
 
 def fleet_code_encoder(fit: ResponseFit, sources: list[FleetArrays], protocol: str | None, interleave: bool,
