@@ -473,6 +473,11 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
             got = {r["unit"]: r for r in rows if r["method"] == method}
             assert set(got) == set(prov["test"]), method
             assert all(0 < r["unlabeled_seconds"] <= 20 and np.isfinite(r["u_rmse"]) for r in got.values())
+        for budget, method in ((20, "response+use"), (0, "response:label_free")):  # and calibrate does
+            cal = calibrate_unit(run, prov["test"][0], reg, tmp_path / f"cal{budget}", budget_seconds=budget,
+                                 use_seconds=15)
+            assert 0 < cal.unlabeled_seconds <= 15
+            assert load_models(tmp_path / f"cal{budget}").meta["method"] == method
     if start == "pooled":  # the label-free script reads such a run too, its own targets' ratios
         out = tmp_path / "codes.json"
         assert _script("label_free_codes").main([str(run), "--registry", str(reg.root), "--out", str(out),
