@@ -14,6 +14,10 @@ their codes, so a new unit's rows are transferred from them as in the run):
         --registry-seed 40 --registry-protocols full,short,quick --extra-seed 8 --extra 128,1024 \\
         --workers 16 --device cuda --out build/many_units
 
+`--extra-store DIR` keeps the extra units' registries in DIR, and a later call with the same extra
+units and `--workers` reads them from there instead of simulating them again (research log entry
+48: one simulation of 1,024 units for two registries' folds).
+
 `--models 128:32768,1024:32768` names each model as extra units and rows per step instead (research
 log entry 33). `--registry-fleet FILE` gives the fleet config the registry's units were simulated
 with (`anytip data simulate --fleet FILE`; default: the default fleet), e.g. other16's
@@ -112,13 +116,30 @@ def simulate_units(root: Path, tasks: list[Task]) -> Registry:
     return registry
 
 
-def shard(tasks: list[Task], roles: Roles, seed: int, max_rows: int | None) -> list[tuple[Key, Rows]]:
-    """A worker: its units simulated, written and read back, and each unit's rows for each of its
-    slots (the position in a training list seeds its validation rows, as in the pipeline)."""
+def stored_or_simulated(root: Path, tasks: list[Task]) -> Registry:
+    """The registry at `root` if an earlier call left every task's unit there, else the tasks
+    simulated into it (a partly written one is an error: delete it and run again)."""
+    if not root.exists():
+        return simulate_units(root, tasks)
+    registry = Registry(root)
+    have = {r.unit for r in registry.list_runs()}
+    missing = [u for u in (sim.unit_sensor_id(t.seed, t.index) for t in tasks) if u not in have]
+    if missing:
+        raise AnytipError(f"{root}: the stored extra units lack {missing[:3]} ({len(missing)} in all); "
+                          "give the --extra and --workers it was written with, or delete it")
+    return registry
+
+
+def shard(tasks: list[Task], roles: Roles, seed: int, max_rows: int | None,
+          store: Path | None = None) -> list[tuple[Key, Rows]]:
+    """A worker: its units simulated, written and read back (or read from `store`, kept by an
+    earlier call), and each unit's rows for each of its slots (the position in a training list
+    seeds its validation rows, as in the pipeline)."""
     torch.set_num_threads(1)
     out = []
     with tempfile.TemporaryDirectory() as tmp:
-        registry = simulate_units(Path(tmp) / "registry", tasks)
+        registry = (stored_or_simulated(store, tasks) if store is not None
+                    else simulate_units(Path(tmp) / "registry", tasks))
         arrays = load_arrays(registry, registry.list_runs())
         for t in tasks:
             unit = sim.unit_sensor_id(t.seed, t.index)
@@ -148,11 +169,15 @@ def rows_digest(rows: Rows) -> str:
     return h.hexdigest()
 
 
-def gather(tasks: list[Task], roles: Roles, seed: int, workers: int, max_rows: int | None) -> dict[Key, Rows]:
-    """{slot: rows} of every task, simulated by `workers` processes."""
+def gather(tasks: list[Task], roles: Roles, seed: int, workers: int, max_rows: int | None,
+           store: Path | None = None) -> dict[Key, Rows]:
+    """{slot: rows} of every task, simulated by `workers` processes (each part kept in a registry
+    under `store`, or read from it, where one is given)."""
     parts = [tasks[k::workers] for k in range(workers) if tasks[k::workers]]
+    roots = [store / f"part{k}of{len(parts)}" if store else None for k in range(len(parts))]
     with ProcessPoolExecutor(len(parts), mp_context=get_context("spawn")) as pool:
-        done = pool.map(shard, parts, [roles] * len(parts), [seed] * len(parts), [max_rows] * len(parts))
+        done = pool.map(shard, parts, [roles] * len(parts), [seed] * len(parts), [max_rows] * len(parts),
+                        roots)
         return {key: rows for part in done for key, rows in part}
 
 
@@ -187,6 +212,9 @@ def main(argv: list[str] | None = None) -> int:
                         "besides the run's, at the largest count")
     parser.add_argument("--models", default="", help="comma-separated EXTRA:ROWS_PER_STEP models to train "
                         "(instead of --extra and --rows-per-step)")
+    parser.add_argument("--extra-store", type=Path, default=None,
+                        help="keep the extra units' registries here, or read them from an earlier call's "
+                        "(same --extra-seed, counts and --workers), instead of simulating them again")
     parser.add_argument("--max-rows", type=int, default=120_000)
     parser.add_argument("--steps", type=int, default=None, help="response model steps (default: the run's)")
     parser.add_argument("--workers", type=int, default=16)
@@ -250,7 +278,7 @@ def run(args: argparse.Namespace) -> None:
     tasks = [Task(FleetConfig(), args.extra_seed, unit_index(u, args.extra_seed), args.extra_protocols,
                   ((-1, first + j),)) for j, u in enumerate(ids)]
     extra = {rows[0]: rows for rows in gather(tasks, folds[0].roles, folds[0].seed, args.workers,
-                                              args.max_rows).values()}
+                                              args.max_rows, args.extra_store).values()}
     log: dict[str, Any] = {"simulate_s": time.perf_counter() - start, "torch": torch.__version__,
                            "device": args.device,
                            "gpu": torch.cuda.get_device_name() if torch.cuda.is_available() else None,
