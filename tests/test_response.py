@@ -530,7 +530,8 @@ def test_extra_units_train_the_response_model_and_the_registrys_units_carry_over
     assert not (tmp_path / "leak").exists() and not (tmp_path / "all").exists()
 
 
-def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_rescore(tmp_path, monkeypatch):
+def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_rescore(tmp_path, monkeypatch,
+                                                                                   capsys):
     """scripts/response_many_units.py simulates a run's training units again (from their fleet seed)
     and more units beside them, in worker processes through registries of their own: the training
     units' rows equal the pipeline's bit for bit, its models learn them and the extra units, and
@@ -568,6 +569,17 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     assert check.main([str(run), "--registry", str(registry.root), "--log", str(tmp_path / "none.json")]) == 1
     model = out / "run_seed0_extra2_rps4096.safetensors"
     assert load_response(model).meta["unit_ids"] == [*sd.train.unit_ids, "SIM22-000", "SIM22-001"]
+    # --extra-store: the first call keeps the extra units' registries, the next reads them back;
+    # both give the model of a fresh simulation byte for byte, and a store without a unit is named
+    common = [str(run), "--registry-seed", "21", "--registry-protocols", "short", "--extra-seed", "22",
+              "--extra-protocols", "short", "--workers", "2", "--device", "cpu", "--steps", "30",
+              "--max-rows", "300", "--extra-store", str(tmp_path / "store")]
+    for again in ("kept", "read"):
+        assert many.main([*common, "--extra", "2", "--out", str(tmp_path / again)]) == 0
+        assert (tmp_path / again / model.name).read_bytes() == model.read_bytes()
+    capsys.readouterr()
+    assert many.main([*common, "--extra", "3", "--out", str(tmp_path / "more")]) == 2
+    assert "stored extra units lack ['SIM22-002']" in capsys.readouterr().err
     rescore = _script("rescore_response")
     again = tmp_path / "rescored"
     assert rescore.main([str(run), "--registry", str(registry.root), "--out", str(again), "--response-model",
