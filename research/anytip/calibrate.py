@@ -593,13 +593,12 @@ def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: flo
     factor, why = None, ("the response model's benchmark learnt no fleet factor for intervals: intervals "
                          "from the plan's rows alone, which also trained the network (too narrow)")
     if isinstance(rec, dict):
-        key = "fleet_factor"
-        if with_use and _strategy_table(rec, "use_fleet_factor", strategy):
-            key = "use_fleet_factor"
-        elif with_use:
+        table = _strategy_table(rec, "use_fleet_factor", strategy) if with_use else None
+        if with_use and not table:
             notes.append("the response model's benchmark learnt no fleet factor for codes fitted with "
                          "ordinary use: the one learnt for codes from the plan alone is applied")
-        factor, why = _usable_factor(rec, _strategy_table(rec, key, strategy), budget, level, names)
+        table = table or _strategy_table(rec, "fleet_factor", strategy)
+        factor, why = _usable_factor(rec, table, budget, level, names)
     notes += [why] if why else []
     return plan_intervals(residuals, level, names, other, factor, folds=None)
 

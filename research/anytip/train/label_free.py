@@ -268,9 +268,10 @@ def mean_square_force(Y: Tensor, columns: tuple[int, ...]) -> float:
 def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
     """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
     in c (n, C, D) and in each barometer's own code (n, C, k)."""
-    mean, std = model.label_mean, model.label_std
-    Jc = model.label_jacobian(c * std + mean, codes)[1] * std  # d pressure / d standardised contact
-    pred, Jz = code_jacobian(model, c * std + mean, codes)
+    std = model.label_std
+    Y = c * std + model.label_mean
+    Jc = model.label_jacobian(Y, codes)[1] * std  # d pressure / d standardised contact
+    pred, Jz = code_jacobian(model, Y, codes)
     return pred, Jc, Jz
 
 
