@@ -45,11 +45,12 @@ def rows_of(runs: list[Path]) -> list[dict[str, Any]]:
     return rows
 
 
-def coverage_cells(rows: list[dict[str, Any]]) -> str:
-    """In-band share, lowest and count below the floor of the fleet-factor intervals' coverage, and
+def coverage_cells(rows: list[dict[str, Any]], kind: str = "fleet") -> str:
+    """In-band share, lowest and count below the floor of the `kind` intervals' coverage (`fleet`: the
+    fleet factor's; `margin`: times its leave-one-out margin), and
     the share a method exactly calibrated for every unit would put in the band on the same test sets
     (the mean over unit-outputs of 1 - `<output>_exact_p_outside`; blank for rows without it)."""
-    cov = [v for r in rows for k, v in r.items() if k.endswith("_fleet_coverage")]
+    cov = [v for r in rows for k, v in r.items() if k.endswith(f"_{kind}_coverage")]
     if not cov:
         return "| | | |"
     c = np.asarray(cov)
@@ -60,7 +61,7 @@ def coverage_cells(rows: list[dict[str, Any]]) -> str:
     return f"| {share:.0%} of {len(c)} | {low} | {decided} |"
 
 
-def table(rows: list[dict[str, Any]]) -> str:
+def table(rows: list[dict[str, Any]], kind: str = "fleet") -> str:
     force = unit_ratios(rows, "force_rmse_n")
     lines = ["| method | robot-s | units | force ratio [95%] | angle ratio [95%] | force <= 1.10x / < 1.0x "
              "| intervals in [0.85, 0.95] | lowest coverage | an exact method in [0.85, 0.95] |",
@@ -72,7 +73,7 @@ def table(rows: list[dict[str, Any]]) -> str:
         mine = [r for r in rows if r["method"] == s["method"] and budget_of(r) == s["budget"]]
         lines.append(f"| {s['method']} | {s['budget']:g} | {s['units']} | {ratio_text(s['force_unit'])} | "
                      f"{ratio_text(s['angle_unit'])} | {np.mean(per_unit <= 1.10):.0%} / "
-                     f"{np.mean(per_unit < 1.0):.0%} {coverage_cells(mine)}")
+                     f"{np.mean(per_unit < 1.0):.0%} {coverage_cells(mine, kind)}")
     return "\n".join(lines)
 
 
@@ -100,9 +101,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", type=Path, nargs="+", help="finished cross_sensor run directories")
     parser.add_argument("--against", type=Path, nargs="+", default=[], help="runs to pair the runs with")
+    parser.add_argument("--intervals", choices=("fleet", "margin"), default="fleet",
+                        help="which intervals' coverage: the fleet factor's, or times its margin (entry 50)")
     args = parser.parse_args(argv)
     rows = rows_of(args.runs)
-    print(table(rows))
+    print(table(rows, args.intervals))
     if args.against:
         print("\n" + paired(rows, rows_of(args.against)))
     return 0

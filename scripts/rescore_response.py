@@ -116,7 +116,8 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         sd = prepare(ctx, arrays, opts, seed, extra)
         if opts.response.label_free is None:  # only the label-free row's code encoder reads them again
             extra = None
-        if sd.split.to_json() != old["cross_sensor"][f"seed{seed}"]["units"]:
+        was = old["cross_sensor"][f"seed{seed}"]["units"]
+        if any(list(getattr(sd.split, k)) != was.get(k) for k in ("train", "val", "test")):
             raise AnytipError(f"seed {seed}: the split differs from the run's")
         fit = ResponseFit.from_loaded(saved[seed]) if seed in saved else None
         got = response_rows(ctx, arrays, sd, opts, seed, fit, extra)

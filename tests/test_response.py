@@ -918,3 +918,58 @@ def test_transfer_check_scores_a_second_interval_from_residuals_the_network_neve
     assert set(kinds) == {"plan", "transfer"}
     assert all(v >= 0 for by in kinds["transfer"].values() for b in by.values() for v in b.values())
     assert "network of the transferred rows alone" in (run / "report.md").read_text()
+
+
+def test_factor_units_learn_the_fleet_factor_beside_the_validation_units(fleet, tmp_path):
+    """`intervals.factor_units`: units the split leaves over after its training units are calibrated
+    as validation units are, by the plan alone and with ordinary use; they learn the fleet factor
+    and its leave-one-out margin and choose nothing else: the held-out rows keep their errors and
+    their plan's own half-widths, and calibrate applies the recorded margin and says so."""
+    free = ("label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2, "
+            "with_plans: true, zero_shot: false}")
+    base = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"), "splits.n_train_units=3",
+            "options.adapters=[input_affine]", "options.fits=[{}]"]  # calibrate needs a shared model
+    runs = {k: run_experiment(SPEC, fleet, out=tmp_path / f"f{k}", progress=False, overrides=[
+        *base, f"options.intervals={{folds: 3, level: 0.8, factor_units: {k}}}"]) for k in (0, 2)}
+    split = {k: json.loads((r / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
+             for k, r in runs.items()}
+    assert {k: split[2][k] for k in ("train", "val", "test")} == split[0] and len(split[2]["factor"]) == 2
+    assert not set(split[2]["factor"]) & {u for k in ("train", "val", "test") for u in split[2][k]}
+    rows = {k: [r for r in json.loads((run / "metrics.json").read_text())["results"] if "interval_level" in r]
+            for k, run in runs.items()}
+    assert rows[0] and len(rows[0]) == len(rows[2])
+    for a, b in zip(rows[0], rows[2], strict=True):
+        assert (a["unit"], a["method"], a["force_rmse_n"], a["fx_halfwidth"]) == \
+               (b["unit"], b["method"], b["force_rmse_n"], b["fx_halfwidth"])
+        assert b["fx_needed70_halfwidth"] <= b["fx_needed75_halfwidth"] <= b["fx_needed85_halfwidth"]
+        assert b["fx_margin_halfwidth"] >= b["fx_fleet_halfwidth"] > 0
+    assert any(a["fx_fleet_halfwidth"] != b["fx_fleet_halfwidth"]
+               for a, b in zip(rows[0], rows[2], strict=True))
+    meta = load_response(runs[2] / "models" / "response_seed0.safetensors").meta["intervals"]
+    assert meta["factor_units"] == 2
+    for key in ("units_by_strategy", "use_units_by_strategy"):
+        learnt = meta[key]["spread"]
+        assert all(set(by) == {*split[2]["val"], *split[2]["factor"]} for by in learnt.values())
+    margins = meta["margin_by_strategy"]["spread"]
+    assert all(m["margin"] >= 1 and set(m["below_floor"]) == set(m["in_band"]) for m in margins.values())
+    # calibrate multiplies the fleet factor by the recorded margin
+    unit, response = split[2]["test"][0], runs[2] / "models" / "response_seed0.safetensors"
+    before = calibrate_unit(runs[2], unit, fleet, tmp_path / "c0", budget_seconds=40, method="response",
+                            interval_level=0.8)
+    header = json.loads(response.with_suffix(".json").read_text())
+    for m in header["meta"]["intervals"]["margin_by_strategy"]["spread"].values():
+        m["margin"] = 1.5
+    response.with_suffix(".json").write_text(json.dumps(header))
+    after = calibrate_unit(runs[2], unit, fleet, tmp_path / "c1", budget_seconds=40, method="response",
+                           interval_level=0.8)
+    assert before.intervals is not None and after.intervals is not None
+    for name, half in after.intervals["halfwidth"].items():
+        assert half == pytest.approx(before.intervals["own_halfwidth"][name] * 1.5 *
+                                     before.intervals["fleet_factor"][name] / _margin_of(before), rel=1e-6)
+    assert any("the fleet factor times 1.5" in n for n in after.notes)
+
+
+def _margin_of(got) -> float:
+    """The margin a calibration applied: 1 unless a note says otherwise."""
+    said = [n for n in got.notes if n.startswith("the fleet factor times ")]
+    return float(said[0].split()[4].rstrip(":")) if said else 1.0

@@ -50,3 +50,17 @@ def test_unit_folds_hold_out_every_unit_exactly_once():
         split_units(units[:3], 0, 1, 1, folds=4)
     with pytest.raises(AnytipError, match="leaving"):
         split_units(units[:4], 0, 3, 1, folds=2)
+
+
+def test_factor_units_come_after_the_training_units_and_leave_the_other_roles_as_they_were():
+    units = [f"U{k:02d}" for k in range(16)]
+    for folds in (None, 4):
+        plain = split_units(units, 1, n_val=2, n_test=3, n_train=5, folds=folds)
+        more = split_units(units, 1, n_val=2, n_test=3, n_train=5, folds=folds, n_factor=3)
+        assert (more.train, more.val, more.test) == (plain.train, plain.val, plain.test)
+        assert len(more.factor) == 3 and not set(more.factor) & {*more.train, *more.val, *more.test}
+        assert "factor" in more.to_json() and "factor" not in plain.to_json()
+    with pytest.raises(AnytipError, match="needs n_train_units"):
+        split_units(units, 1, n_val=2, n_test=3, n_factor=3)
+    with pytest.raises(AnytipError, match="3 factor"):
+        split_units(units, 1, n_val=2, n_test=3, n_train=9, n_factor=3)

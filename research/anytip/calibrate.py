@@ -597,10 +597,25 @@ def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: flo
         if with_use and not table:
             notes.append("the response model's benchmark learnt no fleet factor for codes fitted with "
                          "ordinary use: the one learnt for codes from the plan alone is applied")
+        prefix = "use_" if table else ""
         table = table or _strategy_table(rec, "fleet_factor", strategy)
         factor, why = _usable_factor(rec, table, budget, level, names)
+        margin = _margin(rec, f"{prefix}margin", strategy, budget)
+        if factor is not None and margin != 1:
+            factor = {n: f * margin for n, f in factor.items()}
+            notes.append(f"the fleet factor times {margin:g}: the margin its learning units chose, each "
+                         "left out in turn (research log entry 50)")
     notes += [why] if why else []
     return plan_intervals(residuals, level, names, other, factor, folds=None)
+
+
+def _margin(rec: dict[str, Any], key: str, strategy: str, budget: float) -> float:
+    """The margin on the fleet factor a benchmark recorded (`<key>_by_strategy`) at the largest
+    budget <= `budget`; 1 where it recorded none or no finite positive one."""
+    got = _at_budget(_strategy_table(rec, key, strategy), budget)
+    margin = got.get("margin") if isinstance(got, dict) else None
+    ok = isinstance(margin, (int, float)) and math.isfinite(margin) and margin > 0
+    return float(margin) if ok else 1.0
 
 
 def _training_rows(registry: Registry, units: list[str], sensor_model: str

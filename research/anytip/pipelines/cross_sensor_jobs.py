@@ -16,10 +16,23 @@ from anytip.models.scaler import Scaler
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.report.cross_sensor import COVERAGE_BAND
 from anytip.train.shared_split import SeedData
-from anytip.uncertainty.conformal import coverage, fleet_factor, interval, residual_halfwidth
+from anytip.uncertainty.conformal import (
+    coverage,
+    fleet_factor,
+    interval,
+    needed_halfwidths,
+    residual_halfwidth,
+)
 from anytip.uncertainty.coverage_bootstrap import bootstrap_test_patches, exact_method_band
+from anytip.uncertainty.fleet_margin import Learner, MarginChoice, leave_one_out_margin
 
 Job = tuple[str, Budget, float]  # (unit, budget, prior strength)
+
+
+def band_edges(level: float) -> tuple[float, float, float]:
+    """Coverages a unit's test rows record half-widths at: the floor no unit-output may fall
+    below (two band widths under `level`) and the band's edges (`level` +- COVERAGE_BAND)."""
+    return level - 2 * COVERAGE_BAND, level - COVERAGE_BAND, level + COVERAGE_BAND
 
 
 def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int) -> Plan:
@@ -66,36 +79,48 @@ def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndar
 
 
 class FleetWidths(NamedTuple):
-    """What the validation units say about intervals at one budget, per output (D,): the fleet
-    factor (`uncertainty.conformal.fleet_factor`), the typical half-width their test rows
-    needed (geometric mean; a new unit's plan unused), in the output's unit, and the spread over
-    them of log(needed / own half-width) (how far one unit's own half-width, times the factor,
-    misses what its test rows need; NaN with one validation unit)."""
+    """What the validation (and factor) units say about intervals at one budget, per output (D,):
+    the fleet factor (`uncertainty.conformal.fleet_factor`), the typical half-width their test
+    rows needed (geometric mean; a new unit's plan unused), in the output's unit, and the spread
+    over them of log(needed / own half-width) (how far one unit's own half-width, times the
+    factor, misses what its test rows need; NaN with one validation unit). `units`: each unit's
+    half-widths (`fleet_margin.Learner`'s fields as {field: {output: value}}); `margin`: the
+    factor's leave-one-unit-out margin over them (`uncertainty.fleet_margin`)."""
 
     factor: np.ndarray
     typical: np.ndarray
     spread: np.ndarray
+    units: dict[str, dict[str, dict[str, float]]] = {}  # noqa: RUF012  (a NamedTuple's default, never mutated)
+    margin: MarginChoice = MarginChoice(1.0, {}, {})
 
 
 def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
                        residuals: dict[int, np.ndarray | None], sd: SeedData, arrays: FleetArrays,
                        level: float) -> dict[Budget, FleetWidths]:
-    """Budget -> `FleetWidths` over the validation units whose plan gave a finite half-width at
-    `level`: the half-width their test rows needed against their plan's own."""
-    own: dict[Budget, list[np.ndarray]] = {}
-    needed: dict[Budget, list[np.ndarray]] = {}
+    """Budget -> `FleetWidths` over the validation and factor units whose plan gave a finite
+    half-width at `level`: the half-width their test rows needed against their plan's own."""
+    learners: dict[Budget, dict[str, Learner]] = {}
+    learn = {*sd.split.val, *sd.split.factor}
     for k, r in residuals.items():
         (u, b, _), pred = at_chosen[k]
-        if u not in sd.split.val or r is None:
+        if u not in learn or r is None:
             continue
         half = residual_halfwidth(r, level)
-        test = residual_halfwidth(pred - arrays.targets[sd.evals[u].test_rows], level)
+        miss = pred - arrays.targets[sd.evals[u].test_rows]
+        test = residual_halfwidth(miss, level)
         if np.isfinite(half).all() and (half > 0).all() and np.isfinite(test).all() and (test > 0).all():
-            own.setdefault(b, []).append(half)
-            needed.setdefault(b, []).append(test)
-    return {b: FleetWidths(fleet_factor(np.stack(own[b]), np.stack(needed[b])),
-                           gmean(np.stack(needed[b]), axis=0),
-                           log_ratio_spread(np.stack(own[b]), np.stack(needed[b]))) for b in own}
+            learners.setdefault(b, {})[u] = Learner(half, test, *needed_halfwidths(miss, band_edges(level)))
+    return {b: fleet_widths(by_unit, level, arrays.output_names) for b, by_unit in learners.items()}
+
+
+def fleet_widths(learners: dict[str, Learner], level: float, names: Sequence[str]) -> FleetWidths:
+    """What the learning units (validation and factor units, by id) say at one budget."""
+    units = list(learners.values())
+    own, needed = np.stack([u.own for u in units]), np.stack([u.needed for u in units])
+    records = {u: {f: dict(zip(names, map(float, getattr(w, f)), strict=True)) for f in Learner._fields}
+               for u, w in learners.items()}
+    return FleetWidths(fleet_factor(own, needed), gmean(needed, axis=0), log_ratio_spread(own, needed),
+                       records, leave_one_out_margin(units))
 
 
 def log_ratio_spread(own: np.ndarray, needed: np.ndarray) -> np.ndarray:
@@ -117,16 +142,24 @@ def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.n
     what the validation units say (`fleet`), the same for the half-width times the fleet factor
     (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`), for their typical half-width, the
     plan unused (`<output>_typical_...`), and for the geometric mean of the two, the unit's
-    plan shrunk halfway to the fleet (`<output>_shrunk_...`); given the test rows' patches
+    plan shrunk halfway to the fleet (`<output>_shrunk_...`), for the fleet factor times its margin
+    (`<output>_margin_...`), and the half-widths at which the test rows' coverage is each of
+    `band_edges` (`<output>_needed80_halfwidth`, ...: where any other width lands as to the band and
+    its floor, without the test rows); given the test rows' patches
     (m,) as well, how well the unit's test set decides its coverage (`test_set_fields`). Empty
     for a plan too short to cross-fit."""
     if residuals is None:
         return {}
     half = residual_halfwidth(residuals, level)
+    edges = band_edges(level)
     out = {"interval_level": level, "interval_rows": int(len(residuals)),
-           "interval_test_rows": int(len(target)), **_band(pred, target, names, half, "")}
+           "interval_test_rows": int(len(target)), **_band(pred, target, names, half, ""),
+           **{f"{n}_needed{round(100 * c)}_halfwidth": float(v)
+              for c, h in zip(edges, needed_halfwidths(pred - target, edges), strict=True)
+              for n, v in zip(names, h, strict=True)}}
     if fleet is not None:
         out |= _band(pred, target, names, half * fleet.factor, "fleet_")
+        out |= _band(pred, target, names, half * fleet.factor * fleet.margin.margin, "margin_")
         out |= _band(pred, target, names, fleet.typical, "typical_")
         out |= _band(pred, target, names, np.sqrt(half * fleet.factor * fleet.typical), "shrunk_")
         if patch is not None:

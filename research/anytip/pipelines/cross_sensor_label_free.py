@@ -64,7 +64,7 @@ class OrdinaryUse:
 
 def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
                       source: SourceRows, start: FitResult, extra: FleetArrays | None = None) -> OrdinaryUse:
-    """Each validation and held-out unit's ordinary use (`options.response.label_free`) and what the
+    """Each validation, held-out and factor unit's ordinary use (`options.response.label_free`) and what the
     fleet adds to it. `source`: the rows whose contacts the search draws; `start`: the pooled network
     whose contacts the fits pull each unlabeled row towards; `extra`: the run's extra units, whose
     ordinary use teaches the code encoder with the registry's."""
@@ -72,7 +72,7 @@ def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: in
     free = opts.response.label_free.recipe()
     coder = code_encoder(arrays, extra, opts, free, seed, fit)
     uses, X, Y0, first = {}, {}, {}, {}
-    for u in [*sd.split.val, *sd.split.test]:
+    for u in [*sd.split.val, *sd.split.test, *sd.split.factor]:
         use = uses[u] = ordinary_use(sd.evals[u].presses, free.seconds, ordinary_use_seed(seed, u))
         X[u], Y0[u], first[u] = use_inputs(arrays.pressure[use.rows], free, start, coder, fit.device)
     fleet = FleetUse(free, opts.rig.effective_hz, force_scale(arrays, sd, opts, free, seed), coder)

@@ -126,6 +126,11 @@ class IntervalOptions(BaseModel):
         default=False, description="response transfer: also train each unit a network on its transferred "
         "rows alone, whose residuals on the plan's rows (which it never saw) give a second interval "
         "(`transfer_` fields) beside the plan's own residuals (research log entry 28)")
+    factor_units: int = Field(
+        default=0, ge=0, le=100_000, description="response transfer: units dealt after the training units "
+        "(neither trained on nor held out; needs splits.n_train_units) calibrated as validation units are, "
+        "that learn the intervals' fleet factor with the validation units and choose nothing else "
+        "(research log entry 50)")
 
 
 class LabelFreeOptions(BaseModel):

@@ -20,6 +20,7 @@ from anytip.errors import AnytipError
 from anytip.models.io import LoadedResponse, ModelFileError, load_response, save_response
 from anytip.pipelines.common import Context
 from anytip.pipelines.cross_sensor_jobs import (
+    FleetWidths,
     Job,
     budget_fields,
     interval_fields,
@@ -85,10 +86,9 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     digest = None  # a model handed in was trained elsewhere: its file records no digest
     if fit is None:
         fit, digest = trained_response(ctx, sd, arrays, opts, seed)
-    check_trained_on(fit.unit_ids, sd.train.unit_ids, [*sd.split.val, *sd.split.test], seed)
-    budgets = [b for b in budget_list(opts) if b.amount > 0]
-    jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in [*sd.split.val, *sd.split.test] for b in budgets]
-    jobs = [j for j in jobs if len(j[2].rows)]
+    check_trained_on(fit.unit_ids, sd.train.unit_ids, [*sd.split.val, *sd.split.test, *sd.split.factor], seed)
+    jobs = labeled_jobs(sd, [*sd.split.val, *sd.split.test], opts, seed)
+    factor_jobs = labeled_jobs(sd, list(sd.split.factor), opts, seed) if opts.intervals is not None else []
     rows: list[dict[str, Any]] = []
     val_loss: dict[Budget, float] = {}
     residual: dict[Budget, list[float]] = {}
@@ -99,17 +99,11 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         if recipe.inverse_start == "pooled":
             start = start_network(source, ctx.spec.model, recipe, seed, arrays.output_names, ctx.progress)
             start.save(start_network_path(response_path(ctx, seed)))
+    bands, factor = Bands({}, {}, {}), None
     if jobs:
-        X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
-        Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
-        nets, codes = calibrate_by_response(
-            fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, recipe, seed,
-            [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress, start)
-        preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
-                             [sd.evals[u].test_rows for u, _, _ in jobs])
-        keyed = [(u, b, 0.0) for u, b, _ in jobs]
+        mine = calibrated(ctx, arrays, sd, fit, (source, start), recipe, jobs, seed)
+        X, Y, codes, preds = mine.X, mine.Y, mine.codes, mine.preds
         val_loss = budget_losses(preds, jobs, sd, arrays)
-        bands = Bands({}, {}, {})
         if opts.intervals is not None:
             checks = None
             if opts.intervals.transfer_check:  # each unit's network again, on its transferred rows alone
@@ -117,8 +111,10 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                 checks = unit_networks(alone, ctx.spec.model, recipe, seed,
                                        [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names,
                                        fit.device, ctx.progress, start)
-            bands = plan_bands(nets, arrays, sd, list(zip(keyed, preds, strict=True)),
-                               [p for _, _, p in jobs], opts.intervals.level, checks)
+            if factor_jobs:
+                factor = calibrated(ctx, arrays, sd, fit, (source, start), recipe, factor_jobs, seed)
+            bands = plan_bands(mine.nets, arrays, sd, mine.at(), mine.plans(), opts.intervals.level, checks,
+                               factor)
         for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)):
             own = plan_residual(fit, X[m], Y[m], codes[m])
             if u in sd.split.val:
@@ -130,7 +126,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
     use_loss: dict[Budget, float] = {}
-    use_factors: dict[Budget, np.ndarray] = {}
+    use_bands = Bands({}, {}, {})
     saved_use: dict[str, Any] = {}  # what calibrate reads a new unit's ordinary use with
     if opts.response.label_free is not None:
         assert start is not None  # the option needs inverse_start: pooled
@@ -140,8 +136,8 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
             rows += free_rows
         saved_use["label_free"] = read.fleet.to_json()
         if opts.response.label_free.with_plans and jobs:
-            use_rows, use_loss, use_factors = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start),
-                                                            read, jobs, (X, Y, codes))
+            use_rows, use_loss, use_bands = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start),
+                                                          read, jobs, (X, Y, codes), factor)
             rows += use_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
@@ -151,52 +147,116 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     if use_loss:
         meta["use_val_loss_by_strategy"] = by_strategy(use_loss)
     if opts.intervals is not None and jobs:
-        names = arrays.output_names
-        meta["intervals"] = {"level": opts.intervals.level, "residuals": INTERVAL_RESIDUALS,
-                             "fleet_factor_by_strategy": by_strategy(
-                                 {b: dict(zip(names, map(float, f), strict=True))
-                                  for b, f in bands.factors.items()}),
-                             "use_fleet_factor_by_strategy": by_strategy(
-                                 {b: dict(zip(names, map(float, f), strict=True))
-                                  for b, f in use_factors.items()}),
-                             "log_ratio_spread_by_strategy": {kind: by_strategy(
-                                 {b: _finite_by_name(names, f) for b, f in spread.items()})
-                                 for kind, spread in bands.spreads.items()}}
+        meta["intervals"] = intervals_meta(opts.intervals.level, arrays.output_names, bands, use_bands,
+                                           len(sd.split.factor))
     save_response(response_path(ctx, seed), fit.model, fit.noise_var, fit.code_var, meta)
     return ResponseRows(rows, val_loss, free_loss, use_loss)
 
 
 def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
                   carry: tuple[SourceRows, FitResult], read: OrdinaryUse,
-                  jobs: list[tuple[str, Budget, Plan]], plans: tuple[list[Tensor], list[Tensor], Tensor]
-                  ) -> tuple[list[dict[str, Any]], dict[Budget, float], dict[Budget, np.ndarray]]:
+                  jobs: list[tuple[str, Budget, Plan]], plans: tuple[list[Tensor], list[Tensor], Tensor],
+                  factor: Calibrated | None = None
+                  ) -> tuple[list[dict[str, Any]], dict[Budget, float], Bands]:
     """Rows `response+use@<strategy>` of the held-out units, the validation units' loss per budget
-    and, with `options.intervals`, the fleet factor (D,) per budget their intervals learnt (as
-    `response@` rows learn theirs, `plan_bands`): every job (unit, budget, plan) calibrated again as
+    and, with `options.intervals`, their intervals (`plan_bands`; the factor units, `factor` as
+    `response@` calibrated them, calibrated again the same way, learn its fleet factor too): every
+    job (unit, budget, plan) calibrated again as
     `response@` is (`carry`: the source rows and the start network), its codes from one joint fit
     of its plan's rows and its unit's ordinary use `read`, started from the plan's own codes
     (`plans`: each job's pressures (n_m, C) Pa and contacts (n_m, D), and the codes (M, C, k)
     `response@` fitted on them; entry 45). Each network keeps its job's id, so it starts as the job's
     `response@` network did and the two differ by their codes alone."""
     assert opts.response is not None
-    source, start = carry
     X, Y, codes = plans
+    recipe = opts.response.recipe()
     joint = plan_use_codes(fit, opts, read, seed, [(u, p) for u, _, p in jobs], X, Y, codes)
-    nets, _ = calibrate_by_response(
-        fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model, opts.response.recipe(), seed,
-        [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, ctx.progress, start, joint)
-    preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
-                         [sd.evals[u].test_rows for u, _, _ in jobs])
+    mine = calibrated(ctx, arrays, sd, fit, carry, recipe, jobs, seed, joint)
     ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated with their ordinary use")
     bands = Bands({}, {}, {})
     if opts.intervals is not None:
-        bands = plan_bands(nets, arrays, sd, list(zip([(u, b, 0.0) for u, b, _ in jobs], preds, strict=True)),
-                           [p for _, _, p in jobs], opts.intervals.level)
+        with_use = None
+        if factor is not None:  # the factor units' joint fit from their plan codes, as the jobs' own
+            pairs = [(u, p) for u, _, p in factor.jobs]
+            both = plan_use_codes(fit, opts, read, seed, pairs, factor.X, factor.Y, factor.codes)
+            with_use = calibrated(ctx, arrays, sd, fit, carry, recipe, factor.jobs, seed, both)
+        bands = plan_bands(mine.nets, arrays, sd, mine.at(), mine.plans(), opts.intervals.level,
+                           factor=with_use)
     rows = [{"method": WITH_USE + plan_suffix(b), "unit": u, **budget_fields(b, plan),
              **use_fields(read.uses[u]), **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
              **bands.fields.get(m, {})}
-            for m, ((u, b, plan), pred) in enumerate(zip(jobs, preds, strict=True)) if u in sd.split.test]
-    return rows, budget_losses(preds, jobs, sd, arrays), bands.factors
+            for m, ((u, b, plan), pred) in enumerate(zip(jobs, mine.preds, strict=True))
+            if u in sd.split.test]
+    return rows, budget_losses(mine.preds, jobs, sd, arrays), bands
+
+
+def labeled_jobs(sd: SeedData, units: list[str], opts: Options, seed: int) -> list[tuple[str, Budget, Plan]]:
+    """(unit, budget, plan) of `units` at every labeled budget whose plan holds rows."""
+    jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in units for b in budget_list(opts) if b.amount > 0]
+    return [j for j in jobs if len(j[2].rows)]
+
+
+class Calibrated(NamedTuple):
+    """Jobs (unit, budget, plan) calibrated by response transfer in one batched fleet: each job's
+    plan rows X[m] (n_m, C) Pa, Y[m] (n_m, D), codes (M, C, k), networks, test-row predictions."""
+
+    jobs: list[tuple[str, Budget, Plan]]
+    X: list[Tensor]
+    Y: list[Tensor]
+    codes: Tensor
+    nets: FitResult
+    preds: list[np.ndarray]
+
+    def at(self) -> list[tuple[Job, np.ndarray]]:
+        """((unit, budget, 0), test-row prediction) per job, as `plan_bands` takes them."""
+        return [((u, b, 0.0), p) for (u, b, _), p in zip(self.jobs, self.preds, strict=True)]
+
+    def plans(self) -> list[Plan]:
+        return [p for _, _, p in self.jobs]
+
+
+def calibrated(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit,
+               carry: tuple[SourceRows, FitResult | None], recipe: ResponseRecipe,
+               jobs: list[tuple[str, Budget, Plan]], seed: int, codes: Tensor | None = None) -> Calibrated:
+    """`jobs` calibrated by response transfer with `recipe` (`carry`: the source rows and the start
+    network), their codes fitted on their plans or given (`codes`, (M, C, k)), and scored on their
+    units' test rows."""
+    source, start = carry
+    X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
+    Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
+    ids = [f"{u}@{b.label}" for u, b, _ in jobs]
+    nets, got = calibrate_by_response(fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model,
+                                      recipe, seed, ids, arrays.output_names, ctx.progress, start, codes)
+    preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
+                         [sd.evals[u].test_rows for u, _, _ in jobs])
+    return Calibrated(jobs, X, Y, got, nets, preds)
+
+
+def intervals_meta(level: float, names: tuple[str, ...], bands: Bands, use_bands: Bands,
+                   n_factor_units: int) -> dict[str, Any]:
+    """What a response model records of its benchmark's intervals for `anytip calibrate`: the fleet
+    factors per strategy and budget (`use_`: codes fitted with ordinary use), the spread of
+    log(needed / own half-width), the factors' leave-one-unit-out margins (`margin_by_strategy`:
+    the margin, and per grid value the left-out unit-outputs below the floor and the share in the
+    band), and each validation and factor unit's half-widths (`units_by_strategy`)."""
+    def named(factors: dict[Budget, np.ndarray]) -> dict[str, dict[str, Any]]:
+        return by_strategy({b: dict(zip(names, map(float, f), strict=True)) for b, f in factors.items()})
+
+    def margins(widths: dict[Budget, FleetWidths]) -> dict[str, dict[str, Any]]:
+        return by_strategy({b: {"margin": w.margin.margin,
+                                "below_floor": {f"{m:g}": v for m, v in w.margin.below.items()},
+                                "in_band": {f"{m:g}": v for m, v in w.margin.in_band.items()}}
+                            for b, w in widths.items()})
+
+    spreads = {kind: by_strategy({b: _finite_by_name(names, f) for b, f in spread.items()})
+               for kind, spread in bands.spreads.items()}
+    return {"level": level, "residuals": INTERVAL_RESIDUALS, "factor_units": n_factor_units,
+            "fleet_factor_by_strategy": named(bands.factors),
+            "use_fleet_factor_by_strategy": named(use_bands.factors),
+            "margin_by_strategy": margins(bands.widths), "use_margin_by_strategy": margins(use_bands.widths),
+            "log_ratio_spread_by_strategy": spreads,
+            "units_by_strategy": by_strategy({b: w.units for b, w in bands.widths.items()}),
+            "use_units_by_strategy": by_strategy({b: w.units for b, w in use_bands.widths.items()})}
 
 
 def budget_losses(preds: list[np.ndarray], jobs: list[tuple[str, Budget, Plan]], sd: SeedData,
@@ -305,6 +365,7 @@ class Bands(NamedTuple):
     fields: dict[int, dict[str, Any]]
     factors: dict[Budget, np.ndarray]
     spreads: dict[str, dict[Budget, np.ndarray]]
+    widths: dict[Budget, FleetWidths] = {}  # noqa: RUF012  (the plan residuals' per budget; never mutated)
 
 
 INTERVAL_RESIDUALS = "plan"  # what a response-transferred unit's intervals start from (plan_bands)
@@ -312,7 +373,7 @@ INTERVAL_RESIDUALS = "plan"  # what a response-transferred unit's intervals star
 
 def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
                at: list[tuple[Job, np.ndarray]], plans: list[Plan], level: float,
-               checks: FitResult | None = None) -> Bands:
+               checks: FitResult | None = None, factor: Calibrated | None = None) -> Bands:
     """Intervals from each unit's own plan: the conformal half-width of its network's residuals
     on the plan's rows (D,), times the fleet factor the validation units learnt at its budget (how
     much wider their test rows needed it; `uncertainty.conformal.fleet_factor`).
@@ -322,9 +383,16 @@ def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
     adapters (which would cost a response transfer a network per fold). `at`: ((unit, budget,
     prior), test-row prediction) per job, in the order of `nets`' models and `plans`. `checks`:
     each job's network trained on its transferred rows alone (`transfer_check`), whose residuals
-    on the plan's rows, which it never saw, give the `transfer_` fields with their own factor."""
+    on the plan's rows, which it never saw, give the `transfer_` fields with their own factor.
+    `factor`: the factor units' calibrations, whose plans and test rows learn the fleet factor with
+    the validation units' (`options.intervals.factor_units`; not the `transfer_` one)."""
     residuals = _plan_residuals(nets, arrays, plans)
-    fleet = validation_factors(at, residuals, sd, arrays, level)
+    learn_at, learn = list(at), dict(residuals)
+    if factor is not None:
+        more = _plan_residuals(factor.nets, arrays, factor.plans())
+        learn |= {len(at) + m: r for m, r in more.items()}
+        learn_at += factor.at()
+    fleet = validation_factors(learn_at, learn, sd, arrays, level)
     names = arrays.output_names
     fields = {m: interval_fields(residuals[m], pred, arrays.targets[sd.evals[u].test_rows], names, level,
                                  fleet.get(b), arrays.patch[sd.evals[u].test_rows], m)
@@ -338,7 +406,7 @@ def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
             if m in fields and fields[m] and b in other:
                 target = arrays.targets[sd.evals[u].test_rows]
                 fields[m] |= scaled_fields(unseen[m], pred, target, names, level, other[b], "transfer_")
-    return Bands(fields, {b: f.factor for b, f in fleet.items()}, spreads)
+    return Bands(fields, {b: f.factor for b, f in fleet.items()}, spreads, fleet)
 
 
 def _plan_residuals(nets: FitResult, arrays: FleetArrays, plans: list[Plan]) -> dict[int, np.ndarray]:

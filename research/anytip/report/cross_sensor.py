@@ -392,6 +392,7 @@ here are ordinary units: how often would the alarm have fired on them (unit-seed
 COVERAGE_BAND = 0.05  # a unit-output's coverage counts as on target within +-0.05 of the nominal level
 # (label, row-field prefix) of each half-width rows may score (`pipelines.cross_sensor_jobs.interval_fields`)
 INTERVAL_KINDS = (("own plan", ""), ("own plan x fleet factor", "fleet_"),
+                  ("own plan x fleet factor x its leave-one-out margin", "margin_"),
                   ("validation units' (plan unused)", "typical_"),
                   ("geometric mean of the two above", "shrunk_"),
                   ("network of the transferred rows alone, on the plan x its factor", "transfer_"))

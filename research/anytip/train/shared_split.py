@@ -36,7 +36,7 @@ from anytip.train.metrics import predict
 
 @dataclass
 class EvalUnit:
-    """A validation or held-out unit: its test rows, its calibration stream and the whole
+    """A validation, held-out or factor unit: its test rows, its calibration stream and the whole
     presses of the stream's runs outside its test patches (what a plan may select)."""
 
     unit: str
@@ -50,7 +50,7 @@ class SeedData:
     split: UnitSplit
     train: FleetBatchData  # training units' rows, 10% random rows for model selection
     train_stats: Scaler  # (U_train, 1, C) label-free input statistics
-    evals: dict[str, EvalUnit]  # validation and held-out units
+    evals: dict[str, EvalUnit]  # validation, held-out and factor units
     n_extra: int = 0  # training units from another registry, after the split's own in `train`
     train_presses: list[np.ndarray] | None = None  # each training unit's press of every fitting row
 
@@ -72,6 +72,7 @@ class Roles:
     val_fraction: float
     unit_folds: int | None = None  # held-out units as rotating folds (data.splits.split_units)
     unlabeled_s: float | None = None  # seconds of each stream whose pressures set input statistics
+    n_factor_units: int = 0  # units that learn intervals' width alone (data.splits.split_units)
 
 
 def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
@@ -82,10 +83,10 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
     `extra`: units of another registry that only train (same channels and targets, no unit
     in common); their tensors follow the split's training units in `train`."""
     split = split_units(arrays.units, seed, max(roles.n_val_units, 1), max(roles.n_test_units, 1),
-                        roles.n_train_units, roles.unit_folds)
+                        roles.n_train_units, roles.unit_folds, roles.n_factor_units)
     main = main_rows(arrays, calibration_protocol)
     evals = {}
-    for k, unit in enumerate([*split.val, *split.test]):
+    for k, unit in enumerate([*split.val, *split.test, *split.factor]):
         mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
         own = unit_main_rows(arrays, unit, main)
         held = held_out_patches(arrays.patch[own], roles.patch_test_fraction,

@@ -10,6 +10,7 @@ a predicted sigma is the normalised score |y - mu| / sigma.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from scipy.stats import gmean
@@ -31,6 +32,13 @@ def residual_halfwidth(residuals: np.ndarray, level: float) -> np.ndarray:
     """Half-width per output (d,) of intervals at nominal `level` from out-of-sample residuals
     (n, d): the conformal quantile of their absolute values."""
     return conformal_quantile(np.abs(residuals), 1.0 - level)
+
+
+def needed_halfwidths(residuals: np.ndarray, coverages: Sequence[float]) -> np.ndarray:
+    """(len(coverages), d): per output, the half-width at which intervals pred +- h cover each
+    share of rows with residuals (n, d) (the empirical quantiles of |residual|, interpolated): an
+    interval narrower than the first row covers less than coverages[0] of them."""
+    return np.quantile(np.abs(residuals), np.asarray(coverages, dtype=float), axis=0)
 
 
 def fleet_factor(own: np.ndarray, observed: np.ndarray) -> np.ndarray:

@@ -1,0 +1,64 @@
+"""A margin on the fleet factor, chosen by leaving one learning unit out at a time.
+
+A new unit's half-width is its plan's own times the fleet factor (`conformal.fleet_factor`). The
+units that learn the factor (validation and factor units) can also say how often that rule lets a
+unit's coverage fall outside a band: each in turn gets the factor of the others, and its test rows
+say where its coverage lands (`Learner.needed_*`, the half-widths at which it is at the band's
+edges and at its floor). The margin is the smallest factor multiplier on a grid under which no
+left-out unit-output falls below the floor and at least `in_band_share` of them lie in the band;
+1 where none is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import NamedTuple
+
+import numpy as np
+
+from anytip.uncertainty.conformal import fleet_factor
+
+MARGIN_GRID = tuple(round(1 + 0.02 * k, 2) for k in range(11))  # 1.00, 1.02, ..., 1.20
+IN_BAND_SHARE = 0.9  # of left-out unit-outputs within the band, besides none below the floor
+
+
+class Learner(NamedTuple):
+    """One learning unit's half-widths per output (D,), in the output's unit: its plan's own, the
+    one its test rows needed at the nominal level, and those at which their coverage is the floor,
+    the band's lower and its upper edge."""
+
+    own: np.ndarray
+    needed: np.ndarray
+    at_floor: np.ndarray
+    at_low: np.ndarray
+    at_high: np.ndarray
+
+
+class MarginChoice(NamedTuple):
+    """The chosen margin, and per grid value the left-out unit-outputs below the floor and the share
+    of them in the band."""
+
+    margin: float
+    below: dict[float, int]
+    in_band: dict[float, float]
+
+
+def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_BAND_SHARE,
+                         grid: Sequence[float] = MARGIN_GRID) -> MarginChoice:
+    """The margin on the fleet factor by leaving each learner out (see the module); needs >= 3
+    learners (a factor of at least two others), else the margin is 1 and the tables are empty."""
+    if len(learners) < 3:
+        return MarginChoice(1.0, {}, {})
+    own = np.stack([u.own for u in learners])
+    needed = np.stack([u.needed for u in learners])
+    base = np.stack([u.own * fleet_factor(np.delete(own, k, 0), np.delete(needed, k, 0))
+                     for k, u in enumerate(learners)])  # (U, D) each unit's width from the others
+    floor, low, high = (np.stack([getattr(u, f) for u in learners])
+                        for f in ("at_floor", "at_low", "at_high"))
+    below, in_band = {}, {}
+    for m in grid:
+        width = base * m
+        below[m] = int((width < floor).sum())
+        in_band[m] = float(((width >= low) & (width <= high)).mean())
+    ok = [m for m in grid if below[m] == 0 and in_band[m] >= in_band_share]
+    return MarginChoice(min(ok) if ok else 1.0, below, in_band)
