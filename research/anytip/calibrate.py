@@ -52,6 +52,7 @@ from anytip.train.label_free import (
     FleetUse,
     Labeled,
     LabelFreeRecipe,
+    encoder_codes,
     fleet_force_scale,
     search_candidates,
     unit_codes_with_use,
@@ -778,8 +779,10 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
         raise AnytipError(f"unit {stream.unit}: its calibration stream holds no whole presses to read as "
                           "ordinary use")
     coder = fleet.coder if fleet.free.start == "encoder" else None
+    P = arrays.pressure[used.rows]
+    X, Y0, _ = use_inputs(P, fleet.free, start, None, "cpu")
     try:
-        X, Y0, first = use_inputs(arrays.pressure[used.rows], fleet.free, start, coder, "cpu")
+        first = encoder_codes(P, coder, "cpu")
     except ValueError as e:
         raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.encoder: {e}") from None
     candidates = search_candidates(source.Y, fleet.free.candidates, seed)

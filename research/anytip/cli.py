@@ -250,7 +250,8 @@ def _print_intervals(bands: dict[str, Any]) -> None:
     print(f"{bands['level']:.0%} intervals from the plan ({source}; N or rad as the target): {half}")
     if "fleet_factor" in bands:
         factor = ", ".join(f"{k} x{v:.2f}" for k, v in bands["fleet_factor"].items())
-        print(f"  the plan's own half-widths times the fleet factor its validation units learnt: {factor}")
+        print(f"  the plan's own half-widths times the fleet factor the benchmark's validation (and factor) "
+              f"units learnt, with its margin where one was recorded: {factor}")
     if "coverage_on_other_runs" in bands:
         cover = ", ".join(f"{k} {v:.3f}" for k, v in bands["coverage_on_other_runs"].items())
         print(f"  share of the unit's other runs inside them: {cover}")

@@ -233,8 +233,14 @@ def use_inputs(P: np.ndarray, free: LabelFreeRecipe, start: FitResult | LoadedMo
     without an encoder or with fewer than two rows). All on `device`."""
     X = torch.from_numpy(P[evenly_spaced(len(P), free.rows).numpy()])
     Y0 = predict(start.model, start.in_scaler, start.out_scaler, X[None].to(start.in_scaler.mean.device))[0]
-    first = coder(stream_features(P)).to(device) if coder is not None and len(P) > 1 else None
-    return X.to(device), Y0.to(device), first
+    return X.to(device), Y0.to(device), encoder_codes(P, coder, device)
+
+
+def encoder_codes(P: np.ndarray, coder: CodeEncoder | None, device: torch.device | str) -> Tensor | None:
+    """(C, k) on `device`: the codes `coder` predicts from the statistics of a unit's ordinary use,
+    its pressures P (n, C) Pa; None without an encoder or with fewer than two rows. A ValueError
+    where the encoder's features do not fit P's."""
+    return coder(stream_features(P)).to(device) if coder is not None and len(P) > 1 else None
 
 
 def fleet_code_encoder(fit: ResponseFit, sources: list[FleetArrays], protocol: str | None, interleave: bool,
