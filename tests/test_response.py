@@ -478,6 +478,18 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
                                  use_seconds=15)
             assert 0 < cal.unlabeled_seconds <= 15
             assert load_models(tmp_path / f"cal{budget}").meta["method"] == method
+    if start == "pooled":  # factor units on such runs: widths of its own targets, and a margin
+        more = run_experiment(SPEC, reg, out=tmp_path / "factor", progress=False, overrides=[
+            *over, "splits.n_train_units=4", "options.intervals={folds: 3, level: 0.8, factor_units: 2}"])
+        units = json.loads((more / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
+        assert len(units["factor"]) == 2
+        scored = json.loads((more / "metrics.json").read_text())["results"]
+        banded = [r for r in scored if "interval_level" in r]
+        assert banded and all(r["u_margin_halfwidth"] >= r["u_fleet_halfwidth"] > 0 and
+                              r["u_needed70_halfwidth"] <= r["u_needed85_halfwidth"] for r in banded)
+        learnt = load_response(more / "models" / "response_seed0.safetensors").meta["intervals"]
+        assert all(set(by) == {*units["val"], *units["factor"]} and all("u" in w["own"] for w in by.values())
+                   for by in learnt["units_by_strategy"]["spread"].values())
     if start == "pooled":  # the label-free script reads such a run too, its own targets' ratios
         out = tmp_path / "codes.json"
         assert _script("label_free_codes").main([str(run), "--registry", str(reg.root), "--out", str(out),

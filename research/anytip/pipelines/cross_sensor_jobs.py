@@ -83,14 +83,14 @@ class FleetWidths(NamedTuple):
     the fleet factor (`uncertainty.conformal.fleet_factor`), the typical half-width their test
     rows needed (geometric mean; a new unit's plan unused), in the output's unit, and the spread
     over them of log(needed / own half-width) (how far one unit's own half-width, times the
-    factor, misses what its test rows need; NaN with one validation unit). `units`: each unit's
-    half-widths (`fleet_margin.Learner`'s fields as {field: {output: value}}); `margin`: the
-    factor's leave-one-unit-out margin over them (`uncertainty.fleet_margin`)."""
+    factor, misses what its test rows need; NaN with one validation unit). `learners`: each unit's
+    half-widths by id; `margin`: the factor's leave-one-unit-out margin over them
+    (`uncertainty.fleet_margin`)."""
 
     factor: np.ndarray
     typical: np.ndarray
     spread: np.ndarray
-    units: dict[str, dict[str, dict[str, float]]] = {}  # noqa: RUF012  (a NamedTuple's default, never mutated)
+    learners: dict[str, Learner] = {}  # noqa: RUF012  (a NamedTuple's default, never mutated)
     margin: MarginChoice = MarginChoice(1.0, {}, {})
 
 
@@ -110,17 +110,15 @@ def validation_factors(at_chosen: list[tuple[Job, np.ndarray]],
         test = residual_halfwidth(miss, level)
         if np.isfinite(half).all() and (half > 0).all() and np.isfinite(test).all() and (test > 0).all():
             learners.setdefault(b, {})[u] = Learner(half, test, *needed_halfwidths(miss, band_edges(level)))
-    return {b: fleet_widths(by_unit, level, arrays.output_names) for b, by_unit in learners.items()}
+    return {b: fleet_widths(by_unit) for b, by_unit in learners.items()}
 
 
-def fleet_widths(learners: dict[str, Learner], level: float, names: Sequence[str]) -> FleetWidths:
+def fleet_widths(learners: dict[str, Learner]) -> FleetWidths:
     """What the learning units (validation and factor units, by id) say at one budget."""
     units = list(learners.values())
     own, needed = np.stack([u.own for u in units]), np.stack([u.needed for u in units])
-    records = {u: {f: dict(zip(names, map(float, getattr(w, f)), strict=True)) for f in Learner._fields}
-               for u, w in learners.items()}
     return FleetWidths(fleet_factor(own, needed), gmean(needed, axis=0), log_ratio_spread(own, needed),
-                       records, leave_one_out_margin(units))
+                       learners, leave_one_out_margin(units))
 
 
 def log_ratio_spread(own: np.ndarray, needed: np.ndarray) -> np.ndarray:

@@ -60,6 +60,7 @@ from anytip.train.response import (
     unit_networks,
 )
 from anytip.train.shared_split import SeedData, predict_rows
+from anytip.uncertainty.fleet_margin import Learner
 
 METHOD = "response"
 
@@ -137,7 +138,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         saved_use["label_free"] = read.fleet.to_json()
         if opts.response.label_free.with_plans and jobs:
             use_rows, use_loss, use_bands = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start),
-                                                          read, jobs, (X, Y, codes), factor)
+                                                          read, mine, factor)
             rows += use_rows
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(val_loss),
@@ -155,8 +156,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
 
 def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
                   carry: tuple[SourceRows, FitResult], read: OrdinaryUse,
-                  jobs: list[tuple[str, Budget, Plan]], plans: tuple[list[Tensor], list[Tensor], Tensor],
-                  factor: Calibrated | None = None
+                  plans: Calibrated, factor: Calibrated | None = None
                   ) -> tuple[list[dict[str, Any]], dict[Budget, float], Bands]:
     """Rows `response+use@<strategy>` of the held-out units, the validation units' loss per budget
     and, with `options.intervals`, their intervals (`plan_bands`; the factor units, `factor` as
@@ -164,13 +164,11 @@ def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     job (unit, budget, plan) calibrated again as
     `response@` is (`carry`: the source rows and the start network), its codes from one joint fit
     of its plan's rows and its unit's ordinary use `read`, started from the plan's own codes
-    (`plans`: each job's pressures (n_m, C) Pa and contacts (n_m, D), and the codes (M, C, k)
-    `response@` fitted on them; entry 45). Each network keeps its job's id, so it starts as the job's
-    `response@` network did and the two differ by their codes alone."""
+    (`plans`: the jobs as `response@` calibrated them; entry 45). Each network keeps its job's id,
+    so it starts as the job's `response@` network did and the two differ by their codes alone."""
     assert opts.response is not None
-    X, Y, codes = plans
-    recipe = opts.response.recipe()
-    joint = plan_use_codes(fit, opts, read, seed, [(u, p) for u, _, p in jobs], X, Y, codes)
+    recipe, jobs = opts.response.recipe(), plans.jobs
+    joint = plan_use_codes(fit, opts, read, seed, [(u, p) for u, _, p in jobs], plans.X, plans.Y, plans.codes)
     mine = calibrated(ctx, arrays, sd, fit, carry, recipe, jobs, seed, joint)
     ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated with their ordinary use")
     bands = Bands({}, {}, {})
@@ -239,8 +237,14 @@ def intervals_meta(level: float, names: tuple[str, ...], bands: Bands, use_bands
     log(needed / own half-width), the factors' leave-one-unit-out margins (`margin_by_strategy`:
     the margin, and per grid value the left-out unit-outputs below the floor and the share in the
     band), and each validation and factor unit's half-widths (`units_by_strategy`)."""
-    def named(factors: dict[Budget, np.ndarray]) -> dict[str, dict[str, Any]]:
-        return by_strategy({b: dict(zip(names, map(float, f), strict=True)) for b, f in factors.items()})
+    def named(widths: dict[Budget, FleetWidths]) -> dict[str, dict[str, Any]]:
+        return by_strategy({b: dict(zip(names, map(float, w.factor), strict=True))
+                            for b, w in widths.items()})
+
+    def learners(widths: dict[Budget, FleetWidths]) -> dict[str, dict[str, Any]]:
+        return by_strategy({b: {u: {f: dict(zip(names, map(float, getattr(x, f)), strict=True))
+                                    for f in Learner._fields} for u, x in w.learners.items()}
+                            for b, w in widths.items()})
 
     def margins(widths: dict[Budget, FleetWidths]) -> dict[str, dict[str, Any]]:
         return by_strategy({b: {"margin": w.margin.margin,
@@ -251,12 +255,11 @@ def intervals_meta(level: float, names: tuple[str, ...], bands: Bands, use_bands
     spreads = {kind: by_strategy({b: _finite_by_name(names, f) for b, f in spread.items()})
                for kind, spread in bands.spreads.items()}
     return {"level": level, "residuals": INTERVAL_RESIDUALS, "factor_units": n_factor_units,
-            "fleet_factor_by_strategy": named(bands.factors),
-            "use_fleet_factor_by_strategy": named(use_bands.factors),
+            "fleet_factor_by_strategy": named(bands.widths),
+            "use_fleet_factor_by_strategy": named(use_bands.widths),
             "margin_by_strategy": margins(bands.widths), "use_margin_by_strategy": margins(use_bands.widths),
             "log_ratio_spread_by_strategy": spreads,
-            "units_by_strategy": by_strategy({b: w.units for b, w in bands.widths.items()}),
-            "use_units_by_strategy": by_strategy({b: w.units for b, w in use_bands.widths.items()})}
+            "units_by_strategy": learners(bands.widths), "use_units_by_strategy": learners(use_bands.widths)}
 
 
 def budget_losses(preds: list[np.ndarray], jobs: list[tuple[str, Budget, Plan]], sd: SeedData,
@@ -358,14 +361,13 @@ def source_units(sd: SeedData, recipe: ResponseRecipe) -> FleetBatchData:
 
 class Bands(NamedTuple):
     """Intervals of response-transferred units: each held-out job's interval fields by job index,
-    the fleet factor (D,) per budget that the validation units learnt, and per residual kind
-    (`plan`, `transfer`) and budget the validation units' spread of log(needed / own half-width)
-    (D,) (`cross_sensor_jobs.FleetWidths`)."""
+    what the learning units say of the plan's residuals per budget (`cross_sensor_jobs.FleetWidths`:
+    the fleet factor, its margin, ...), and per residual kind (`plan`, `transfer`) and budget their
+    spread of log(needed / own half-width) (D,)."""
 
     fields: dict[int, dict[str, Any]]
-    factors: dict[Budget, np.ndarray]
+    widths: dict[Budget, FleetWidths]
     spreads: dict[str, dict[Budget, np.ndarray]]
-    widths: dict[Budget, FleetWidths] = {}  # noqa: RUF012  (the plan residuals' per budget; never mutated)
 
 
 INTERVAL_RESIDUALS = "plan"  # what a response-transferred unit's intervals start from (plan_bands)
@@ -406,7 +408,7 @@ def plan_bands(nets: FitResult, arrays: FleetArrays, sd: SeedData,
             if m in fields and fields[m] and b in other:
                 target = arrays.targets[sd.evals[u].test_rows]
                 fields[m] |= scaled_fields(unseen[m], pred, target, names, level, other[b], "transfer_")
-    return Bands(fields, {b: f.factor for b, f in fleet.items()}, spreads, fleet)
+    return Bands(fields, fleet, spreads)
 
 
 def _plan_residuals(nets: FitResult, arrays: FleetArrays, plans: list[Plan]) -> dict[int, np.ndarray]:
