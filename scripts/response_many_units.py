@@ -18,6 +18,11 @@ their codes, so a new unit's rows are transferred from them as in the run):
 units and `--workers` reads them from there instead of simulating them again (research log entry
 48: one simulation of 1,024 units for two registries' folds).
 
+The extra units' rows are split and capped with the first run's seed, the same for every fold of
+the call; `--extra-split-seed S` gives another, so that a later call for some folds builds the rows
+an earlier call with more folds did (research log entry 51: other16 folds 2-3 after entry 48's call
+for folds 0-3, whose first run had seed 0).
+
 `--models 128:32768,1024:32768` names each model as extra units and rows per step instead (research
 log entry 33). `--registry-fleet FILE` gives the fleet config the registry's units were simulated
 with (`anytip data simulate --fleet FILE`; default: the default fleet), e.g. other16's
@@ -215,6 +220,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--extra-store", type=Path, default=None,
                         help="keep the extra units' registries here, or read them from an earlier call's "
                         "(same --extra-seed, counts and --workers), instead of simulating them again")
+    parser.add_argument("--extra-split-seed", type=int, default=None,
+                        help="the seed that splits and caps the extra units' rows (default: the first run's)")
     parser.add_argument("--max-rows", type=int, default=120_000)
     parser.add_argument("--steps", type=int, default=None, help="response model steps (default: the run's)")
     parser.add_argument("--workers", type=int, default=16)
@@ -277,7 +284,8 @@ def run(args: argparse.Namespace) -> None:
     ids = extra_ids(args.extra_seed, counts[-1])
     tasks = [Task(FleetConfig(), args.extra_seed, unit_index(u, args.extra_seed), args.extra_protocols,
                   ((-1, first + j),)) for j, u in enumerate(ids)]
-    extra = {rows[0]: rows for rows in gather(tasks, folds[0].roles, folds[0].seed, args.workers,
+    split_seed = folds[0].seed if args.extra_split_seed is None else args.extra_split_seed
+    extra = {rows[0]: rows for rows in gather(tasks, folds[0].roles, split_seed, args.workers,
                                               args.max_rows, args.extra_store).values()}
     log: dict[str, Any] = {"simulate_s": time.perf_counter() - start, "torch": torch.__version__,
                            "device": args.device,

@@ -586,9 +586,11 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     common = [str(run), "--registry-seed", "21", "--registry-protocols", "short", "--extra-seed", "22",
               "--extra-protocols", "short", "--workers", "2", "--device", "cpu", "--steps", "30",
               "--max-rows", "300", "--extra-store", str(tmp_path / "store")]
-    for again in ("kept", "read"):
-        assert many.main([*common, "--extra", "2", "--out", str(tmp_path / again)]) == 0
+    for again, split in (("kept", []), ("read", ["--extra-split-seed", "0"])):  # seed 0: the run's own
+        assert many.main([*common, "--extra", "2", *split, "--out", str(tmp_path / again)]) == 0
         assert (tmp_path / again / model.name).read_bytes() == model.read_bytes()
+    assert many.main([*common, "--extra", "2", "--extra-split-seed", "5", "--out", str(tmp_path / "s5")]) == 0
+    assert (tmp_path / "s5" / model.name).read_bytes() != model.read_bytes()  # other extra rows
     capsys.readouterr()
     assert many.main([*common, "--extra", "3", "--out", str(tmp_path / "more")]) == 2
     assert "stored extra units lack ['SIM22-002']" in capsys.readouterr().err
