@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from anytip.uncertainty.fleet_margin import Learner, leave_one_out_margin
+from anytip.uncertainty.fleet_margin import Learner, factor_ceiling, leave_one_out_margin
 
 
 def gaussian_learner(own: float, sigma: float) -> Learner:
@@ -23,3 +23,20 @@ def test_alike_units_need_no_margin_and_one_hard_unit_asks_for_one():
     assert got.below[1.0] == 1 and got.margin > 1.0 and got.below[got.margin] == 0
     assert got.in_band[got.margin] >= 0.9
     assert leave_one_out_margin(alike[:2]).margin == 1.0  # too few to leave one out
+
+
+def test_factor_ceiling_finds_the_best_factor_with_and_without_the_floor():
+    """Three units of one output whose band, as a factor on their own half-width of 2, is [1, 2],
+    [1.5, 2.5] and [3, 4], each floor 0.9 of its lower edge: a factor in [1.5, 2] puts two of three
+    in the band; leaving none below the floor needs 2.7, and then 3 puts only the last one in."""
+    own = np.full((3, 1), 2.0)
+    low = own * np.array([[1.0], [1.5], [3.0]])
+    high = own * np.array([[2.0], [2.5], [4.0]])
+    got = factor_ceiling(own, 0.9 * low, low, high)
+    assert got.free[0] == 1.5 and got.free_in_band == 2 / 3
+    assert got.safe[0] == 3.0 and got.safe_in_band == 1 / 3
+    # a second output whose units agree: both factors put all three in, and the shares are means
+    two = factor_ceiling(np.hstack([own, own]), np.hstack([0.9 * low, own * 0.8]), np.hstack([low, own]),
+                         np.hstack([high, own * 1.2]))
+    assert list(two.free) == [1.5, 1.0]
+    assert two.free_in_band == (2 + 3) / 6 and two.safe_in_band == (1 + 3) / 6

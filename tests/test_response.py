@@ -702,6 +702,25 @@ def test_transfer_bounds_scores_every_arm_and_fold_table_every_run(response_run,
         {a: ln.split("|")[3:] for a, ln in by_file.items()}  # one file: pooled over it is the file
 
 
+def test_fold_table_ceiling_reads_the_rows_needed_halfwidths_at_their_level(capsys):
+    """scripts/fold_table.py --ceiling: the band and floor come from the rows' interval level, and
+    one factor per output is judged by the half-widths each row's test rows needed."""
+    table = _script("fold_table")
+    rows = []
+    for k, need in enumerate((1.0, 1.1, 2.0)):  # unit k's test rows need `need` times its own width
+        rows.append({"method": "m@cover", "budget_s": 120, "unit": f"U{k}", "interval_level": 0.8,
+                     "x_halfwidth": 1.0, "x_fleet_halfwidth": 1.1, "x_fleet_coverage": 0.8,
+                     **{f"x_needed{c}_halfwidth": need * f for c, f in ((70, 0.9), (75, 0.95), (85, 1.1))}})
+    said = table.ceilings(rows)
+    # level 0.8: floor 0.70, band [0.75, 0.85]; as factors the bands are [0.95, 1.1], [1.045, 1.21] and
+    # [1.9, 2.2]: 1.045 puts two in; above every floor (1.8) only the third's band is reached, at 1.9
+    assert "3 units: one factor per output puts at most 67% in the band, 33% with none below 0.70 (x 1.90)" \
+        in said
+    assert table.edges_of(rows) == pytest.approx((0.7, 0.75, 0.85))
+    with pytest.raises(SystemExit, match="several levels"):
+        table.edges_of([*rows, {**rows[0], "interval_level": 0.9}])
+
+
 def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet, tmp_path):
     """scripts/label_free_codes.py on a run with a pooled start: a row per unit and arm, and the joint
     fits, from codes zero, from the truth and from the contact search, only keep steps that lower

@@ -7,6 +7,11 @@ say where its coverage lands (`Learner.needed_*`, the half-widths at which it is
 edges and at its floor). The margin is the smallest factor multiplier on a grid under which no
 left-out unit-output falls below the floor and at least `in_band_share` of them lie in the band;
 1 where none is.
+
+`factor_ceiling` asks the converse question of units whose test rows are already scored: the most
+unit-outputs any one factor per output could put in the band, with and without the condition that
+none fall below the floor. It chooses nothing: it says whether a fleet factor, however learnt, can
+meet a coverage target on those units, or whether the units' own widths must carry more.
 """
 
 from __future__ import annotations
@@ -62,3 +67,39 @@ def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_
         in_band[m] = float(((width >= low) & (width <= high)).mean())
     ok = [m for m in grid if below[m] == 0 and in_band[m] >= in_band_share]
     return MarginChoice(min(ok) if ok else 1.0, below, in_band)
+
+
+class FactorCeiling(NamedTuple):
+    """Per output (D,): the factor that puts most units in the band (`free`) and the one that does so
+    among factors that leave no unit below the floor (`safe`); each one's share of all unit-outputs
+    in the band."""
+
+    free: np.ndarray
+    free_in_band: float
+    safe: np.ndarray
+    safe_in_band: float
+
+
+def factor_ceiling(own: np.ndarray, at_floor: np.ndarray, at_low: np.ndarray,
+                   at_high: np.ndarray) -> FactorCeiling:
+    """The best one factor per output over units (U, D) of half-widths: their plans' own and those at
+    which their test rows' coverage is the floor and the band's edges (see `Learner`). A factor f
+    puts unit-output (u, d) in the band where at_low <= f * own <= at_high and below the floor where
+    f * own < at_floor; the best f is at some unit's lower edge, so those are the candidates. The
+    outputs are chosen independently, so the shares are the means of each output's."""
+    own, floor, low, high = (np.asarray(a, dtype=float) for a in (own, at_floor, at_low, at_high))
+    lo, hi, need = low / own, high / own, floor / own  # (U, D) band and floor, as factors
+    free, safe, n_free, n_safe = [], [], [], []
+    for d in range(own.shape[1]):
+        counts = ((lo[:, d, None] <= lo[None, :, d]) & (lo[None, :, d] <= hi[:, d, None])).sum(0)  # (U,)
+        best = int(np.argmax(counts))
+        free.append(lo[best, d])
+        n_free.append(counts[best])
+        least = need[:, d].max()  # the smallest factor with no unit below the floor
+        cands = np.append(lo[lo[:, d] >= least, d], least)
+        inside = ((lo[:, d, None] <= cands) & (cands <= hi[:, d, None])).sum(0)
+        k = int(np.argmax(inside))
+        safe.append(cands[k])
+        n_safe.append(inside[k])
+    size = own.size
+    return FactorCeiling(np.array(free), float(sum(n_free)) / size, np.array(safe), float(sum(n_safe)) / size)
