@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from anytip.pipelines.cross_sensor_jobs import band_edges
+from anytip.pipelines.cross_sensor_jobs import band_edges, needed_key
 from anytip.report.cross_sensor import budget_of, exact_share, paired_text, ratio_text, summary, unit_ratios
 from anytip.rundir import read_json
 from anytip.uncertainty.fleet_margin import factor_ceiling
@@ -102,11 +102,10 @@ def ceilings(rows: list[dict[str, Any]]) -> str:
     for method, budget in sorted({(r["method"], budget_of(r)) for r in rows if r["method"] != "per_unit"}):
         mine = [r for r in rows if r["method"] == method and budget_of(r) == budget]
         names = [k[:-len("_fleet_halfwidth")] for k in mine[0] if k.endswith("_fleet_halfwidth")]
-        need = [f"{{}}_needed{round(100 * c)}_halfwidth" for c in edges]  # floor, low and high edge
-        if not names or any(k.format(n) not in r for r in mine for k in need for n in names):
+        if not names or any(needed_key(n, e) not in r for r in mine for e in edges for n in names):
             continue
-        own, floor, low, high = (np.array([[r[k.format(n)] for n in names] for r in mine])
-                                 for k in ("{}_halfwidth", *need))
+        own = np.array([[r[f"{n}_halfwidth"] for n in names] for r in mine])
+        floor, low, high = (np.array([[r[needed_key(n, e)] for n in names] for r in mine]) for e in edges)
         c = factor_ceiling(own, floor, low, high)
         factors = ", ".join(f"{n} {f:.2f}" for n, f in zip(names, c.safe, strict=True))
         lines.append(f"{method} {budget:g} s, {len(mine)} units: one factor per output puts at most "

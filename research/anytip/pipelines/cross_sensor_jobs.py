@@ -35,6 +35,12 @@ def band_edges(level: float) -> tuple[float, float, float]:
     return level - 2 * COVERAGE_BAND, level - COVERAGE_BAND, level + COVERAGE_BAND
 
 
+def needed_key(output: str, coverage: float) -> str:
+    """A held-out row's field for the half-width at which its test rows' coverage of `output` is
+    `coverage` (one of `band_edges`): `<output>_needed80_halfwidth` for 0.80."""
+    return f"{output}_needed{round(100 * coverage)}_halfwidth"
+
+
 def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int) -> Plan:
     """The labeled rows `budget` grants `unit` (a stream prefix or whole presses)."""
     ev = sd.evals[unit]
@@ -152,7 +158,7 @@ def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.n
     edges = band_edges(level)
     out = {"interval_level": level, "interval_rows": int(len(residuals)),
            "interval_test_rows": int(len(target)), **_band(pred, target, names, half, ""),
-           **{f"{n}_needed{round(100 * c)}_halfwidth": float(v)
+           **{needed_key(n, c): float(v)
               for c, h in zip(edges, needed_halfwidths(pred - target, edges), strict=True)
               for n, v in zip(names, h, strict=True)}}
     if fleet is not None:

@@ -89,17 +89,15 @@ def factor_ceiling(own: np.ndarray, at_floor: np.ndarray, at_low: np.ndarray,
     outputs are chosen independently, so the shares are the means of each output's."""
     own, floor, low, high = (np.asarray(a, dtype=float) for a in (own, at_floor, at_low, at_high))
     lo, hi, need = low / own, high / own, floor / own  # (U, D) band and floor, as factors
-    free, safe, n_free, n_safe = [], [], [], []
-    for d in range(own.shape[1]):
-        counts = ((lo[:, d, None] <= lo[None, :, d]) & (lo[None, :, d] <= hi[:, d, None])).sum(0)  # (U,)
-        best = int(np.argmax(counts))
-        free.append(lo[best, d])
-        n_free.append(counts[best])
-        least = need[:, d].max()  # the smallest factor with no unit below the floor
-        cands = np.append(lo[lo[:, d] >= least, d], least)
+
+    def best(d: int, cands: np.ndarray) -> tuple[float, int]:
+        """The candidate factor for output d that puts most units in its band, and how many."""
         inside = ((lo[:, d, None] <= cands) & (cands <= hi[:, d, None])).sum(0)
         k = int(np.argmax(inside))
-        safe.append(cands[k])
-        n_safe.append(inside[k])
-    size = own.size
-    return FactorCeiling(np.array(free), float(sum(n_free)) / size, np.array(safe), float(sum(n_safe)) / size)
+        return float(cands[k]), int(inside[k])
+
+    free = [best(d, lo[:, d]) for d in range(own.shape[1])]
+    least = need.max(0)  # per output, the smallest factor that leaves no unit below the floor
+    safe = [best(d, np.append(lo[lo[:, d] >= least[d], d], least[d])) for d in range(own.shape[1])]
+    return FactorCeiling(np.array([f for f, _ in free]), sum(n for _, n in free) / own.size,
+                         np.array([f for f, _ in safe]), sum(n for _, n in safe) / own.size)
