@@ -18,6 +18,12 @@ angle RMSE in the runs over its RMSE in B, with a 95% bootstrap interval over un
 `--ceiling`, where rows record the half-widths their test rows needed: per (method, budget) the
 most unit-outputs one factor per output, chosen on these very units, could put in the band, and the
 most with none below the floor. A diagnostic of what any fleet factor can reach, never a method.
+
+`--pooled` (entry 53), for folds of response transfer: each fold's factor and leave-one-out margin
+learnt by the validation (and factor) units of every fold, as their folds' response models recorded
+them, except the units this fold holds out; per (method, budget) the share of held-out unit-outputs
+whose pooled interval lies in the band and how many fall below the floor, with each fold's number of
+learners, factor and margin, and a check that the fold's own learners give the factor its rows used.
 """
 
 from __future__ import annotations
@@ -29,12 +35,15 @@ from typing import Any
 
 import numpy as np
 
-from anytip.pipelines.cross_sensor_jobs import band_edges, needed_key
+from anytip.pipelines.cross_sensor_jobs import band_edges, fleet_widths, needed_key
 from anytip.report.cross_sensor import budget_of, exact_share, paired_text, ratio_text, summary, unit_ratios
 from anytip.rundir import read_json
-from anytip.uncertainty.fleet_margin import factor_ceiling
+from anytip.uncertainty.fleet_margin import Learner, factor_ceiling
 
 RMSE_KEYS = ("force_rmse_n", "angle_rmse_rad")
+# which learner records of a response model a row's method reads: ordinary use or the plan alone
+LEARNER_KEYS = {"response": "units_by_strategy", "response+use": "use_units_by_strategy"}
+Fold = tuple[str, int]  # (run directory, seed): one response model and the units it holds out
 
 
 def edges_of(rows: list[dict[str, Any]]) -> tuple[float, float, float]:
@@ -114,6 +123,67 @@ def ceilings(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def fold_learners(runs: list[Path]) -> dict[Fold, dict[tuple[str, str, str], dict[str, Learner]]]:
+    """Per fold, (learner key, strategy, budget label) -> {unit: its Learner} as the fold's response
+    model recorded them (`models/response_seed<seed>.json`, `intervals`)."""
+    out = {}
+    for run in runs:
+        for path in sorted((run / "models").glob("response_seed*.json")):
+            if not path.stem.removeprefix("response_seed").isdigit():  # a start network
+                continue
+            seed = int(path.stem.removeprefix("response_seed"))
+            recorded = read_json(path).get("meta", {}).get("intervals") or {}
+            out[str(run), seed] = {
+                (key, strategy, budget): {u: Learner(*(np.array(list(rec[f].values())) for f in Learner._fields))
+                                          for u, rec in units.items()}
+                for key in LEARNER_KEYS.values() for strategy, by_budget in recorded.get(key, {}).items()
+                for budget, units in by_budget.items()}
+    return out
+
+
+def pooled(runs: list[Path]) -> str:
+    """Per (method, budget) of response transfer: the held-out unit-outputs whose interval, each fold's
+    own half-width times the factor and margin of every fold's learners but its own held-out units
+    (`pipelines.cross_sensor_jobs.fleet_widths`), lies in the band, and those below the floor."""
+    tagged = [(str(run), r) for run in runs for r in read_json(run / "metrics.json")["results"]]
+    floor, low, high = needed_edges = edges_of([r for _, r in tagged])
+    held = {}
+    for run, r in tagged:
+        if r["method"] == "per_unit":
+            held.setdefault((run, r["seed"]), set()).add(r["unit"])
+    learners = fold_learners(runs)
+    lines = []
+    for method, budget in sorted({(r["method"], budget_of(r)) for _, r in tagged if "@" in r["method"]}):
+        base, strategy = method.split("@", 1)
+        key = (LEARNER_KEYS.get(base), strategy, f"{budget:g}")
+        mine = [(run, r) for run, r in tagged if r["method"] == method and budget_of(r) == budget]
+        names = [k[:-len("_fleet_halfwidth")] for k in mine[0][1] if k.endswith("_fleet_halfwidth")]
+        if key[0] is None or not names or any((run, r["seed"]) not in learners for run, r in mine):
+            continue
+        in_band, below, folds, drift = [], 0, {}, 0.0
+        for run, r in mine:
+            fold = (run, r["seed"])
+            pool = {f"{u} ({f[0]} seed {f[1]})": x for f, by_key in learners.items()
+                    for u, x in by_key.get(key, {}).items() if u not in held[fold]}
+            if len(pool) < 2:
+                continue
+            fw, own = fleet_widths(pool), fleet_widths(learners[fold][key])
+            used = np.array([r[f"{n}_fleet_halfwidth"] / r[f"{n}_halfwidth"] for n in names])
+            drift = max(drift, float(np.max(np.abs(own.factor / used - 1))))
+            folds[fold] = f"{len(pool)} learners, margin {fw.margin.margin:g}, factor " + \
+                ", ".join(f"{n} {v:.2f}" for n, v in zip(names, fw.factor, strict=True))
+            width = np.array([r[f"{n}_halfwidth"] for n in names]) * fw.factor * fw.margin.margin
+            edge = {e: np.array([r[needed_key(n, e)] for n in names]) for e in needed_edges}
+            in_band += list((width >= edge[low]) & (width <= edge[high]))
+            below += int((width < edge[floor]).sum())
+        if in_band:
+            lines += [f"{method} {budget:g} s, pooled factor x margin: {np.mean(in_band):.0%} of {len(in_band)} "
+                      f"unit-outputs in [{low:.2f}, {high:.2f}], {below} below {floor:.2f}; each fold's own "
+                      f"learners give its rows' factor to {drift:.1e}"]
+            lines += [f"  {run} seed {seed}: {text}" for (run, seed), text in folds.items()]
+    return "\n".join(lines)
+
+
 def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]]) -> str:
     """Per (method, budget) both hold: the geometric mean over units of rows' RMSE over against's,
     force and angle [95%]; the units' references must be the same in both."""
@@ -142,11 +212,15 @@ def main(argv: list[str] | None = None) -> int:
                         help="which intervals' coverage: the fleet factor's, or times its margin (entry 50)")
     parser.add_argument("--ceiling", action="store_true",
                         help="the most one factor per output could put in the band on these units (entry 51)")
+    parser.add_argument("--pooled", action="store_true",
+                        help="each fold's factor learnt by every fold's learners but its held-out units (entry 53)")
     args = parser.parse_args(argv)
     rows = rows_of(args.runs)
     print(table(rows, args.intervals))
     if args.ceiling:
         print("\n" + ceilings(rows))
+    if args.pooled:
+        print("\n" + pooled(args.runs))
     if args.against:
         print("\n" + paired(rows, rows_of(args.against)))
     return 0

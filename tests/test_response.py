@@ -721,6 +721,48 @@ def test_fold_table_ceiling_reads_the_rows_needed_halfwidths_at_their_level(caps
         table.edges_of([*rows, {**rows[0], "interval_level": 0.9}])
 
 
+def _fold_run(root: Path, seed: int, held: dict[str, tuple[float, float]], learners: dict[str, float]) -> Path:
+    """A finished fold made from the row and model-record format alone: one output `x` at level 0.9;
+    each held-out unit's row with its own half-width 1, the factor its fold's learners give and the
+    half-widths its test rows needed (0.80, 0.85, 0.95 at `held[u]`'s (low, high) times 0.9, 1, 1);
+    each learner with own half-width 1 and needed `learners[u]`."""
+    run = root / f"fold{seed}"
+    (run / "models").mkdir(parents=True)
+    factor = float(np.exp(np.mean(np.log(list(learners.values())))))
+    rows = []
+    for u, (low, high) in held.items():
+        errors = {"force_rmse_n": 1.0, "angle_rmse_rad": 0.1}
+        rows.append({"method": "per_unit", "unit": u, "seed": seed, **errors})
+        rows.append({"method": "response+use@cover", "unit": u, "seed": seed, "budget_s": 120, **errors,
+                     "interval_level": 0.9, "x_halfwidth": 1.0, "x_fleet_halfwidth": factor,
+                     "x_needed80_halfwidth": 0.9 * low, "x_needed85_halfwidth": low, "x_needed95_halfwidth": high})
+    (run / "metrics.json").write_text(json.dumps({"results": rows}))
+    record = {u: {"own": {"x": 1.0}, "needed": {"x": n}, "at_floor": {"x": n}, "at_low": {"x": n},
+                  "at_high": {"x": n}} for u, n in learners.items()}
+    meta = {"intervals": {"level": 0.9, "use_units_by_strategy": {"cover": {"120": record}}}}
+    (run / "models" / f"response_seed{seed}.json").write_text(json.dumps({"meta": meta}))
+    (run / "models" / f"response_seed{seed}_start.json").write_text(json.dumps({"meta": {}}))
+    return run
+
+
+def test_fold_table_pooled_learns_each_folds_factor_from_every_fold_but_its_held_out_units(tmp_path, capsys):
+    """scripts/fold_table.py --pooled: fold 0 learns from L1 and L2 but not from A1, which it holds out
+    (factor sqrt(2), two learners, no margin: A1 lands in its band); fold 1 from L1, L2 and A1 (factor
+    2.52, at most 1.2 times that with its margin: B1 needs 3.15 to reach the floor, so it falls below)."""
+    table = _script("fold_table")
+    a = _fold_run(tmp_path, 0, {"A1": (1.3, 1.5)}, {"L1": 2.0})
+    b = _fold_run(tmp_path, 1, {"B1": (3.5, 4.0)}, {"L2": 1.0, "A1": 8.0})
+    said = table.pooled([a, b])
+    assert "response+use@cover 120 s, pooled factor x margin: 50% of 2 unit-outputs in [0.85, 0.95], 1 below 0.80" \
+        in said
+    assert f"{a} seed 0: 2 learners, margin 1, factor x 1.41" in said
+    assert f"{b} seed 1: 3 learners" in said and "factor x 2.52" in said
+    drift = float(said.split("rows' factor to ")[1].split()[0])
+    assert drift < 1e-12  # each fold's own learners give the factor its rows used
+    assert table.main([str(a), str(b), "--pooled"]) == 0
+    assert "50% of 2 unit-outputs" in capsys.readouterr().out
+
+
 def test_label_free_codes_scores_every_arm_and_never_raises_its_objective(fleet, tmp_path):
     """scripts/label_free_codes.py on a run with a pooled start: a row per unit and arm, and the joint
     fits, from codes zero, from the truth and from the contact search, only keep steps that lower
