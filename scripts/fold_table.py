@@ -35,10 +35,10 @@ from typing import Any
 
 import numpy as np
 
-from anytip.pipelines.cross_sensor_jobs import band_edges, fleet_widths, needed_key
+from anytip.pipelines.cross_sensor_jobs import band_edges, needed_key
 from anytip.report.cross_sensor import budget_of, exact_share, paired_text, ratio_text, summary, unit_ratios
 from anytip.rundir import read_json
-from anytip.uncertainty.fleet_margin import Learner, factor_ceiling
+from anytip.uncertainty.fleet_margin import Learner, factor_ceiling, pooled_factor
 
 RMSE_KEYS = ("force_rmse_n", "angle_rmse_rad")
 # which learner records of a response model a row's method reads: ordinary use or the plan alone
@@ -134,7 +134,7 @@ def fold_learners(runs: list[Path]) -> dict[Fold, dict[tuple[str, str, str], dic
             seed = int(path.stem.removeprefix("response_seed"))
             recorded = read_json(path).get("meta", {}).get("intervals") or {}
             out[str(run), seed] = {
-                (key, strategy, budget): {u: Learner(*(np.array(list(rec[f].values())) for f in Learner._fields))
+                (key, strategy, budget): {u: Learner.from_record(rec, list(rec["own"]))
                                           for u, rec in units.items()}
                 for key in LEARNER_KEYS.values() for strategy, by_budget in recorded.get(key, {}).items()
                 for budget, units in by_budget.items()}
@@ -144,7 +144,7 @@ def fold_learners(runs: list[Path]) -> dict[Fold, dict[tuple[str, str, str], dic
 def pooled(runs: list[Path]) -> str:
     """Per (method, budget) of response transfer: the held-out unit-outputs whose interval, each fold's
     own half-width times the factor and margin of every fold's learners but its own held-out units
-    (`pipelines.cross_sensor_jobs.fleet_widths`), lies in the band, and those below the floor."""
+    (`uncertainty.fleet_margin.pooled_factor`), lies in the band, and those below the floor."""
     tagged = [(str(run), r) for run in runs for r in read_json(run / "metrics.json")["results"]]
     floor, low, high = needed_edges = edges_of([r for _, r in tagged])
     held = {}
@@ -167,17 +167,19 @@ def pooled(runs: list[Path]) -> str:
                     for u, x in by_key.get(key, {}).items() if u not in held[fold]}
             if len(pool) < 2:
                 continue
-            fw, own = fleet_widths(pool), fleet_widths(learners[fold][key])
+            factor, choice = pooled_factor(list(pool.values()))
+            own, _ = pooled_factor(list(learners[fold][key].values()))
             used = np.array([r[f"{n}_fleet_halfwidth"] / r[f"{n}_halfwidth"] for n in names])
-            drift = max(drift, float(np.max(np.abs(own.factor / used - 1))))
-            folds[fold] = f"{len(pool)} learners, margin {fw.margin.margin:g}, factor " + \
-                ", ".join(f"{n} {v:.2f}" for n, v in zip(names, fw.factor, strict=True))
-            width = np.array([r[f"{n}_halfwidth"] for n in names]) * fw.factor * fw.margin.margin
+            drift = max(drift, float(np.max(np.abs(own / used - 1))))
+            folds[fold] = f"{len(pool)} learners, margin {choice.margin:g}, factor " + \
+                ", ".join(f"{n} {v:.2f}" for n, v in zip(names, factor, strict=True))
+            width = np.array([r[f"{n}_halfwidth"] for n in names]) * factor * choice.margin
             edge = {e: np.array([r[needed_key(n, e)] for n in names]) for e in needed_edges}
             in_band += list((width >= edge[low]) & (width <= edge[high]))
             below += int((width < edge[floor]).sum())
         if in_band:
-            lines += [f"{method} {budget:g} s, pooled factor x margin: {np.mean(in_band):.0%} of {len(in_band)} "
+            lines += [f"{method} {budget:g} s, pooled factor x margin: {np.mean(in_band):.0%} of "
+                      f"{len(in_band)} "
                       f"unit-outputs in [{low:.2f}, {high:.2f}], {below} below {floor:.2f}; each fold's own "
                       f"learners give its rows' factor to {drift:.1e}"]
             lines += [f"  {run} seed {seed}: {text}" for (run, seed), text in folds.items()]
@@ -213,7 +215,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--ceiling", action="store_true",
                         help="the most one factor per output could put in the band on these units (entry 51)")
     parser.add_argument("--pooled", action="store_true",
-                        help="each fold's factor learnt by every fold's learners but its held-out units (entry 53)")
+                        help="each fold's factor learnt by every fold's learners but its held-out units "
+                             "(entry 53)")
     args = parser.parse_args(argv)
     rows = rows_of(args.runs)
     print(table(rows, args.intervals))

@@ -1,8 +1,9 @@
 """The leave-one-out margin on the fleet factor (`anytip.uncertainty.fleet_margin`)."""
 
 import numpy as np
+import pytest
 
-from anytip.uncertainty.fleet_margin import Learner, factor_ceiling, leave_one_out_margin
+from anytip.uncertainty.fleet_margin import Learner, factor_ceiling, leave_one_out_margin, pooled_factor
 
 
 def gaussian_learner(own: float, sigma: float) -> Learner:
@@ -40,3 +41,21 @@ def test_factor_ceiling_finds_the_best_factor_with_and_without_the_floor():
                          np.hstack([high, own * 1.2]))
     assert list(two.free) == [1.5, 1.0]
     assert two.free_in_band == (2 + 3) / 6 and two.safe_in_band == (1 + 3) / 6
+
+
+def test_a_recorded_learner_is_read_by_name_and_pooled_into_the_factor_and_margin():
+    """`Learner.from_record` reads {field: {output: half-width}} in the names' order and refuses a
+    missing or non-positive value by field and output; `pooled_factor` is the geometric mean of
+    needed over own per output, with the margin the learners choose."""
+    rec = {f: {"b": 2.0 * k, "a": 1.0 * k} for k, f in enumerate(Learner._fields, start=1)}
+    got = Learner.from_record(rec, ("a", "b"))
+    assert got.own.tolist() == [1.0, 2.0] and got.needed.tolist() == [2.0, 4.0]
+    for bad in (None, -1.0, float("nan"), True, "1"):
+        with pytest.raises(ValueError, match="at_low.b: .* is not a finite positive half-width"):
+            Learner.from_record({**rec, "at_low": {"a": 3.0, "b": bad}}, ("a", "b"))
+    with pytest.raises(ValueError, match="own.c"):
+        Learner.from_record(rec, ("a", "c"))
+    units = [Learner(np.array([1.0]), np.array([n]), np.array([0.1]), np.array([0.1]), np.array([10.0]))
+             for n in (1.0, 4.0)]
+    factor, choice = pooled_factor(units)
+    assert factor.tolist() == pytest.approx([2.0]) and choice.margin == 1.0  # two learners: no margin

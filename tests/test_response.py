@@ -30,6 +30,7 @@ from anytip.train.response import (
     train_response,
     transfer,
 )
+from anytip.uncertainty.fleet_margin import Learner, pooled_factor
 from test_cross_sensor import REPO, SECONDS, SPEC
 
 C, D = 4, 5  # barometers; labels: a 3-component force, then two place coordinates
@@ -498,6 +499,59 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
         assert held and all(r["place_ratio"] > 0 and r["force_ratio"] > 0 for r in held)
 
 
+def test_calibrate_pools_the_fleet_factor_with_other_folds_but_never_the_units_own(response_run, fleet,
+                                                                                   tmp_path):
+    """`--factor-from`: another fold's learners join the run's own in the factor and its margin, except
+    the unit calibrated (here recorded as needing 100 times its width, which would dominate the factor);
+    a record at another level, a malformed learner and an adapter calibration are refused by name."""
+    unit = _held_out(response_run)
+    header = json.loads((response_run / "models" / "response_seed0.json").read_text())
+    rec = header["meta"]["intervals"]
+    own = rec["units_by_strategy"]["spread"]["40"]
+    names = tuple(next(iter(own.values()))["own"])
+
+    def scaled(learned: dict, k: float) -> dict:
+        return {f: {n: v * (1 if f == "own" else k) for n, v in by_name.items()}
+                for f, by_name in learned.items()}
+
+    other = {f"{u}-b": scaled(x, 4.0) for u, x in own.items()}
+    other[unit] = scaled(next(iter(own.values())), 100.0)
+    rec["units_by_strategy"]["spread"]["40"] = other
+
+    def fold(name: str, record: dict) -> Path:
+        (tmp_path / name / "models").mkdir(parents=True)
+        shutil.copy(response_run / "models" / "response_seed0.safetensors", tmp_path / name / "models" /
+                    "response_seed1.safetensors")
+        (tmp_path / name / "models" / "response_seed1.json").write_text(json.dumps(header | {
+            "meta": header["meta"] | {"intervals": record}}))
+        return tmp_path / name
+
+    b = fold("b", rec)
+    got = calibrate_unit(response_run, unit, fleet, tmp_path / "cal", budget_seconds=40, method="response",
+                         interval_level=0.8, factor_from=[b])
+    learners = [Learner.from_record(x, names) for r in (own, other) for u, x in r.items() if u != unit]
+    factor, margin = pooled_factor(learners)
+    expected = dict(zip(names, factor * margin.margin, strict=True))
+    assert got.intervals["fleet_factor"] == pytest.approx(expected)
+    alone = calibrate_unit(response_run, unit, fleet, tmp_path / "alone", budget_seconds=40,
+                           method="response", interval_level=0.8)
+    assert all(got.intervals["fleet_factor"][n] > alone.intervals["fleet_factor"][n] for n in names)
+    with pytest.raises(AnytipError, match="level 0.9, not 0.8"):
+        calibrate_unit(response_run, unit, fleet, tmp_path / "c", budget_seconds=40, method="response",
+                       interval_level=0.8, factor_from=[fold("c", rec | {"level": 0.9})])
+    bad = json.loads(json.dumps(rec))
+    next(iter(bad["units_by_strategy"]["spread"]["40"].values()))["needed"][names[0]] = -1
+    with pytest.raises(AnytipError, match=f"needed.{names[0]}: -1 is not a finite positive"):
+        calibrate_unit(response_run, unit, fleet, tmp_path / "d", budget_seconds=40, method="response",
+                       interval_level=0.8, factor_from=[fold("d", bad)])
+    with pytest.raises(AnytipError, match="holds no response model"):
+        calibrate_unit(response_run, unit, fleet, tmp_path / "e", budget_seconds=40, method="response",
+                       factor_from=[tmp_path / "cal"])
+    with pytest.raises(AnytipError, match="response transfer alone"):
+        calibrate_unit(response_run, unit, fleet, tmp_path / "f", budget_seconds=40, method="adapter",
+                       factor_from=[b])
+
+
 def test_extra_units_train_the_response_model_and_the_registrys_units_carry_over(fleet, tmp_path):
     """With `extra_units` and `transfer_from: registry` the response model learns from the extra
     units too, while a new unit's network is trained on the registry's own training units' rows:
@@ -721,7 +775,8 @@ def test_fold_table_ceiling_reads_the_rows_needed_halfwidths_at_their_level(caps
         table.edges_of([*rows, {**rows[0], "interval_level": 0.9}])
 
 
-def _fold_run(root: Path, seed: int, held: dict[str, tuple[float, float]], learners: dict[str, float]) -> Path:
+def _fold_run(root: Path, seed: int, held: dict[str, tuple[float, float]],
+              learners: dict[str, float]) -> Path:
     """A finished fold made from the row and model-record format alone: one output `x` at level 0.9;
     each held-out unit's row with its own half-width 1, the factor its fold's learners give and the
     half-widths its test rows needed (0.80, 0.85, 0.95 at `held[u]`'s (low, high) times 0.9, 1, 1);
@@ -735,7 +790,8 @@ def _fold_run(root: Path, seed: int, held: dict[str, tuple[float, float]], learn
         rows.append({"method": "per_unit", "unit": u, "seed": seed, **errors})
         rows.append({"method": "response+use@cover", "unit": u, "seed": seed, "budget_s": 120, **errors,
                      "interval_level": 0.9, "x_halfwidth": 1.0, "x_fleet_halfwidth": factor,
-                     "x_needed80_halfwidth": 0.9 * low, "x_needed85_halfwidth": low, "x_needed95_halfwidth": high})
+                     "x_needed80_halfwidth": 0.9 * low, "x_needed85_halfwidth": low,
+                     "x_needed95_halfwidth": high})
     (run / "metrics.json").write_text(json.dumps({"results": rows}))
     record = {u: {"own": {"x": 1.0}, "needed": {"x": n}, "at_floor": {"x": n}, "at_low": {"x": n},
                   "at_high": {"x": n}} for u, n in learners.items()}
@@ -753,8 +809,8 @@ def test_fold_table_pooled_learns_each_folds_factor_from_every_fold_but_its_held
     a = _fold_run(tmp_path, 0, {"A1": (1.3, 1.5)}, {"L1": 2.0})
     b = _fold_run(tmp_path, 1, {"B1": (3.5, 4.0)}, {"L2": 1.0, "A1": 8.0})
     said = table.pooled([a, b])
-    assert "response+use@cover 120 s, pooled factor x margin: 50% of 2 unit-outputs in [0.85, 0.95], 1 below 0.80" \
-        in said
+    assert ("response+use@cover 120 s, pooled factor x margin: 50% of 2 unit-outputs in [0.85, 0.95], "
+            "1 below 0.80") in said
     assert f"{a} seed 0: 2 learners, margin 1, factor x 1.41" in said
     assert f"{b} seed 1: 3 learners" in said and "factor x 2.52" in said
     drift = float(said.split("rows' factor to ")[1].split()[0])

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -70,6 +70,7 @@ from anytip.train.response import (
 )
 from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_loss, plan_residuals
 from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
+from anytip.uncertainty.fleet_margin import Learner, pooled_factor
 from anytip.validation import read_yaml
 
 METHODS = ("auto", "adapter", "response")
@@ -415,13 +416,15 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
                    budget_samples: int | None = None, budget_seconds: float | None = None,
                    adapter: str | None = None, seed: int | None = None,
                    interval_level: float | None = 0.9, method: str = "auto",
-                   use_seconds: float = 0.0) -> Calibrated:
+                   use_seconds: float = 0.0, factor_from: Sequence[str | Path] = ()) -> Calibrated:
     """Fit, fold and save one unit's model; see the module docstring. `interval_level`: the
     nominal coverage of the intervals from the plan (None: none). `method`: `adapter` (the shared
     model's adapter, folded), `response` (response transfer; a run with a response model) or
     `auto` (response where the run's validation units scored it below the chosen shared model at
     this budget). `use_seconds`: contact seconds of the unit's ordinary use read without labels
-    (response transfer alone reads them: with the plan, or alone at budget 0)."""
+    (response transfer alone reads them: with the plan, or alone at budget 0). `factor_from`: more
+    runs of the same benchmark (a registry's other unit folds) whose response models' learning units
+    learn the intervals' fleet factor and margin with the run's own (`pooled_learners`)."""
     if method not in METHODS:
         raise AnytipError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if not 0 <= use_seconds <= MAX_USE_S:
@@ -462,8 +465,13 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
             rig = RigTiming(**{k: float(v) for k, v in meta.get("rig", {}).items()})
             use = UseRequest(use_seconds, meta.get("calibration_protocol"),
                              bool(meta.get("calibration_interleave", False)), rig.effective_hz)
+        pooled = interval_records(factor_from, response)
         return calibrate_by_response_unit(response, registry, arrays, stream, plan, budget, Path(out), notes,
-                                          interval_level, str(meta.get("plan_strategy", "spread")), use)
+                                          interval_level, str(meta.get("plan_strategy", "spread")), use,
+                                          pooled)
+    if factor_from:
+        raise AnytipError("--factor-from is read by response transfer alone: the adapter's intervals have "
+                          "their own fleet factor")
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
     tick = time.perf_counter()
@@ -585,11 +593,15 @@ def _response_for_use(model: Path, seed: int | None, meta: dict[str, Any], budge
 
 def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: float, strategy: str,
                         level: float, names: tuple[str, ...], other: tuple[np.ndarray, np.ndarray] | None,
-                        notes: list[str], with_use: bool = False) -> dict[str, Any] | None:
+                        notes: list[str], with_use: bool = False,
+                        pooled: tuple[list[tuple[Path, dict[str, Any]]], str] | None = None
+                        ) -> dict[str, Any] | None:
     """A response-transferred unit's intervals: its network's residuals on the plan's rows (n, D),
     which also trained it, times the fleet factor the benchmark's validation units learnt for
     plans of `strategy` (`intervals.fleet_factor_by_strategy`; `use_fleet_factor_by_strategy` for
-    codes fitted `with_use` of ordinary use); a note where there is none."""
+    codes fitted `with_use` of ordinary use); a note where there is none. `pooled`: (other models'
+    intervals records, the unit calibrated): the factor and margin learnt by the learners of this
+    model's record and theirs but that unit's own (`pooled_learners`, research log entry 53)."""
     rec = meta.get("intervals")
     factor, why = None, ("the response model's benchmark learnt no fleet factor for intervals: intervals "
                          "from the plan's rows alone, which also trained the network (too narrow)")
@@ -602,6 +614,13 @@ def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: flo
         table = table or _strategy_table(rec, "fleet_factor", strategy)
         factor, why = _usable_factor(rec, table, budget, level, names)
         margin = _margin(rec, f"{prefix}margin", strategy, budget)
+        if pooled is not None and factor is not None:
+            learners = pooled_learners([(Path("."), rec), *pooled[0]], f"{prefix}units", strategy, budget,
+                                       level, names, pooled[1])
+            got, choice = pooled_factor(learners)
+            factor, margin = dict(zip(names, map(float, got), strict=True)), choice.margin
+            notes.append(f"the fleet factor learnt by {len(learners)} learning units of this run and "
+                         f"{len(pooled[0])} other response model(s) (--factor-from, research log entry 53)")
         if factor is not None and margin != 1:
             factor = {n: f * margin for n, f in factor.items()}
             notes.append(f"the fleet factor times {margin:g}: the margin its learning units chose, each "
@@ -617,6 +636,50 @@ def _margin(rec: dict[str, Any], key: str, strategy: str, budget: float) -> floa
     margin = got.get("margin") if isinstance(got, dict) else None
     ok = isinstance(margin, (int, float)) and math.isfinite(margin) and margin > 0
     return float(margin) if ok else 1.0
+
+
+def interval_records(runs: Sequence[str | Path], own: Path) -> list[tuple[Path, dict[str, Any]]]:
+    """(model file, intervals record) of every response model (`models/response_seed<n>.safetensors`)
+    in the run directories `runs` but `own`; AnytipError for a run that holds none or a model whose
+    benchmark recorded no intervals."""
+    out = []
+    for run in map(Path, runs):
+        found = [m for m in sorted((run / "models").glob("response_seed*.safetensors"))
+                 if m.stem.removeprefix("response_seed").isdigit()]
+        if not found:
+            raise AnytipError(f"--factor-from {run}: holds no response model (models/response_seed<n>)")
+        for model in found:
+            if model.resolve() == own.resolve():
+                continue
+            rec = read_header(model_paths(model)[1], RESPONSE_FORMAT).get("meta", {}).get("intervals")
+            if not isinstance(rec, dict):
+                raise AnytipError(f"--factor-from {model}: its benchmark recorded no intervals")
+            out.append((model, rec))
+    return out
+
+
+def pooled_learners(records: list[tuple[Path, dict[str, Any]]], key: str, strategy: str, budget: float,
+                    level: float, names: tuple[str, ...], unit: str) -> list[Learner]:
+    """The learning units the intervals `records` hold under `<key>_by_strategy` for `strategy` at
+    their largest budget <= `budget`, but `unit` (its own test rows never set its width); AnytipError
+    naming the file and key of a record at another level or a malformed learner, or for fewer than 2."""
+    learners = []
+    for path, rec in records:
+        if rec.get("level") != level:
+            raise AnytipError(f"{path}: intervals learnt at level {rec.get('level')!r}, not {level:g}")
+        by_unit = _at_budget(_strategy_table(rec, key, strategy), budget)
+        for u, learned in (by_unit.items() if isinstance(by_unit, dict) else []):
+            try:
+                learner = Learner.from_record(learned, names)
+            except ValueError as e:
+                raise AnytipError(f"{path}: key 'intervals.{key}_by_strategy.{strategy}' unit {u!r}: "
+                                  f"{e}") from None
+            if u != unit:
+                learners.append(learner)
+    if len(learners) < 2:
+        raise AnytipError(f"--factor-from: {len(learners)} learning unit(s) at {budget:g} robot-s or less "
+                          f"for {strategy} plans, where a pooled factor needs 2 or more")
+    return learners
 
 
 def _training_rows(registry: Registry, units: list[str], sensor_model: str
@@ -642,13 +705,15 @@ def _training_rows(registry: Registry, units: list[str], sensor_model: str
 def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArrays,
                                stream: CalibrationStream, plan: Plan, budget: float, out: Path,
                                notes: list[str], interval_level: float | None = 0.9,
-                               strategy: str = "spread", use: UseRequest | None = None) -> Calibrated:
+                               strategy: str = "spread", use: UseRequest | None = None,
+                               pooled: list[tuple[Path, dict[str, Any]]] | None = None) -> Calibrated:
     """A new unit's own network by response transfer (train/response.py) on its plan, saved in the
     per-unit format; its own check is the RMS of the plan's pressures about its fitted response
     beside the benchmark's validation units' (alarm above OWN_CHECK_ALARM times the worst).
     `strategy`: how the plan was chosen (the shared model's `plan_strategy`), the key of what the
     response model recorded for such plans. `use`: the codes also (or, for an empty plan, only)
-    from the unit's ordinary use (`unit_codes_with_use`)."""
+    from the unit's ordinary use (`unit_codes_with_use`). `pooled`: other response models'
+    intervals records (`interval_records`), whose learners join the model's own (`pooled_learners`)."""
     loaded = load_response(path)
     meta = loaded.meta
     # the units whose rows are carried over (every training unit of a model saved before the choice)
@@ -688,8 +753,9 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     if interval_level is not None and len(plan.rows):
         fitted = predict(nets.model, nets.in_scaler, nets.out_scaler, X[None])[0].numpy()
         residuals = fitted - arrays.targets[plan.rows]
+        pool = (pooled, stream.unit) if pooled else None
         bands = _response_intervals(meta, residuals, budget, strategy, interval_level, arrays.output_names,
-                                    on_other, notes, use is not None)
+                                    on_other, notes, use is not None, pool)
     method = "response" if use is None else "response+use" if len(plan.rows) else "response:label_free"
     result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, len(used.rows), 0.0, check,
                         notes, None, wall_s, bands, 0.0, own, used.contact_seconds)

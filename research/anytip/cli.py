@@ -175,7 +175,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
     r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
                        args.budget_seconds, args.adapter, args.seed, args.interval_level or None, args.method,
-                       args.ordinary_use)
+                       args.ordinary_use, args.factor_from)
     for note in r.notes:
         print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
     if r.response_check is not None:
@@ -398,6 +398,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "presses of its calibration stream with their labels unread, and fit its codes "
                           "from them and the plan together (with --budget-seconds 0, from them alone); "
                           "response transfer only (research log entries 44-46)")
+    cal.add_argument("--factor-from", nargs="+", default=[], metavar="RUN",
+                     help="other runs of the same benchmark (a registry's other unit folds): their response "
+                          "models' validation units learn the intervals' fleet factor and margin with this "
+                          "run's, all but the unit calibrated; response transfer only (research log "
+                          "entry 53)")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",

@@ -18,13 +18,12 @@ from anytip.report.cross_sensor import COVERAGE_BAND
 from anytip.train.shared_split import SeedData
 from anytip.uncertainty.conformal import (
     coverage,
-    fleet_factor,
     interval,
     needed_halfwidths,
     residual_halfwidth,
 )
 from anytip.uncertainty.coverage_bootstrap import bootstrap_test_patches, exact_method_band
-from anytip.uncertainty.fleet_margin import Learner, MarginChoice, leave_one_out_margin
+from anytip.uncertainty.fleet_margin import Learner, MarginChoice, pooled_factor
 
 Job = tuple[str, Budget, float]  # (unit, budget, prior strength)
 
@@ -123,8 +122,8 @@ def fleet_widths(learners: dict[str, Learner]) -> FleetWidths:
     """What the learning units (validation and factor units, by id) say at one budget."""
     units = list(learners.values())
     own, needed = np.stack([u.own for u in units]), np.stack([u.needed for u in units])
-    return FleetWidths(fleet_factor(own, needed), gmean(needed, axis=0), log_ratio_spread(own, needed),
-                       learners, leave_one_out_margin(units))
+    factor, margin = pooled_factor(units)
+    return FleetWidths(factor, gmean(needed, axis=0), log_ratio_spread(own, needed), learners, margin)
 
 
 def log_ratio_spread(own: np.ndarray, needed: np.ndarray) -> np.ndarray:

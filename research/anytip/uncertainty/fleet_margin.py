@@ -38,6 +38,23 @@ class Learner(NamedTuple):
     at_low: np.ndarray
     at_high: np.ndarray
 
+    @classmethod
+    def from_record(cls, record: object, names: Sequence[str]) -> Learner:
+        """A learner as a response model's benchmark records it: {field: {output: half-width}} for
+        every field and output name; ValueError naming the first that is missing or not a finite
+        positive number."""
+        fields = []
+        for f in cls._fields:
+            got = record.get(f) if isinstance(record, dict) else None
+            values = [got.get(n) if isinstance(got, dict) else None for n in names]
+            bad = [n for n, v in zip(names, values, strict=True)
+                   if not isinstance(v, int | float) or isinstance(v, bool) or not 0 < v < np.inf]
+            if bad:
+                value = values[names.index(bad[0])]
+                raise ValueError(f"{f}.{bad[0]}: {value!r} is not a finite positive half-width")
+            fields.append(np.array(values, dtype=float))
+        return cls(*fields)
+
 
 class MarginChoice(NamedTuple):
     """The chosen margin, and per grid value the left-out unit-outputs below the floor and the share
@@ -67,6 +84,13 @@ def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_
         in_band[m] = float(((width >= low) & (width <= high)).mean())
     ok = [m for m in grid if below[m] == 0 and in_band[m] >= in_band_share]
     return MarginChoice(min(ok) if ok else 1.0, below, in_band)
+
+
+def pooled_factor(learners: Sequence[Learner]) -> tuple[np.ndarray, MarginChoice]:
+    """The fleet factor (D,) of `learners` (`conformal.fleet_factor` of their own and needed
+    half-widths) and the margin on it they choose by leaving each out (`leave_one_out_margin`)."""
+    own, needed = np.stack([u.own for u in learners]), np.stack([u.needed for u in learners])
+    return fleet_factor(own, needed), leave_one_out_margin(learners)
 
 
 class FactorCeiling(NamedTuple):
