@@ -35,6 +35,8 @@ from typing import Any
 
 import numpy as np
 
+from anytip.calibrate import response_models
+from anytip.models.io import model_paths
 from anytip.pipelines.cross_sensor_jobs import band_edges, needed_key
 from anytip.report.cross_sensor import budget_of, exact_share, paired_text, ratio_text, summary, unit_ratios
 from anytip.rundir import read_json
@@ -125,14 +127,11 @@ def ceilings(rows: list[dict[str, Any]]) -> str:
 
 def fold_learners(runs: list[Path]) -> dict[Fold, dict[tuple[str, str, str], dict[str, Learner]]]:
     """Per fold, (learner key, strategy, budget label) -> {unit: its Learner} as the fold's response
-    model recorded them (`models/response_seed<seed>.json`, `intervals`)."""
+    model recorded them (`calibrate.response_models`, the metadata's `intervals`)."""
     out = {}
     for run in runs:
-        for path in sorted((run / "models").glob("response_seed*.json")):
-            if not path.stem.removeprefix("response_seed").isdigit():  # a start network
-                continue
-            seed = int(path.stem.removeprefix("response_seed"))
-            recorded = read_json(path).get("meta", {}).get("intervals") or {}
+        for seed, path in response_models(run).items():
+            recorded = read_json(model_paths(path)[1]).get("meta", {}).get("intervals") or {}
             out[str(run), seed] = {
                 (key, strategy, budget): {u: Learner.from_record(rec, list(rec["own"]))
                                           for u, rec in units.items()}
@@ -178,10 +177,9 @@ def pooled(runs: list[Path]) -> str:
             in_band += list((width >= edge[low]) & (width <= edge[high]))
             below += int((width < edge[floor]).sum())
         if in_band:
-            lines += [f"{method} {budget:g} s, pooled factor x margin: {np.mean(in_band):.0%} of "
-                      f"{len(in_band)} "
-                      f"unit-outputs in [{low:.2f}, {high:.2f}], {below} below {floor:.2f}; each fold's own "
-                      f"learners give its rows' factor to {drift:.1e}"]
+            share = f"{np.mean(in_band):.0%} of {len(in_band)} unit-outputs in [{low:.2f}, {high:.2f}]"
+            lines += [f"{method} {budget:g} s, pooled factor x margin: {share}, {below} below {floor:.2f}; "
+                      f"each fold's own learners give its rows' factor to {drift:.1e}"]
             lines += [f"  {run} seed {seed}: {text}" for (run, seed), text in folds.items()]
     return "\n".join(lines)
 

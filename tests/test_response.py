@@ -798,6 +798,8 @@ def _fold_run(root: Path, seed: int, held: dict[str, tuple[float, float]],
     meta = {"intervals": {"level": 0.9, "use_units_by_strategy": {"cover": {"120": record}}}}
     (run / "models" / f"response_seed{seed}.json").write_text(json.dumps({"meta": meta}))
     (run / "models" / f"response_seed{seed}_start.json").write_text(json.dumps({"meta": {}}))
+    for stem in (f"response_seed{seed}", f"response_seed{seed}_start"):  # the weights, never read here
+        (run / "models" / f"{stem}.safetensors").write_bytes(b"")
     return run
 
 

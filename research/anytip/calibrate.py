@@ -638,17 +638,27 @@ def _margin(rec: dict[str, Any], key: str, strategy: str, budget: float) -> floa
     return float(margin) if ok else 1.0
 
 
+def response_models(run: Path) -> dict[int, Path]:
+    """{seed: model file} of the response models a run directory holds
+    (`models/response_seed<seed>.safetensors`; not their start networks, `..._start`)."""
+    found = {}
+    for path in sorted((run / "models").glob("response_seed*.safetensors")):
+        seed = path.stem.removeprefix("response_seed")
+        if seed.isdigit():
+            found[int(seed)] = path
+    return found
+
+
 def interval_records(runs: Sequence[str | Path], own: Path) -> list[tuple[Path, dict[str, Any]]]:
-    """(model file, intervals record) of every response model (`models/response_seed<n>.safetensors`)
-    in the run directories `runs` but `own`; AnytipError for a run that holds none or a model whose
-    benchmark recorded no intervals."""
+    """(model file, intervals record) of every response model (`response_models`) in the run
+    directories `runs` but `own`; AnytipError for a run that holds none or a model whose benchmark
+    recorded no intervals."""
     out = []
     for run in map(Path, runs):
-        found = [m for m in sorted((run / "models").glob("response_seed*.safetensors"))
-                 if m.stem.removeprefix("response_seed").isdigit()]
+        found = response_models(run)
         if not found:
             raise AnytipError(f"--factor-from {run}: holds no response model (models/response_seed<n>)")
-        for model in found:
+        for model in found.values():
             if model.resolve() == own.resolve():
                 continue
             rec = read_header(model_paths(model)[1], RESPONSE_FORMAT).get("meta", {}).get("intervals")

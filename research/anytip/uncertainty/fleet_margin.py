@@ -47,11 +47,9 @@ class Learner(NamedTuple):
         for f in cls._fields:
             got = record.get(f) if isinstance(record, dict) else None
             values = [got.get(n) if isinstance(got, dict) else None for n in names]
-            bad = [n for n, v in zip(names, values, strict=True)
-                   if not isinstance(v, int | float) or isinstance(v, bool) or not 0 < v < np.inf]
-            if bad:
-                value = values[names.index(bad[0])]
-                raise ValueError(f"{f}.{bad[0]}: {value!r} is not a finite positive half-width")
+            for n, v in zip(names, values, strict=True):
+                if not isinstance(v, int | float) or isinstance(v, bool) or not 0 < v < np.inf:
+                    raise ValueError(f"{f}.{n}: {v!r} is not a finite positive half-width")
             fields.append(np.array(values, dtype=float))
         return cls(*fields)
 
