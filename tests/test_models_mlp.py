@@ -53,18 +53,78 @@ def _autograd_grads(model, x, y):
     return loss.detach(), [p.grad.clone() for p in model.parameters()]
 
 
-@pytest.mark.parametrize(("sizes", "activation", "output"), [((8, 12, 64, 64, 5), "relu", None),
-                                                             ((6, 3), "relu", None),
-                                                             ((8, 16, 5), "tanh", None),
-                                                             ((8, 16, 5), "relu", "tanh")])
-def test_mse_grads_equal_autograd_bit_for_bit(sizes, activation, output):
-    model = BatchedMLP(3, MLPConfig(sizes=sizes, activation=activation, output_activation=output), seed=2)
+def _gamma(n: int) -> float:
+    u = 2.0**-24
+    return n * u / (1 - n * u)
+
+
+def _grad_rounding_bound(model, x, y):
+    """Bounds (float64) on |float32 gradient - exact gradient| of each weight of a ReLU `model`,
+    for any summation order of every product and sum, given the float32 hidden activations both
+    computations share (Higham's |fl(A B) - A B| <= gamma_K |A| |B|, carried through the chain
+    rule on magnitudes), and on the loss."""
+    u = 2.0**-24
+    W = [w.detach().double() for w in model.weights]
+    b = [v.detach().double() for v in model.biases]
+    acts, h = [x.double()], x
+    with torch.no_grad():
+        for k in range(len(W) - 1):  # the float32 hidden activations, as both compute them
+            h = torch.relu(torch.baddbmm(model.biases[k], h, model.weights[k]))
+            acts.append(h.double())
+    a = acts[-1]
+    e_h = _gamma(W[-1].shape[1] + 1) * (a.abs() @ W[-1].abs() + b[-1].abs())
+    err = a @ W[-1] + b[-1] - y.double()
+    e_err = e_h + u * (err.abs() + e_h)
+    c = 2 / (err.shape[1] * err.shape[2])
+    g, e_g = c * err, c * e_err + u * c * (err.abs() + e_err)
+    loss_bound = (2 * err.abs() * e_err + e_err**2 + u * (err.abs() + e_err) ** 2).mean(dim=(1, 2))
+    n_out = err.shape[1] * err.shape[2]
+    loss_bound = loss_bound + _gamma(n_out + 1) * ((err.abs() + e_err) ** 2).mean(dim=(1, 2))
+    bounds = [None] * (2 * len(W))
+    B = x.shape[1]
+    for k in range(len(W) - 1, -1, -1):
+        a, mag = acts[k], g.abs() + e_g
+        bounds[k] = a.abs().transpose(1, 2) @ e_g + _gamma(B) * (a.abs().transpose(1, 2) @ mag)
+        bounds[len(W) + k] = e_g.sum(1, keepdim=True) + _gamma(B) * mag.sum(1, keepdim=True)
+        if k > 0:
+            mask = (a > 0).double()
+            W_abs = W[k].abs().transpose(1, 2)
+            e_g = e_g @ W_abs + _gamma(W[k].shape[2]) * (mag @ W_abs)
+            g, e_g = (g @ W[k].transpose(1, 2)) * mask, e_g * mask
+    return loss_bound, bounds  # bounds in parameters() order: weights, then biases
+
+
+@pytest.mark.parametrize("sizes", [(8, 12, 64, 64, 5), (6, 3), (8, 40, 20)])
+def test_mse_grads_equal_autograd_within_float32_rounding(sizes):
+    """ReLU networks: the written-out chain rule (narrow products transposed) and autograd each lie
+    within the rounding bound of the exact gradient, so they differ by at most twice it."""
+    model = BatchedMLP(3, MLPConfig(sizes=sizes), seed=2)
     g = torch.Generator().manual_seed(0)
-    x, y = torch.randn(3, 64, sizes[0], generator=g), torch.randn(3, 64, sizes[-1], generator=g)
-    x[:, :8] = 0.0  # rows where a ReLU sits exactly at its kink
+    x, y = torch.randn(3, 512, sizes[0], generator=g), torch.randn(3, 512, sizes[-1], generator=g)
+    x[:, :8] = 0.0
     loss, grads = _autograd_grads(model, x, y)
     for p in model.parameters():
         p.grad = torch.full_like(p, 7.0)  # replaced, not added to
+    got = model.mse_grads(x, y)
+    loss_bound, bounds = _grad_rounding_bound(model, x, y)
+    assert not got.requires_grad and bool(((got - loss).double().abs() <= 2 * loss_bound).all())
+    for p, want, bound in zip(model.parameters(), grads, bounds, strict=True):
+        assert p.grad.shape == want.shape
+        assert bool(((p.grad - want).double().abs() <= 2 * bound).all())
+        # a slip (a wrong or missing product) moves a gradient by its own size; the bound is 0.01-0.2% of it
+        assert float(bound.max()) < 1e-2 * float(want.abs().max())
+
+
+@pytest.mark.parametrize(("sizes", "activation", "output"), [((8, 16, 5), "tanh", None),
+                                                             ((8, 16, 5), "relu", "tanh")])
+def test_mse_grads_equal_autograd_bit_for_bit_off_relu(sizes, activation, output):
+    """Other activations go through autograd itself."""
+    model = BatchedMLP(3, MLPConfig(sizes=sizes, activation=activation, output_activation=output), seed=2)
+    g = torch.Generator().manual_seed(0)
+    x, y = torch.randn(3, 64, sizes[0], generator=g), torch.randn(3, 64, sizes[-1], generator=g)
+    loss, grads = _autograd_grads(model, x, y)
+    for p in model.parameters():
+        p.grad = torch.full_like(p, 7.0)
     got = model.mse_grads(x, y)
     assert torch.equal(got, loss) and not got.requires_grad
     for p, want in zip(model.parameters(), grads, strict=True):

@@ -28,8 +28,12 @@ def test_sequential_reaches_a_reasonable_rmse_and_records_its_curve(data):
     assert time_to_target(rows, target) <= rows[-1]["elapsed_s"]
 
 
-def test_sequential_and_fleet_agree_when_they_draw_the_same_rows(data):
-    """Same init, scalers, row order and steps: the plain loop and the batched model match."""
+def test_sequential_and_fleet_agree_when_they_draw_the_same_rows(data, monkeypatch):
+    """Same init, scalers, row order and steps: the plain loop and the batched model match. The fleet's
+    narrow products are taken as autograd takes them here: the transposed ones round differently (within
+    the bound tests/test_models_mlp.py checks), and Adam turns a rounding difference in a near-zero
+    gradient into a full step of the other sign."""
+    monkeypatch.setattr("anytip.models.mlp.NARROW_OUT", 0)
     recipe = TrainRecipe(name="same", lr=1e-3, batch_size=100, epochs=1, keep_best=False)
     assert int(data.n_train[0]) % recipe.batch_size == 0
     seq = train_sequential(data, recipe=recipe, seed=4)

@@ -28,6 +28,19 @@ ACTIVATION_MODULES = {"relu": nn.ReLU, "tanh": nn.Tanh, "gelu": nn.GELU, "silu":
 
 MAX_WIDTH, MAX_LAYERS = 4096, 32  # far beyond a microcontroller; bounds a typo's memory
 Plain = list[tuple[Tensor, Tensor]]  # one model as [(W (in, out), b (out,)), ...]
+# A batched product with fewer output columns than this is taken as (b^T a^T)^T: MKL's path for a
+# narrow product (the 64-to-5 output layer at 512 rows) is 4-6 times slower than the transposed one.
+# At 12 columns the two take about as long, and the transposed result's strides slow the ReLU
+# backward that follows it, so 8 it is (measured on one Zen 4 core; with train/fused_adam.py a
+# one-unit step at batch 512 went from about 0.7 to 0.45 ms, a 64-unit step at 256 by about a quarter).
+NARROW_OUT = 8
+
+
+def _bmm(a: Tensor, b: Tensor) -> Tensor:
+    """a (U, M, K) @ b (U, K, N), transposed where N < NARROW_OUT (a strided view then)."""
+    if b.shape[2] < NARROW_OUT:
+        return torch.bmm(b.transpose(1, 2), a.transpose(1, 2)).transpose(1, 2)
+    return torch.bmm(a, b)
 
 
 class MLPConfig(BaseModel):
@@ -140,9 +153,11 @@ class BatchedMLP(nn.Module):
         `loss.sum().backward()` after `zero_grad` leaves them.
 
         ReLU networks without an output activation (the deployed kind) get the chain rule written
-        out: the same products in the same order as autograd's, so the gradients are equal bit for
-        bit, without its per-operation bookkeeping, which is most of a tiny network's step on a CPU
-        core. Any other activation goes through autograd."""
+        out, without autograd's per-operation bookkeeping, which is most of a tiny network's step on
+        a CPU core. The hidden layers' forward products are autograd's own, so every ReLU sees the
+        same values; products with fewer than NARROW_OUT output columns are taken transposed
+        (`_bmm`), so the gradients equal autograd's within float32 rounding rather than bit for bit
+        (tests/test_models_mlp.py bounds the difference). Any other activation goes through autograd."""
         if self.config.activation != "relu" or self.config.output_activation is not None:
             for p in self.parameters():
                 p.grad = None
@@ -150,22 +165,25 @@ class BatchedMLP(nn.Module):
             loss.sum().backward()
             return loss.detach()
         with torch.no_grad():
-            layers = list(zip(self.weights, self.biases, strict=True))  # one ParameterList lookup each
+            # the ParameterLists' own dicts: iterating a ParameterList costs 10-20 us of a 0.5 ms step
+            weights, biases = self.weights._parameters.values(), self.biases._parameters.values()
+            layers = list(zip(weights, biases, strict=True))
             inputs, h = [], x
             for k, (W, b) in enumerate(layers):
                 inputs.append(h)
-                h = torch.baddbmm(b, h, W)
                 if k < len(layers) - 1:
-                    h = torch.relu(h)
+                    h = torch.relu(torch.baddbmm(b, h, W))
+                else:
+                    h = _bmm(h, W) + b
             err = h - y
             loss = (err**2).mean(dim=(1, 2))
             g = err * (2 / (err.shape[1] * err.shape[2]))  # d loss_u / d output, rounded as autograd's
             for k in range(len(layers) - 1, -1, -1):
                 (W, b), a = layers[k], inputs[k]
-                W.grad = torch.bmm(a.transpose(1, 2), g)
+                W.grad = _bmm(a.transpose(1, 2), g)
                 b.grad = g.sum(1, keepdim=True)
                 if k > 0:  # back through W and the ReLU that made a (autograd's own ReLU backward)
-                    g = torch.ops.aten.threshold_backward(torch.bmm(g, W.transpose(1, 2)), a, 0)
+                    g = torch.ops.aten.threshold_backward(_bmm(g, W.transpose(1, 2)), a, 0)
         return loss
 
     def to_plain(self, i: int) -> Plain:

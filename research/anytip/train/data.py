@@ -150,13 +150,16 @@ class UnitSampler:
         """(step, [each table's rows of the step (U, B, ...)]) for `total` steps, from tables
         (U, n_max, ...): the rows `steps` draws, gathered one epoch at a time (one gather per epoch
         instead of one per step, a seventh of a tiny network's step on a CPU; an epoch of rows is
-        held as a second copy of the tables)."""
-        rows_of = torch.arange(len(self.n), device=self.device)[:, None]
+        held as a second copy of the tables; `index_select` on the flattened tables, a quarter of
+        advanced indexing's time)."""
+        U = len(self.n)
+        offsets = torch.arange(U, device=self.device)[:, None] * tables[0].shape[1]  # each unit's first row
         for step in range(total):
             s = step % self.steps_per_epoch
             if s == 0:
-                order = self.epoch()  # (S, U, B)
-                epoch = [t[rows_of, order] for t in tables]  # each (S, U, B, ...), contiguous per step
+                flat = (self.epoch() + offsets).reshape(-1)  # (S * U * B,) into the (U * n_max) rows
+                epoch = [t.reshape(U * t.shape[1], *t.shape[2:]).index_select(0, flat)
+                         .view(self.steps_per_epoch, U, self.batch_size, *t.shape[2:]) for t in tables]
             yield step, [e[s] for e in epoch]
 
 

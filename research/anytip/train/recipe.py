@@ -10,6 +10,10 @@ import torch
 from pydantic import BaseModel, ConfigDict, Field
 
 from anytip.errors import AnytipError
+from anytip.train.fused_adam import FusedAdam, fused_kernel_serves
+
+# what make_optimizer gives: both have `param_groups`, `step()` and `zero_grad()`
+Optimizer = torch.optim.Optimizer | FusedAdam
 
 
 class TrainRecipe(BaseModel):
@@ -103,17 +107,18 @@ def eval_points(steps_per_epoch: int, evals_per_epoch: int) -> set[int]:
     return {max(1, round(k * steps_per_epoch / evals_per_epoch)) for k in range(1, evals_per_epoch + 1)}
 
 
-def make_optimizer(params: Iterable[torch.nn.Parameter], recipe: TrainRecipe) -> torch.optim.Optimizer:
-    """Adam or AdamW; both update each weight from its own gradient history only. The fused
-    kernel (one pass over all weights) where every weight lives on a device that has one: a tiny
-    network's step is otherwise a third optimizer overhead on a CPU core."""
+def make_optimizer(params: Iterable[torch.nn.Parameter], recipe: TrainRecipe) -> Optimizer:
+    """Adam or AdamW; both update each weight from its own gradient history only. torch's fused
+    kernel (one pass over all weights), called directly (`FusedAdam`), where every weight lives on
+    a device that has one: a tiny network's step is otherwise a third optimizer overhead on a CPU
+    core; torch.optim's own Adam elsewhere."""
     params = list(params)
+    if fused_kernel_serves(params):
+        return FusedAdam(params, recipe.lr, recipe.weight_decay, decoupled=recipe.optimizer == "adamw")
     cls = torch.optim.AdamW if recipe.optimizer == "adamw" else torch.optim.Adam
-    fused = bool(params) and all(p.device.type in ("cpu", "cuda") and p.dtype == torch.float32
-                                 for p in params)
-    return cls(params, lr=recipe.lr, weight_decay=recipe.weight_decay, fused=fused or None)
+    return cls(params, lr=recipe.lr, weight_decay=recipe.weight_decay)
 
 
-def set_lr(opt: torch.optim.Optimizer, lr: float) -> None:
+def set_lr(opt: Optimizer, lr: float) -> None:
     for group in opt.param_groups:
         group["lr"] = lr
