@@ -48,3 +48,15 @@ def test_zero_grad_and_make_optimizer_choice():
     assert not fused_kernel_serves(double) and isinstance(make_optimizer(double, FAST), torch.optim.Adam)
     with pytest.raises(ValueError, match="float32"):
         FusedAdam(double, lr=1e-3)
+
+
+def test_a_gradient_in_another_layout_is_refused():
+    """The kernel walks weight and gradient as flat memory: a transposed gradient would update the
+    wrong elements, so it is refused rather than applied."""
+    w = torch.nn.Parameter(torch.zeros(2, 4, 3))
+    w.grad = torch.randn(2, 3, 4).transpose(1, 2)  # the right shape, another layout
+    with pytest.raises(ValueError, match="layout"):
+        FusedAdam([w], lr=1e-3).step()
+    w.grad = w.grad.contiguous()
+    FusedAdam([w], lr=1e-3).step()
+    assert not torch.equal(w, torch.zeros(2, 4, 3))

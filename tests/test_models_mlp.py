@@ -109,7 +109,8 @@ def test_mse_grads_equal_autograd_within_float32_rounding(sizes):
     loss_bound, bounds = _grad_rounding_bound(model, x, y)
     assert not got.requires_grad and bool(((got - loss).double().abs() <= 2 * loss_bound).all())
     for p, want, bound in zip(model.parameters(), grads, bounds, strict=True):
-        assert p.grad.shape == want.shape
+        # the weight's own layout (a fused optimizer kernel walks weight and gradient as flat memory)
+        assert p.grad.shape == want.shape and p.grad.stride() == p.stride()
         assert bool(((p.grad - want).double().abs() <= 2 * bound).all())
         # a slip (a wrong or missing product) moves a gradient by its own size; the bound is 0.01-0.2% of it
         assert float(bound.max()) < 1e-2 * float(want.abs().max())

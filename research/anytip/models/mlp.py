@@ -180,7 +180,7 @@ class BatchedMLP(nn.Module):
             g = err * (2 / (err.shape[1] * err.shape[2]))  # d loss_u / d output, rounded as autograd's
             for k in range(len(layers) - 1, -1, -1):
                 (W, b), a = layers[k], inputs[k]
-                W.grad = _bmm(a.transpose(1, 2), g)
+                W.grad = _bmm(a.transpose(1, 2), g).contiguous()  # the weight's layout, as autograd's
                 b.grad = g.sum(1, keepdim=True)
                 if k > 0:  # back through W and the ReLU that made a (autograd's own ReLU backward)
                     g = torch.ops.aten.threshold_backward(_bmm(g, W.transpose(1, 2)), a, 0)

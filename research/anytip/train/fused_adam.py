@@ -30,6 +30,11 @@ def fused_kernel_serves(params: list[Tensor]) -> bool:
     return bool(params) and all(p.device.type in FUSED_DEVICES and p.dtype == torch.float32 for p in params)
 
 
+def _same_layout(a: Tensor, b: Tensor) -> bool:
+    """Whether a and b lay their elements out in memory alike (strides of size-1 dimensions aside)."""
+    return a.stride() == b.stride() or (a.is_contiguous() and b.is_contiguous())
+
+
 class FusedAdam:
     """Adam (`decoupled=False`: weight decay added to the gradient) or AdamW (`decoupled=True`) on
     `params` at learning rate `lr`, betas (0.9, 0.999) and eps 1e-8, torch's defaults."""
@@ -62,8 +67,13 @@ class FusedAdam:
             self._live = live
         lr = float(self.param_groups[0]["lr"])
         for group, m, v, steps in self._groups:
+            grads = [p.grad for p in group]
+            if not all(_same_layout(g, p) for g, p in zip(grads, group, strict=True)):
+                # the kernel walks weight and gradient as flat memory: another layout would update the
+                # wrong elements without a word
+                raise ValueError("a gradient's memory layout differs from its weight's (make it contiguous)")
             torch._foreach_add_(steps, 1)
-            self.kernel(group, [p.grad for p in group], m, v, [], steps, amsgrad=False, lr=lr,
+            self.kernel(group, grads, m, v, [], steps, amsgrad=False, lr=lr,
                         beta1=self.betas[0], beta2=self.betas[1], weight_decay=self.weight_decay,
                         eps=self.eps, maximize=False, grad_scale=None, found_inf=None)
 
