@@ -503,7 +503,8 @@ def test_calibrate_pools_the_fleet_factor_with_other_folds_but_never_the_units_o
                                                                                    tmp_path):
     """`--factor-from`: another fold's learners join the run's own in the factor and its margin, except
     the unit calibrated (here recorded as needing 100 times its width, which would dominate the factor);
-    a record at another level, a malformed learner and an adapter calibration are refused by name."""
+    a record at another level, a malformed learner, an adapter calibration and a list that holds the
+    run's own model alone are refused by name."""
     unit = _held_out(response_run)
     header = json.loads((response_run / "models" / "response_seed0.json").read_text())
     rec = header["meta"]["intervals"]
@@ -550,6 +551,9 @@ def test_calibrate_pools_the_fleet_factor_with_other_folds_but_never_the_units_o
     with pytest.raises(AnytipError, match="response transfer alone"):
         calibrate_unit(response_run, unit, fleet, tmp_path / "f", budget_seconds=40, method="adapter",
                        factor_from=[b])
+    with pytest.raises(AnytipError, match="nothing to pool"):  # the run itself adds no learner
+        calibrate_unit(response_run, unit, fleet, tmp_path / "g", budget_seconds=40, method="response",
+                       factor_from=[response_run])
 
 
 def test_extra_units_train_the_response_model_and_the_registrys_units_carry_over(fleet, tmp_path):

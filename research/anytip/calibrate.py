@@ -651,8 +651,8 @@ def response_models(run: Path) -> dict[int, Path]:
 
 def interval_records(runs: Sequence[str | Path], own: Path) -> list[tuple[Path, dict[str, Any]]]:
     """(model file, intervals record) of every response model (`response_models`) in the run
-    directories `runs` but `own`; AnytipError for a run that holds none or a model whose benchmark
-    recorded no intervals."""
+    directories `runs` but `own`; AnytipError for a run that holds none, a model whose benchmark
+    recorded no intervals, or runs that hold `own` alone (nothing to pool)."""
     out = []
     for run in map(Path, runs):
         found = response_models(run)
@@ -665,6 +665,9 @@ def interval_records(runs: Sequence[str | Path], own: Path) -> list[tuple[Path, 
             if not isinstance(rec, dict):
                 raise AnytipError(f"--factor-from {model}: its benchmark recorded no intervals")
             out.append((model, rec))
+    if runs and not out:
+        raise AnytipError(f"--factor-from {' '.join(map(str, runs))}: holds no response model but the run's "
+                          f"own ({own}), so there is nothing to pool; list the registry's other unit folds")
     return out
 
 

@@ -36,11 +36,14 @@ Plain = list[tuple[Tensor, Tensor]]  # one model as [(W (in, out), b (out,)), ..
 NARROW_OUT = 8
 
 
-def _bmm(a: Tensor, b: Tensor) -> Tensor:
-    """a (U, M, K) @ b (U, K, N), transposed where N < NARROW_OUT (a strided view then)."""
+def _bmm(a: Tensor, b: Tensor, bias: Tensor | None = None) -> Tensor:
+    """a (U, M, K) @ b (U, K, N) [+ bias (U, 1, N)], transposed where N < NARROW_OUT (a strided view
+    then)."""
     if b.shape[2] < NARROW_OUT:
-        return torch.bmm(b.transpose(1, 2), a.transpose(1, 2)).transpose(1, 2)
-    return torch.bmm(a, b)
+        at, bt = a.transpose(1, 2), b.transpose(1, 2)
+        out = torch.bmm(bt, at) if bias is None else torch.baddbmm(bias.transpose(1, 2), bt, at)
+        return out.transpose(1, 2)
+    return torch.bmm(a, b) if bias is None else torch.baddbmm(bias, a, b)
 
 
 class MLPConfig(BaseModel):
@@ -171,10 +174,9 @@ class BatchedMLP(nn.Module):
             inputs, h = [], x
             for k, (W, b) in enumerate(layers):
                 inputs.append(h)
+                h = _bmm(h, W, b)
                 if k < len(layers) - 1:
-                    h = torch.relu(torch.baddbmm(b, h, W))
-                else:
-                    h = _bmm(h, W) + b
+                    h = h.relu_()  # its own output: autograd's ReLU backward reads the result alone
             err = h - y
             loss = (err**2).mean(dim=(1, 2))
             g = err * (2 / (err.shape[1] * err.shape[2]))  # d loss_u / d output, rounded as autograd's
