@@ -94,7 +94,7 @@ def _grad_rounding_bound(model, x, y):
     return loss_bound, bounds  # bounds in parameters() order: weights, then biases
 
 
-@pytest.mark.parametrize("sizes", [(8, 12, 64, 64, 5), (6, 3), (8, 40, 20)])
+@pytest.mark.parametrize("sizes", [(8, 12, 64, 64, 5), (6, 3), (8, 40, 20), (8, 4, 5)])
 def test_mse_grads_equal_autograd_within_float32_rounding(sizes):
     """ReLU networks: the written-out chain rule (narrow products transposed) and autograd each lie
     within the rounding bound of the exact gradient, so they differ by at most twice it."""

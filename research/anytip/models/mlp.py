@@ -158,9 +158,10 @@ class BatchedMLP(nn.Module):
         ReLU networks without an output activation (the deployed kind) get the chain rule written
         out, without autograd's per-operation bookkeeping, which is most of a tiny network's step on
         a CPU core. The hidden layers' forward products are autograd's own, so every ReLU sees the
-        same values; products with fewer than NARROW_OUT output columns are taken transposed
-        (`_bmm`), so the gradients equal autograd's within float32 rounding rather than bit for bit
-        (tests/test_models_mlp.py bounds the difference). Any other activation goes through autograd."""
+        same values; the output layer's product and the gradients' products with fewer than
+        NARROW_OUT output columns are taken transposed (`_bmm`), so the gradients equal autograd's
+        within float32 rounding rather than bit for bit (tests/test_models_mlp.py bounds the
+        difference). Any other activation goes through autograd."""
         if self.config.activation != "relu" or self.config.output_activation is not None:
             for p in self.parameters():
                 p.grad = None
@@ -174,9 +175,10 @@ class BatchedMLP(nn.Module):
             inputs, h = [], x
             for k, (W, b) in enumerate(layers):
                 inputs.append(h)
-                h = _bmm(h, W, b)
-                if k < len(layers) - 1:
-                    h = h.relu_()  # its own output: autograd's ReLU backward reads the result alone
+                if k < len(layers) - 1:  # autograd's product, so every ReLU sees autograd's values
+                    h = torch.baddbmm(b, h, W).relu_()  # in place: ReLU's backward reads its result alone
+                else:
+                    h = _bmm(h, W, b)
             err = h - y
             loss = (err**2).mean(dim=(1, 2))
             g = err * (2 / (err.shape[1] * err.shape[2]))  # d loss_u / d output, rounded as autograd's
