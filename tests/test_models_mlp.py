@@ -5,6 +5,7 @@ import torch
 from safetensors.torch import load_file, save_file
 from torch import nn
 
+from anytip.deploy.rounding import U_FLOAT32, gamma
 from anytip.errors import AnytipError
 from anytip.models import (
     BatchedMLP,
@@ -53,17 +54,12 @@ def _autograd_grads(model, x, y):
     return loss.detach(), [p.grad.clone() for p in model.parameters()]
 
 
-def _gamma(n: int) -> float:
-    u = 2.0**-24
-    return n * u / (1 - n * u)
-
-
 def _grad_rounding_bound(model, x, y):
     """Bounds (float64) on |float32 gradient - exact gradient| of each weight of a ReLU `model`,
     for any summation order of every product and sum, given the float32 hidden activations both
     computations share (Higham's |fl(A B) - A B| <= gamma_K |A| |B|, carried through the chain
     rule on magnitudes), and on the loss."""
-    u = 2.0**-24
+    u = U_FLOAT32
     W = [w.detach().double() for w in model.weights]
     b = [v.detach().double() for v in model.biases]
     acts, h = [x.double()], x
@@ -72,24 +68,24 @@ def _grad_rounding_bound(model, x, y):
             h = torch.relu(torch.baddbmm(model.biases[k], h, model.weights[k]))
             acts.append(h.double())
     a = acts[-1]
-    e_h = _gamma(W[-1].shape[1] + 1) * (a.abs() @ W[-1].abs() + b[-1].abs())
+    e_h = gamma(W[-1].shape[1] + 1, u) * (a.abs() @ W[-1].abs() + b[-1].abs())
     err = a @ W[-1] + b[-1] - y.double()
     e_err = e_h + u * (err.abs() + e_h)
     c = 2 / (err.shape[1] * err.shape[2])
     g, e_g = c * err, c * e_err + u * c * (err.abs() + e_err)
     loss_bound = (2 * err.abs() * e_err + e_err**2 + u * (err.abs() + e_err) ** 2).mean(dim=(1, 2))
     n_out = err.shape[1] * err.shape[2]
-    loss_bound = loss_bound + _gamma(n_out + 1) * ((err.abs() + e_err) ** 2).mean(dim=(1, 2))
+    loss_bound = loss_bound + gamma(n_out + 1, u) * ((err.abs() + e_err) ** 2).mean(dim=(1, 2))
     bounds = [None] * (2 * len(W))
     B = x.shape[1]
     for k in range(len(W) - 1, -1, -1):
         a, mag = acts[k], g.abs() + e_g
-        bounds[k] = a.abs().transpose(1, 2) @ e_g + _gamma(B) * (a.abs().transpose(1, 2) @ mag)
-        bounds[len(W) + k] = e_g.sum(1, keepdim=True) + _gamma(B) * mag.sum(1, keepdim=True)
+        bounds[k] = a.abs().transpose(1, 2) @ e_g + gamma(B, u) * (a.abs().transpose(1, 2) @ mag)
+        bounds[len(W) + k] = e_g.sum(1, keepdim=True) + gamma(B, u) * mag.sum(1, keepdim=True)
         if k > 0:
             mask = (a > 0).double()
             W_abs = W[k].abs().transpose(1, 2)
-            e_g = e_g @ W_abs + _gamma(W[k].shape[2]) * (mag @ W_abs)
+            e_g = e_g @ W_abs + gamma(W[k].shape[2], u) * (mag @ W_abs)
             g, e_g = (g @ W[k].transpose(1, 2)) * mask, e_g * mask
     return loss_bound, bounds  # bounds in parameters() order: weights, then biases
 
