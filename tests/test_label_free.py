@@ -15,6 +15,7 @@ from anytip.train.label_free import (
     Labeled,
     LabelFreeRecipe,
     joint_fit,
+    joint_objective,
     label_free_codes,
     mean_square_force,
     nearest_contacts,
@@ -98,9 +99,14 @@ def test_labeled_rows_enter_the_joint_fit_as_the_codes_map_takes_them():
     assert all(b <= a for a, b in zip(trace, trace[1:], strict=False))
     torch.testing.assert_close(z, alone, atol=2e-3, rtol=1e-2)
     rms = lambda t: float(t.pow(2).mean().sqrt())  # noqa: E731
-    z, _, _ = joint_fit(fit, X, _contacts(100, 10), 100.0, 40, 1e-3, labeled=labeled)
+    z, y, trace = joint_fit(fit, X, _contacts(100, 10), 100.0, 40, 1e-3, labeled=labeled)
     unlabeled_only, _, _ = joint_fit(fit, X, _contacts(100, 10), 100.0, 40, 1e-3)
     assert rms(z - codes) < 0.5 * rms(unlabeled_only - codes)
+    # the objective the fit reads off its Jacobians' forward pass is the objective
+    m = fit.model
+    std_c = lambda t: (t - m.label_mean) / m.label_std  # noqa: E731
+    at_end = joint_objective(fit, X, std_c(_contacts(100, 10)), 1.0, std_c(y), z, 1e-3, labeled=labeled)
+    assert trace[-1] == pytest.approx(at_end, rel=1e-5)
 
 
 def test_a_unit_without_unlabeled_rows_keeps_the_fleets_typical_codes():
@@ -265,18 +271,27 @@ def test_how_a_fleet_reads_ordinary_use_survives_json_and_a_bad_value_is_named()
 
 
 @pytest.mark.parametrize("force_cols", [[0, 1, 2], []])
-def test_the_written_out_label_jacobian_is_autograds(force_cols):
-    """ResponseModel.label_jacobian: the pressures and their derivative in each row's labels equal
-    forward-mode autograd's, in float64 to its rounding, with and without a force target, and for a
-    row pressed with no force (its magnitude's derivative taken as zero)."""
+def test_the_models_jacobians_are_autograds_per_row(force_cols):
+    """ResponseModel.jacobians: the pressures and their derivatives in each row's labels and in each
+    barometer's own code equal forward-mode autograd's row by row, in float64 to its rounding, with
+    and without a force target, and for a row pressed with no force (its magnitude's derivative taken
+    as zero); codes shared by every row or one set per row."""
     config = ResponseConfig(code_dim=3, channel_dim=4, hidden=16, layers=2)
     model = ResponseModel(2, 6, 5, force_cols, config, seed=3).double()
     model.set_scales(_contacts(50, 1).double(), torch.rand(50, 6, dtype=torch.float64) * 1e4)
     y = _contacts(40, 2).double()
     y[0, :3] = 0.0
-    codes = 0.3 * torch.randn(6, 3, generator=torch.Generator().manual_seed(6), dtype=torch.float64)
-    pressure, J = model.label_jacobian(y, codes)
-    want = torch.func.vmap(torch.func.jacfwd(lambda row: model(row, codes)))(y[1:])
-    torch.testing.assert_close(pressure, model(y, codes).detach(), rtol=1e-12, atol=1e-9)
-    torch.testing.assert_close(J[1:], want.detach(), rtol=1e-10, atol=1e-9)
-    assert torch.isfinite(J[0]).all()
+    codes = 0.3 * torch.randn(40, 6, 3, generator=torch.Generator().manual_seed(6), dtype=torch.float64)
+    for z in (codes[0], codes):
+        pressure, Jy, Jz = model.jacobians(y, z)
+        zs = z.expand(40, 6, 3)
+        want_y = torch.func.vmap(torch.func.jacfwd(lambda row, zr: model(row, zr)))(y[1:], zs[1:])
+        want_z = torch.func.vmap(torch.func.jacfwd(lambda row, zr: model(row, zr), argnums=1))(y, zs)
+        torch.testing.assert_close(pressure, model(y, z).detach(), rtol=0, atol=0)
+        torch.testing.assert_close(Jy[1:], want_y.detach(), rtol=1e-10, atol=1e-9)
+        torch.testing.assert_close(Jz, torch.diagonal(want_z, dim1=1, dim2=2).permute(0, 2, 1).detach(),
+                                   rtol=1e-10, atol=1e-9)
+        assert torch.isfinite(Jy[0]).all()
+        off = want_z.detach().clone()
+        off[:, torch.arange(6), torch.arange(6)] = 0  # a barometer's pressure reads no other's code
+        assert off.abs().max() == 0

@@ -99,69 +99,44 @@ class ResponseModel(nn.Module):
 
     def forward(self, labels: Tensor, codes: Tensor) -> Tensor:
         """labels (*, D) physical; codes broadcastable to (*, C, k) -> pressures (*, C) Pa."""
+        return self._pressure(labels.unsqueeze(-2), codes)
+
+    def _pressure(self, labels: Tensor, codes: Tensor) -> Tensor:
+        """labels (*, 1, D) shared by every barometer, or (*, C, D) one copy per barometer; codes
+        broadcastable to (*, C, k) -> pressures (*, C) Pa."""
         cols = self._context_cols(labels.shape[-1], self.force_cols.tolist())
         context = (labels[..., cols] - self.label_mean[cols]) / self.label_std[cols]
         if len(self.force_cols):
             force = labels[..., self.force_cols] / self.force_scale
             magnitude = force.norm(dim=-1, keepdim=True)
             context = torch.cat([context, magnitude], -1)
-        lead = torch.broadcast_shapes(labels.shape[:-1], codes.shape[:-2])
+        lead = torch.broadcast_shapes(labels.shape[:-2], codes.shape[:-2])
         C = self.n_channels
-        inp = torch.cat([context.unsqueeze(-2).expand(*lead, C, context.shape[-1]),
+        inp = torch.cat([context.expand(*lead, C, context.shape[-1]),
                          self.channel.expand(*lead, C, self.channel.shape[-1]),
                          codes.expand(*lead, C, codes.shape[-1])], -1)
         out = self.net(inp)
         if len(self.force_cols):
             n_force = len(self.force_cols)
-            pressure = (out[..., :n_force] * force.unsqueeze(-2)).sum(-1) + out[..., n_force] * magnitude
+            pressure = (out[..., :n_force] * force).sum(-1) + out[..., n_force] * magnitude[..., 0]
         else:
             pressure = out[..., 0]
         return pressure * self.pressure_scale
 
-    def label_jacobian(self, labels: Tensor, codes: Tensor) -> tuple[Tensor, Tensor]:
-        """labels (n, D) physical; codes broadcastable to (n, C, k) -> pressures (n, C) Pa and their
-        derivative in each row's own labels (n, C, D) Pa per label unit, by forward tangents through
-        the network written out (one matmul per layer and label column; about four times faster than
-        `torch.func.jvp`, which recomputes the forward pass for each column). Detached."""
-        with torch.no_grad():
-            n, D = labels.shape
-            cols = self._context_cols(D, self.force_cols.tolist())
-            context = (labels[:, cols] - self.label_mean[cols]) / self.label_std[cols]
-            d_in = torch.zeros(n, len(cols) + (1 if len(self.force_cols) else 0), D, dtype=labels.dtype,
-                               device=labels.device)  # d(the network's label inputs) / d labels
-            d_in[:, torch.arange(len(cols)), cols] = 1 / self.label_std[cols]
-            if len(self.force_cols):
-                force = labels[:, self.force_cols] / self.force_scale
-                magnitude = force.norm(dim=-1, keepdim=True)
-                d_in[:, -1, self.force_cols] = torch.where(magnitude > 0, force / magnitude.clamp_min(1e-30),
-                                                           0.0) / self.force_scale
-                context = torch.cat([context, magnitude], -1)
-            C = self.n_channels
-            a = torch.cat([context[:, None].expand(n, C, -1), self.channel.expand(n, C, -1),
-                           codes.expand(n, C, codes.shape[-1])], -1)
-            da: Tensor | None = None  # (n, C, D, width); None while it is the same for every channel
-            for layer in self.net:
-                if isinstance(layer, nn.Linear):
-                    W = layer.weight
-                    da = ((d_in.transpose(1, 2) @ W[:, : d_in.shape[1]].T)[:, None] if da is None
-                          else da @ W.T)
-                    a = layer(a)
-                else:
-                    sig = torch.sigmoid(a)
-                    da = da * (sig * (1 + a * (1 - sig)))[:, :, None]
-                    a = a * sig
-            assert da is not None
-            if len(self.force_cols):
-                nf = len(self.force_cols)
-                pressure = (a[..., :nf] * force[:, None]).sum(-1) + a[..., nf] * magnitude
-                d_force = torch.zeros(n, nf, D, dtype=labels.dtype, device=labels.device)
-                d_force[:, torch.arange(nf), self.force_cols] = 1 / self.force_scale
-                d_pressure = ((da[..., :nf] * force[:, None, None]).sum(-1)
-                              + torch.einsum("ncf,nfd->ncd", a[..., :nf], d_force)
-                              + da[..., nf] * magnitude[..., None] + a[..., nf, None] * d_in[:, None, -1])
-            else:
-                pressure, d_pressure = a[..., 0], da[..., 0]
-            return pressure * self.pressure_scale, d_pressure * self.pressure_scale
+    def jacobians(self, labels: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
+        """labels (*, D) physical; codes broadcastable to (*, C, k) -> the pressures (*, C) Pa, their
+        derivative in each row's own labels (*, C, D) Pa per label unit and in each barometer's own
+        code (*, C, k), detached. Pressure c of a row depends on that row's labels and code c alone,
+        so one backward pass through per-(row, barometer) copies of both gives every derivative:
+        about the cost of two forward passes, where forward tangents cost one per label column."""
+        C, k = self.n_channels, codes.shape[-1]
+        lead = torch.broadcast_shapes(labels.shape[:-1], codes.shape[:-2])
+        y = labels.unsqueeze(-2).expand(*lead, C, labels.shape[-1]).detach().clone().requires_grad_(True)
+        z = codes.detach().expand(*lead, C, k).clone().requires_grad_(True)
+        with torch.enable_grad():
+            pressure = self._pressure(y, z)
+            dy, dz = torch.autograd.grad(pressure.sum(), (y, z))
+        return pressure.detach(), dy, dz
 
     def code_parameters(self) -> list[nn.Parameter]:
         return [self.codes]

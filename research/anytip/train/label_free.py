@@ -275,10 +275,8 @@ def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, T
     """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
     in c (n, C, D) and in each barometer's own code (n, C, k)."""
     std = model.label_std
-    Y = c * std + model.label_mean
-    Jc = model.label_jacobian(Y, codes)[1] * std  # d pressure / d standardised contact
-    pred, Jz = code_jacobian(model, Y, codes)
-    return pred, Jc, Jz
+    pred, Jy, Jz = model.jacobians(c * std + model.label_mean, codes)
+    return pred, Jy * std, Jz  # d pressure / d standardised contact
 
 
 @dataclass(frozen=True)
@@ -290,10 +288,10 @@ class Labeled:
     Y: Tensor
     n_eff: float
 
-    def data_term(self, fit: ResponseFit, codes: Tensor) -> float:
-        """n_eff / m times half the rows' sum of squared residuals over noise_var at `codes` (C, k)."""
-        with torch.no_grad():
-            r = self.X - fit.model(self.Y, codes)
+    def data_term(self, fit: ResponseFit, pressures: Tensor) -> float:
+        """n_eff / m times half the rows' sum of squared residuals over noise_var, the response to
+        the rows' contacts being `pressures` (m, C) Pa."""
+        r = self.X - pressures
         return float((r**2 * (self.n_eff / len(self.X) / fit.noise_var)).sum() / 2)
 
     def thinned(self, at_most: int | None) -> Labeled:
@@ -311,13 +309,24 @@ def joint_objective(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor
     each row weighing w = n_eff / n, the force-scale prior and the labeled rows' data term where
     given."""
     model = fit.model
-    Y = c * model.label_std + model.label_mean
     with torch.no_grad():
-        r = X - model(Y, codes)
+        pred = model(c * model.label_std + model.label_mean, codes)
+        known = None if labeled is None else model(labeled.Y, codes)
+    return objective_at(fit, X, c0, w, c, codes, lam, pred, scale, labeled, known)
+
+
+def objective_at(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, codes: Tensor, lam: float,
+                 pred: Tensor, scale: ForceScale | None = None, labeled: Labeled | None = None,
+                 known: Tensor | None = None) -> float:
+    """`joint_objective` given the response at the point: `pred` (n, C) Pa to the unlabeled rows'
+    contacts c, `known` (m, C) Pa to the labeled rows' contacts (with `labeled`), both at `codes`."""
+    model = fit.model
+    Y = c * model.label_std + model.label_mean
+    r = X - pred
     data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
     prior = 0.0 if scale is None else scale.penalty(Y)
-    known = 0.0 if labeled is None else labeled.data_term(fit, codes)
-    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2) + prior + known
+    term = 0.0 if labeled is None or known is None else labeled.data_term(fit, known)
+    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2) + prior + term
 
 
 def scale_residual(scale: ForceScale, c: Tensor, mean: Tensor, std: Tensor) -> tuple[float, Tensor]:
@@ -349,19 +358,24 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     c0 = (Y0 - mean) / std
     c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
 
-    def objective(cc: Tensor, zz: Tensor) -> float:
-        return joint_objective(fit, X, c0, w, cc, zz, lam, scale, labeled)
+    def linearised(cc: Tensor, zz: Tensor) -> tuple[float, tuple[Tensor, ...]]:
+        """The objective at (cc, zz) and what a step from there needs: the unlabeled rows' pressures
+        and Jacobians, then the labeled rows' (both from one backward pass each, whose forward
+        pass gives the objective too: a refused trial costs no more than a kept one)."""
+        pred, Jc, Jz = jacobians(model, cc, zz)
+        known, Jk = code_jacobian(model, labeled.Y, zz) if labeled is not None else (pred[:0], Jz[:0])
+        obj = objective_at(fit, X, c0, w, cc, zz, lam, pred, scale, labeled, known)
+        return obj, (pred, Jc, Jz, known, Jk)
 
-    obj, damping, trace = objective(c, z), 1e-2, []
+    (obj, at), damping, trace = linearised(c, z), 1e-2, []
     for _ in range(iterations):
-        pred, Jc, Jz = jacobians(model, c, z)
+        pred, Jc, Jz, known, Jk = at
         r = X - pred
         Hcc = torch.einsum("ncd,nce,c->nde", Jc, Jc, Wc) + w * lam * torch.eye(D, device=X.device)
         gc = torch.einsum("ncd,nc,c->nd", Jc, r, Wc) - w * lam * (c - c0)
         Hzz = torch.einsum("nck,ncj,c->ckj", Jz, Jz, Wc) + torch.diag_embed(inv_spread.expand(C, k))
         gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) - z * inv_spread
         if labeled is not None:
-            known, Jk = code_jacobian(model, labeled.Y, z)
             Wk = labeled.n_eff / len(labeled.X) / fit.noise_var
             Hzz = Hzz + torch.einsum("nck,ncj,c->ckj", Jk, Jk, Wk)
             gz = gz + torch.einsum("nck,nc,c->ck", Jk, labeled.X - known, Wk)
@@ -373,9 +387,9 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
             e, u = scale_residual(scale, c, mean, std)
             gc = gc - e * u
         dz, dc = schur_step(Hzz, gz.reshape(-1), Hcc, gc, A, u)
-        trial = objective(c + dc, z + dz.reshape(C, k))
+        trial, trial_at = linearised(c + dc, z + dz.reshape(C, k))
         if trial < obj:
-            c, z, obj, damping = c + dc, z + dz.reshape(C, k), trial, max(damping / 3, 1e-6)
+            c, z, obj, at, damping = c + dc, z + dz.reshape(C, k), trial, trial_at, max(damping / 3, 1e-6)
         else:
             damping = min(damping * 4, 1e6)
         trace.append(obj)

@@ -280,14 +280,10 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
 
 def code_jacobian(model: ResponseModel, labels: Tensor, codes: Tensor) -> tuple[Tensor, Tensor]:
     """At labels (*, D) and codes broadcastable to (*, C, k): the pressures (*, C) Pa and each one's
-    derivative in its own barometer's code, d pressure_c / d code_c (*, C, k), detached. Pressure c
-    of a row depends on that row's copy of code c alone, so one backward pass through per-row
-    copies of the codes gives every row's Jacobian. The model's weights should not require grad."""
-    per_row = codes.expand(*labels.shape[:-1], *codes.shape[-2:]).clone().requires_grad_(True)
-    with torch.enable_grad():
-        pred = model(labels, per_row)
-        pred.sum().backward()
-    return pred.detach(), per_row.grad
+    derivative in its own barometer's code, d pressure_c / d code_c (*, C, k), detached
+    (`ResponseModel.jacobians`)."""
+    pressure, _, d_code = model.jacobians(labels, codes)
+    return pressure, d_code
 
 
 def _codes_by_adam(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
