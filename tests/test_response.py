@@ -250,6 +250,47 @@ def test_calibrate_by_response_writes_the_units_own_network(response_run, fleet,
         assert "fleet_factor" not in bands and "learnt at level 0.8" in said
 
 
+def test_calibrate_caches_the_source_rows_own_responses_and_recomputes_a_bad_one(
+        response_run, fleet, tmp_path, monkeypatch):
+    """The training units' own responses to the source rows are computed once and cached beside the
+    response model: a second calibration reads them and trains the same network bit for bit; a
+    cache of another shape is named, computed again and replaced; a cache that cannot be written
+    leaves a note and the calibration goes on."""
+    import anytip.calibrate as calibrate_module
+
+    run = tmp_path / "run"
+    shutil.copytree(response_run, run)
+    unit, cache = _held_out(run), run / "models" / "response_seed0_source.safetensors"
+    cache.unlink(missing_ok=True)
+    first = calibrate_unit(run, unit, fleet, tmp_path / "a", budget_seconds=40, method="response")
+    assert cache.is_file() and not any("cached" in n or "computed again" in n for n in first.notes)
+    made = cache.stat().st_mtime_ns
+    calibrate_unit(run, unit, fleet, tmp_path / "b", budget_seconds=40, method="response")
+    assert cache.stat().st_mtime_ns == made  # read, not written again
+    a, b = load_models(tmp_path / "a"), load_models(tmp_path / "b")
+    assert all(torch.equal(x, y) for x, y in zip(a.model.state_dict().values(), b.model.state_dict().values(),
+                                                  strict=True))
+    from safetensors import safe_open
+    from safetensors.torch import save_file
+    with safe_open(str(cache), "pt") as f:
+        digest = f.metadata()["digest"]
+    save_file({"fitted": torch.zeros(3, 8)}, str(cache), {"digest": digest})  # this digest, wrong rows
+    bad = calibrate_unit(run, unit, fleet, tmp_path / "c", budget_seconds=40, method="response")
+    assert any("_source.safetensors: expected" in n and "computed again" in n for n in bad.notes)
+    c = load_models(tmp_path / "c")
+    assert all(torch.equal(x, y) for x, y in zip(a.model.state_dict().values(), c.model.state_dict().values(),
+                                                  strict=True))
+    cache.unlink()
+
+    def refuse(*_: object) -> None:
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(calibrate_module, "save_source_response", refuse)
+    kept = calibrate_unit(run, unit, fleet, tmp_path / "d", budget_seconds=40, method="response")
+    assert any("could not be cached" in n and "Permission denied" in n for n in kept.notes)
+    assert not cache.exists() and load_models(tmp_path / "d").model is not None
+
+
 def _set_response_loss(run: Path, value: float) -> None:
     path = run / "models" / "response_seed0.json"
     header = json.loads(path.read_text())

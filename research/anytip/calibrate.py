@@ -34,12 +34,15 @@ from anytip.models.io import (
     LoadedModels,
     LoadedResponse,
     LoadedShared,
+    ModelFileError,
     load_models,
     load_response,
     load_shared,
+    load_source_response,
     model_paths,
     read_header,
     save_models,
+    save_source_response,
 )
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
@@ -64,8 +67,11 @@ from anytip.train.response import (
     ResponseRecipe,
     SourceRows,
     calibrate_by_response,
+    draw_source_rows,
+    own_response,
     plan_residual,
-    source_rows,
+    source_digest,
+    source_response_path,
     start_network_path,
 )
 from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_loss, plan_residuals
@@ -640,7 +646,8 @@ def _margin(rec: dict[str, Any], key: str, strategy: str, budget: float) -> floa
 
 def response_models(run: Path) -> dict[int, Path]:
     """{seed: model file} of the response models a run directory holds
-    (`models/response_seed<seed>.safetensors`; not their start networks, `..._start`)."""
+    (`models/response_seed<seed>.safetensors`; not their start networks, `..._start`, nor the
+    cached responses, `..._source`)."""
     found = {}
     for path in sorted((run / "models").glob("response_seed*.safetensors")):
         seed = path.stem.removeprefix("response_seed")
@@ -715,6 +722,30 @@ def _training_rows(registry: Registry, units: list[str], sensor_model: str
     return arrays, FleetBatchData.from_units(members, "cpu", arrays.output_names)
 
 
+def _source_rows(path: Path, fit: ResponseFit, training: FleetBatchData, per_unit: int, seed: int,
+                 notes: list[str]) -> SourceRows:
+    """The training units' source rows with their own responses, read from the response model's
+    cache (`source_response_path`) where it holds them for these rows and this model (the same
+    digest), else computed and cached for the next calibration (a note where the cache cannot be
+    read or written; the calibration goes on either way)."""
+    source = draw_source_rows(fit, training, per_unit, seed)
+    cache, digest = source_response_path(path), source_digest(fit, source)
+    try:
+        fitted = load_source_response(cache, digest, (len(source.X), fit.model.n_channels))
+    except ModelFileError as e:
+        notes.append(f"{e}; computed again")
+        fitted = None
+    if fitted is not None:
+        source.fitted = fitted.to(fit.device)
+        return source
+    source.fitted = own_response(fit, source)
+    try:
+        save_source_response(cache, digest, source.fitted)
+    except OSError as e:
+        notes.append(f"the source rows' own responses could not be cached in {cache} ({e.strerror or e})")
+    return source
+
+
 def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArrays,
                                stream: CalibrationStream, plan: Plan, budget: float, out: Path,
                                notes: list[str], interval_level: float | None = 0.9,
@@ -750,7 +781,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         if problem:
             raise AnytipError(f"{start_network_path(path)}: {problem}")
     tick = time.perf_counter()
-    source = source_rows(fit, training, recipe.source_rows, seed)
+    source = _source_rows(path, fit, training, recipe.source_rows, seed, notes)
     given, used = None, Plan.empty()
     if use is not None:
         fleet = _fleet_use(path, meta, fit, use, (training_arrays, units), seed, notes)

@@ -14,8 +14,8 @@ from pathlib import Path
 from typing import Any
 
 import torch
-from safetensors import SafetensorError
-from safetensors.torch import load_file, save_file
+from safetensors import SafetensorError, safe_open
+from safetensors.torch import load_file, save, save_file
 from torch import Tensor
 
 from anytip.errors import AnytipError
@@ -23,7 +23,7 @@ from anytip.models.adapted import AdaptedMLP
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.models.scaler import Scaler
-from anytip.rundir import write_json
+from anytip.rundir import write_bytes, write_json
 
 FORMAT = "anytip.batched_mlp"
 FORMAT_VERSION = 1
@@ -240,3 +240,29 @@ def load_response(path: str | Path, device: torch.device | str = "cpu") -> Loade
     _check(tensors_path, tensors, expected)
     model.to(device).load_state_dict({k: tensors[k] for k in model.state_dict()})
     return LoadedResponse(model, tensors["noise_var"], tensors["code_var"], header.get("meta", {}))
+
+
+def save_source_response(path: str | Path, digest: str, fitted: Tensor) -> None:
+    """Write the training units' own responses to their source rows, fitted (S, C) Pa, under the
+    digest of what they were computed from (`train.response.source_digest`), atomically."""
+    write_bytes(Path(path), save({"fitted": fitted.detach().contiguous().cpu()}, {"digest": digest}))
+
+
+def load_source_response(path: str | Path, digest: str, shape: tuple[int, int]) -> Tensor | None:
+    """What `save_source_response` wrote, where it was written under `digest`; None where there is no
+    such file or it holds another digest. A file that is unreadable, or whose tensor is not `shape`
+    finite float32 values, raises ModelFileError naming it."""
+    path = Path(path)
+    if not path.is_file():
+        return None
+    try:
+        with safe_open(str(path), "pt") as f:
+            if (f.metadata() or {}).get("digest") != digest:
+                return None
+            fitted = f.get_tensor("fitted")
+    except (SafetensorError, OSError) as e:
+        raise ModelFileError(path, f"not a readable safetensors file: {e}") from e
+    if tuple(fitted.shape) != shape or fitted.dtype != torch.float32 or not bool(fitted.isfinite().all()):
+        raise ModelFileError(path, f"expected {shape} finite float32 responses, found {tuple(fitted.shape)} "
+                                   f"{fitted.dtype}")
+    return fitted

@@ -323,8 +323,17 @@ class SourceRows:
 
 
 def source_rows(fit: ResponseFit, data: FleetBatchData, per_unit: int, seed: int = 0) -> SourceRows:
+    """`per_unit` random fitting rows of each unit of `data` (`draw_source_rows`), with their own
+    response (`own_response`)."""
+    src = draw_source_rows(fit, data, per_unit, seed)
+    src.fitted = own_response(fit, src)
+    return src
+
+
+def draw_source_rows(fit: ResponseFit, data: FleetBatchData, per_unit: int, seed: int = 0) -> SourceRows:
     """`per_unit` random fitting rows of each unit of `data` (units the response model was trained
-    on, found by id; in the model's order, all of them or some), with their own response."""
+    on, found by id; in the model's order, all of them or some), their own response not yet
+    computed (`fitted` empty)."""
     device = fit.device
     missing = [u for u in data.unit_ids if u not in fit.unit_ids]
     if missing:
@@ -338,9 +347,31 @@ def source_rows(fit: ResponseFit, data: FleetBatchData, per_unit: int, seed: int
         X.append(r.X_train[take].to(device))
         Y.append(r.Y_train[take].to(device))
         unit.append(torch.full((len(take),), u, dtype=torch.int64, device=device))
-    src = SourceRows(torch.cat(X), torch.cat(Y), torch.cat(unit), torch.empty(0))
-    src.fitted = respond(fit.model, src.Y, fit.model.codes.detach()[src.unit])
-    return src
+    return SourceRows(torch.cat(X), torch.cat(Y), torch.cat(unit), torch.empty(0, fit.model.n_channels))
+
+
+def own_response(fit: ResponseFit, source: SourceRows) -> Tensor:
+    """(S, C) Pa: each source row's response under its own unit's code, G(y; z_unit)."""
+    return respond(fit.model, source.Y, fit.model.codes.detach()[source.unit])
+
+
+def source_digest(fit: ResponseFit, source: SourceRows) -> str:
+    """SHA-256 (hex) of what `own_response` computes from: the response model's weights, buffers and
+    codes, and the source rows (X, Y, unit). Equal digests give equal responses on the same
+    device, so responses saved under one can stand in for computing them again."""
+    h = hashlib.sha256()
+    rows = [("X", source.X), ("Y", source.Y), ("unit", source.unit)]
+    tensors = sorted(fit.model.state_dict().items()) + rows
+    for name, t in tensors:
+        h.update(f"{name}{tuple(t.shape)}{t.dtype}".encode())
+        h.update(np.ascontiguousarray(t.detach().cpu().numpy()).data)
+    return h.hexdigest()
+
+
+def source_response_path(response_path: Path) -> Path:
+    """Where `anytip calibrate` keeps a response model's own responses to the source rows it last
+    drew: beside it, `<stem>_source.safetensors`."""
+    return response_path.with_name(response_path.name.removesuffix(".safetensors") + "_source.safetensors")
 
 
 @torch.no_grad()
