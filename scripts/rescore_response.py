@@ -58,16 +58,23 @@ from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.pipelines.cross_sensor_response import check_trained_on, response_rows, val_by_method
 from anytip.rundir import check_run_dir, code_version, read_json, write_config, write_json, write_metrics
 from anytip.runner import rewrite_report
+from anytip.sensor.protocols import is_designed
 from anytip.train.metrics import target_key
 from anytip.train.response import TRAINING_FIELDS, ResponseFit, ResponseRecipe
 
 
 def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False,
-            response_model: str | None = None) -> Path:
+            response_model: str | None = None, added: tuple[str, ...] = ()) -> Path:
     """The run's references and its units calibrated again by response transfer, in `out`; with
     `retrain`, each seed's response model is trained again on the run's training units with the
     options given; with `response_model` (a file name, `{seed}` replaced), each seed's model is
-    read from there (otherwise the run's own models are reused)."""
+    read from there (otherwise the run's own models are reused). `added`: designed calibrations'
+    protocols (`plan<seconds>`) whose runs the registry holds beyond the run's, for the `designed`
+    strategy's plans; every other run must be the run's own."""
+    wrong = [p for p in added if not is_designed(p)]
+    if wrong:
+        raise AnytipError(f"--added-protocol {wrong[0]}: only a designed calibration's runs (plan<seconds>) "
+                          "may join a rescoring: no unit is trained or tested on them")
     if retrain and response_model:
         raise AnytipError("--retrain and --response-model exclude each other")
     if response_model:  # the extra units trained that model; they are not read here
@@ -80,8 +87,10 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
     if opts.response is None:
         raise AnytipError(f"{run}: its spec has no options.response")
     arrays = load(ctx, min_units(ctx))
-    if ctx.provenance["selection_content_hash"] != old.get("selection_content_hash"):
-        raise AnytipError(f"{registry}: its runs differ from those {run} was run on")
+    own = [r.run_id for r in arrays.runs if r.protocol not in added]
+    if ctx.registry.content_hash(own) != old.get("selection_content_hash"):
+        raise AnytipError(f"{registry}: its runs differ from those {run} was run on"
+                          f"{' (the runs of ' + ', '.join(added) + ' set aside)' if added else ''}")
     if response_model and opts.response.transfer_from != "registry":
         raise AnytipError("--response-model: a new unit's rows come from the registry's own training units; "
                           "set options.response.transfer_from=registry")
@@ -162,12 +171,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--retrain", action="store_true",
                         help="train each seed's response model again on the run's training units with the "
                              "options given (otherwise the run's own response models are reused)")
+    parser.add_argument("--added-protocol", action="append", default=[], metavar="PLAN",
+                        help="a designed calibration (plan<seconds>) whose runs the registry holds beyond "
+                             "the run's own, read by the `designed` plan strategy alone (repeatable)")
     parser.add_argument("--response-model", help="each seed's response model from this file ({seed} is "
                         "replaced by the seed) instead of the run's")
     args = parser.parse_args(argv)
     torch.set_num_threads(1)
     try:
-        out = rescore(args.run, args.registry, args.out, args.overrides, args.retrain, args.response_model)
+        out = rescore(args.run, args.registry, args.out, args.overrides, args.retrain, args.response_model,
+                      tuple(args.added_protocol))
         print(f"report: {out}")
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)

@@ -196,6 +196,34 @@ def test_designed_plans_take_the_presses_of_the_units_designed_runs(tmp_path):
     assert plan_for(Budget(60.0, "seconds", "designed"), stream, presses).presses == 0  # no plan60 runs
 
 
+def test_a_designed_calibrations_runs_are_a_plan_of_their_own_never_stream_test_or_training_rows(tmp_path):
+    """Units with a designed calibration's runs beside others: their stream, their main rows (what units
+    are trained and tested on) and the presses other strategies select from leave those runs out; the
+    `designed` strategy's plan takes them alone. A unit with nothing but a designed calibration keeps it
+    as its stream."""
+    from anytip.train.shared_split import Roles, main_rows, prepare_seed
+
+    registry = Registry(tmp_path / "r")
+    simulate_into(registry, FleetConfig(), 4, seed=2, protocols=("short", "plan30"))
+    arrays = load_arrays(registry, registry.list_runs())
+    designed = np.array([arrays.runs[k].protocol == "plan30" for k in arrays.run])
+    assert designed.any() and not (main_rows(arrays, None) & designed).any()
+    for unit in arrays.units:
+        assert not designed[calibration_stream(arrays, unit, None).rows].any()
+    sd = prepare_seed(arrays, Roles(1, 1, None, 0.25, 0.1), None, False, seed=0)
+    for ev in sd.evals.values():
+        assert len(ev.test_rows) and not designed[ev.test_rows].any()
+        cover = plan_for(Budget(30.0, "seconds", "cover"), ev.stream, ev.presses_for("cover"))
+        plan = plan_for(Budget(30.0, "seconds", "designed"), ev.stream, ev.presses_for("designed"))
+        assert cover.presses > 0 and not designed[cover.rows].any()
+        assert plan.presses > 0 and designed[plan.rows].all()
+        assert not np.isin(plan.rows, ev.test_rows).any()  # its presses in test patches are dropped whole
+    alone = Registry(tmp_path / "alone")
+    simulate_into(alone, FleetConfig(), 1, seed=3, protocols=("plan30",))
+    only = load_arrays(alone, alone.list_runs())
+    assert len(calibration_stream(only, only.units[0], None).rows) == only.n_rows
+
+
 def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_path):
     """Runs made from the format spec alone, without in_contact or temperature: contact then comes
     from |F| >= 0.5 N, and presses (plans and ordinary use alike) from the rows it marks."""

@@ -16,6 +16,7 @@ import numpy as np
 
 from anytip.data.arrays import FleetArrays
 from anytip.errors import AnytipError
+from anytip.sensor.protocols import is_designed
 
 
 @dataclass(frozen=True)
@@ -57,13 +58,17 @@ def calibration_stream(arrays: FleetArrays, unit: str, protocol: str | None,
     dropped, not skipped over in the clock. The runs follow each other in recorded order,
     or with `interleave` their patch visits take turns (visit 1 of every run, then visit 2,
     ...), as a robot that presses the unit from every orientation in turn would play them;
-    each visit keeps its own robot time (from the end of the run's previous visit).
+    each visit keeps its own robot time (from the end of the run's previous visit). Runs of a
+    designed calibration (`plan<seconds>`) are left out where the unit has other runs: they are
+    a plan of their own (`data.plans.plan_for`, strategy `designed`).
     """
     if arrays.time is None:
         raise AnytipError("calibration streams need row times; load the runs with load_arrays")
     if unit not in arrays.units:
         raise AnytipError(f"unit {unit!r} is not among the loaded units {arrays.units}")
     mine = [k for k, r in enumerate(arrays.runs) if r.unit == unit]
+    if not is_designed(protocol):  # a designed plan's runs are that plan, unless they are all the unit has
+        mine = [k for k in mine if not is_designed(arrays.runs[k].protocol)] or mine
     chosen = [k for k in mine if arrays.runs[k].protocol == protocol] or mine
     chosen.sort(key=lambda k: (arrays.runs[k].created, arrays.runs[k].run_id))
     pieces = [_visits(arrays, k) for k in chosen]  # per run: [(rows, seconds into the visit)]

@@ -43,7 +43,7 @@ def needed_key(output: str, coverage: float) -> str:
 def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int) -> Plan:
     """The labeled rows `budget` grants `unit` (a stream prefix or whole presses)."""
     ev = sd.evals[unit]
-    return plan_for(budget, ev.stream, ev.presses, opts.rig.timing(), seed)
+    return plan_for(budget, ev.stream, ev.presses_for(budget.strategy), opts.rig.timing(), seed)
 
 
 def budget_fields(budget: Budget, plan: Plan) -> dict[str, Any]:

@@ -116,6 +116,15 @@ PROTOCOLS: dict[str, Protocol] = {
 }
 
 
+DESIGNED = re.compile(r"plan(\d+(?:\.\d+)?)")  # `plan<seconds>`: the designed calibration of that budget
+
+
+def is_designed(protocol: str | None) -> bool:
+    """Whether `protocol` names a designed calibration (`plan<seconds>`, `design_protocol`): its runs
+    are a calibration plan, not part of a unit's calibration stream or its test data."""
+    return protocol is not None and DESIGNED.fullmatch(protocol) is not None
+
+
 def get_protocol(protocol: str | Protocol | dict) -> Protocol:
     """A built-in protocol by name ('full', 'short', 'quick', 'sweep', or 'plan<seconds>': the
     designed calibration of that many robot seconds, `design_protocol`), or a Protocol / its dict."""
@@ -123,7 +132,7 @@ def get_protocol(protocol: str | Protocol | dict) -> Protocol:
         return protocol
     if isinstance(protocol, dict):
         return Protocol.model_validate(protocol)
-    designed = re.fullmatch(r"plan(\d+(?:\.\d+)?)", protocol)
+    designed = DESIGNED.fullmatch(protocol)
     if designed:
         return design_protocol(float(designed.group(1)))
     if protocol not in PROTOCOLS:

@@ -20,7 +20,7 @@ import torch
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Plan, Presses, find_presses
+from anytip.data.plans import Plan, Presses, designed_rows, find_presses
 from anytip.data.seeds import TEST_PATCHES, VALIDATION_ROWS, stream_seed
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
 from anytip.errors import AnytipError
@@ -36,13 +36,19 @@ from anytip.train.metrics import predict
 
 @dataclass
 class EvalUnit:
-    """A validation, held-out or factor unit: its test rows, its calibration stream and the whole
-    presses of the stream's runs outside its test patches (what a plan may select)."""
+    """A validation, held-out or factor unit: its test rows, its calibration stream, the whole
+    presses of the stream's runs outside its test patches (what a plan may select) and those of
+    its designed calibrations' runs (what the `designed` strategy's plan takes)."""
 
     unit: str
     test_rows: np.ndarray
     stream: CalibrationStream
     presses: Presses
+    designed: Presses
+
+    def presses_for(self, strategy: str) -> Presses:
+        """The presses a plan of `strategy` selects from."""
+        return self.designed if strategy == "designed" else self.presses
 
 
 @dataclass
@@ -84,7 +90,7 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
     in common); their tensors follow the split's training units in `train`."""
     split = split_units(arrays.units, seed, max(roles.n_val_units, 1), max(roles.n_test_units, 1),
                         roles.n_train_units, roles.unit_folds, roles.n_factor_units)
-    main = main_rows(arrays, calibration_protocol)
+    main, designed = main_rows(arrays, calibration_protocol), designed_rows(arrays)
     evals = {}
     for k, unit in enumerate([*split.val, *split.test, *split.factor]):
         mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
@@ -96,7 +102,8 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
         evals[unit] = EvalUnit(unit, own[exclude[own]], stream,
-                               find_presses(arrays, unit, exclude | stream.outside(arrays)))
+                               find_presses(arrays, unit, exclude | stream.outside(arrays)),
+                               find_presses(arrays, unit, exclude | ~designed))
     members, stats, presses = training_units(arrays, split.train, roles, calibration_protocol, interleave,
                                              seed)
     if extra is not None:
@@ -132,10 +139,11 @@ def training_units(arrays: FleetArrays, units: Sequence[str], roles: Roles, cali
 
 
 def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarray:
-    """(N,) bool: rows of runs other than the calibration protocol's (what units are tested on)."""
+    """(N,) bool: rows of runs other than the calibration protocol's and a designed calibration's
+    (what units are trained and tested on)."""
     calib_runs = [k for k, r in enumerate(arrays.runs)
                   if calibration_protocol is not None and r.protocol == calibration_protocol]
-    return ~np.isin(arrays.run, calib_runs)
+    return ~np.isin(arrays.run, calib_runs) & ~designed_rows(arrays)
 
 
 def unit_main_rows(arrays: FleetArrays, unit: str, main: np.ndarray) -> np.ndarray:
