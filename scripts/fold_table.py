@@ -204,6 +204,23 @@ def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def paired_strategies(rows: list[dict[str, Any]], mine: str, theirs: str) -> str:
+    """Each `<method>@mine` row over the same unit's `<method>@theirs` row at the same budget, in the
+    same runs: the geometric mean over units, force and angle [95%] (entry 58)."""
+    b = {(r["method"], budget_of(r), r["unit"]): r for r in rows}
+    lines = []
+    found = {(r["method"], budget_of(r)) for r in rows if r["method"].endswith(f"@{mine}")}
+    for method, budget in sorted(found):
+        other = method.removesuffix(f"@{mine}") + f"@{theirs}"
+        pairs = [(r, b[other, budget, r["unit"]]) for r in rows
+                 if r["method"] == method and budget_of(r) == budget and (other, budget, r["unit"]) in b]
+        if pairs:
+            force, angle = (paired_text([x[k] / y[k] for x, y in pairs]) for k in RMSE_KEYS)
+            lines.append(f"{method} over {other}, {budget:g} s, {len(pairs)} units: force x{force}, "
+                         f"angle x{angle}")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", type=Path, nargs="+", help="finished cross_sensor run directories")
@@ -215,6 +232,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--pooled", action="store_true",
                         help="each fold's factor learnt by every fold's learners but its held-out units "
                              "(entry 53)")
+    parser.add_argument("--strategies", nargs=2, metavar=("MINE", "THEIRS"),
+                        help="pair each <method>@MINE row with the same unit's <method>@THEIRS row")
     args = parser.parse_args(argv)
     rows = rows_of(args.runs)
     print(table(rows, args.intervals))
@@ -224,6 +243,8 @@ def main(argv: list[str] | None = None) -> int:
         print("\n" + pooled(args.runs))
     if args.against:
         print("\n" + paired(rows, rows_of(args.against)))
+    if args.strategies:
+        print("\n" + paired_strategies(rows, *args.strategies))
     return 0
 
 
