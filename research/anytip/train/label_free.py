@@ -325,7 +325,7 @@ def objective_at(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, c
     r = X - pred
     data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
     prior = 0.0 if scale is None else scale.penalty(Y)
-    term = 0.0 if labeled is None or known is None else labeled.data_term(fit, known)
+    term = 0.0 if labeled is None else labeled.data_term(fit, known)  # known: given with labeled
     return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2) + prior + term
 
 
@@ -358,12 +358,12 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     c0 = (Y0 - mean) / std
     c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
 
-    def linearised(cc: Tensor, zz: Tensor) -> tuple[float, tuple[Tensor, ...]]:
+    def linearised(cc: Tensor, zz: Tensor) -> tuple[float, tuple[Tensor | None, ...]]:
         """The objective at (cc, zz) and what a step from there needs: the unlabeled rows' pressures
         and Jacobians, then the labeled rows' (both from one backward pass each, whose forward
         pass gives the objective too: a refused trial costs no more than a kept one)."""
         pred, Jc, Jz = jacobians(model, cc, zz)
-        known, Jk = code_jacobian(model, labeled.Y, zz) if labeled is not None else (pred[:0], Jz[:0])
+        known, Jk = code_jacobian(model, labeled.Y, zz) if labeled is not None else (None, None)
         obj = objective_at(fit, X, c0, w, cc, zz, lam, pred, scale, labeled, known)
         return obj, (pred, Jc, Jz, known, Jk)
 
