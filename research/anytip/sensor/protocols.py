@@ -49,8 +49,10 @@ class Protocol(BaseModel):
         "serpentine", description="patch order: neighbours in turn, or spread over the region "
         "from the first press on (a subset of patches is always spread)")
     layer_cycle: bool = Field(
-        False, description="one press per patch, its force layer cycling through layers_n from "
-        "patch to patch (else every patch is pressed once per layer)")
+        False, description="`layers_per_patch` presses per patch, each at the next force layer of "
+        "layers_n in turn, the cycle running on from patch to patch (else every patch is pressed "
+        "once per layer)")
+    layers_per_patch: int = Field(1, ge=1, description="presses per patch with layer_cycle")
 
     @model_validator(mode="after")
     def _on_grid(self) -> Protocol:
@@ -60,21 +62,25 @@ class Protocol(BaseModel):
                 raise ValueError(
                     f"orientation {o} deg puts phi cells off the 15-deg grid in [-135, 45]"
                 )
+        if self.layers_per_patch > 1 and not self.layer_cycle:
+            raise ValueError("layers_per_patch > 1 needs layer_cycle (else every layer is pressed)")
         return self
 
     def to_json(self) -> dict:
-        """The protocol as stored in a run. `order` and `layer_cycle` are left out at their
-        defaults, so runs made before they existed keep their content (and their registry hash)."""
+        """The protocol as stored in a run. `order`, `layer_cycle` and `layers_per_patch` are left
+        out at their defaults, so runs made before they existed keep their content (and their registry hash)."""
         data = self.model_dump(mode="json")
         if data["order"] == "serpentine":
             del data["order"]
         if not data["layer_cycle"]:
             del data["layer_cycle"]
+        if data["layers_per_patch"] == 1:
+            del data["layers_per_patch"]
         return data
 
     @property
     def presses_per_patch(self) -> int:
-        return 1 if self.layer_cycle else len(self.layers_n)
+        return self.layers_per_patch if self.layer_cycle else len(self.layers_n)
 
     def rows_per_press(self) -> int:
         return int(self.segment_samples().sum())
