@@ -71,3 +71,20 @@ def test_sweep_cycles_force_layers_over_spread_patches():
     assert len(np.unique(traj.cells[:4, 0])) >= 3  # spread, not neighbours
     np.testing.assert_array_equal(_bins(traj.angles.astype(np.float32)), traj.cells[traj.patch])
     assert sweep.to_json()["layer_cycle"] is True and "layer_cycle" not in PROTOCOLS["full"].to_json()
+
+
+def test_layers_per_patch_presses_each_patch_at_the_next_layers_of_the_cycle():
+    """With `layers_per_patch` 2, each patch holds two presses in its cell, the next two force
+    layers in turn (the cycle running on across patches); the field is stored only when set, and
+    asks for `layer_cycle`."""
+    two = PROTOCOLS["sweep"].model_copy(update={"layers_per_patch": 2, "patches": 6})
+    two = Protocol.model_validate(two.model_dump())
+    traj = build_trajectory(two, 0.0, np.random.default_rng(5))
+    assert len(traj.force) == two.rows_per_orientation()
+    assert traj.press.max() + 1 == 12 and len(np.unique(traj.patch)) == 6
+    peaks = np.array([-traj.force[traj.press == p, 2].min() for p in range(12)])
+    np.testing.assert_allclose(peaks / np.tile(two.layers_n, 3), 1.0, atol=0.1)
+    np.testing.assert_array_equal(_bins(traj.angles.astype(np.float32)), traj.cells[traj.patch])
+    assert two.to_json()["layers_per_patch"] == 2 and "layers_per_patch" not in PROTOCOLS["sweep"].to_json()
+    with pytest.raises(ValueError, match="layer_cycle"):
+        Protocol(name="x", layers_per_patch=2)
