@@ -64,13 +64,16 @@ from anytip.train.response import TRAINING_FIELDS, ResponseFit, ResponseRecipe
 
 
 def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False,
-            response_model: str | None = None, added: tuple[str, ...] = ()) -> Path:
+            response_model: str | None = None, added: tuple[str, ...] = (), paired_only: bool = False) -> Path:
     """The run's references and its units calibrated again by response transfer, in `out`; with
     `retrain`, each seed's response model is trained again on the run's training units with the
     options given; with `response_model` (a file name, `{seed}` replaced), each seed's model is
     read from there (otherwise the run's own models are reused). `added`: designed calibrations'
     protocols (`plan<seconds>`) whose runs the registry holds beyond the run's, for the `designed`
-    strategy's plans; every other run must be the run's own."""
+    strategy's plans; every other run must be the run's own, unless `paired_only`: the registry holds
+    the same units and runs simulated otherwise (another fleet config's run conditions), so the rescored
+    rows stand only beside each other, per unit; their ratios to the run's references (scored on the
+    run's registry) mean nothing, and the report says so."""
     wrong = [p for p in added if not is_designed(p)]
     if wrong:
         raise AnytipError(f"--added-protocol {wrong[0]}: only a designed calibration's runs (plan<seconds>) "
@@ -88,7 +91,7 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         raise AnytipError(f"{run}: its spec has no options.response")
     arrays = load(ctx, min_units(ctx))
     own = [r.run_id for r in arrays.runs if r.protocol not in added]
-    if ctx.registry.content_hash(own) != old.get("selection_content_hash"):
+    if not paired_only and ctx.registry.content_hash(own) != old.get("selection_content_hash"):
         raise AnytipError(f"{registry}: its runs differ from those {run} was run on"
                           f"{' (the runs of ' + ', '.join(added) + ' set aside)' if added else ''}")
     if response_model and opts.response.transfer_from != "registry":
@@ -143,11 +146,21 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         print(f"seed {seed}: {len(got.rows)} held-out rows ({time.perf_counter() - start:.0f} s)", flush=True)
     ctx.provenance.update(rescored_from=str(run), overrides=overrides, seeds=spec.all_seeds,
                           retrained=retrain, response_model=response_model, code=code_version(),
+                          paired_only=paired_only,
                           wall_s=round(time.perf_counter() - start, 2))
     keys = [target_key(name) for name in ctx.provenance["targets"]]
     write_metrics(out, rows, keys, spec=spec.name, pipeline=spec.pipeline)
     write_json(out / "provenance.json", ctx.provenance)
-    return rewrite_report(out)
+    report = rewrite_report(out)
+    if paired_only:
+        text = report.read_text()
+        report.write_text(f"> {PAIRED_ONLY_NOTE}\n\n{text}")
+    return report
+
+
+PAIRED_ONLY_NOTE = ("Rescored with `--paired-only` on another registry than the run's: the `per_unit` rows "
+                    "are the run's references, scored on its own registry, so every ratio to them here "
+                    "means nothing; compare the rescored methods with each other, per unit.")
 
 
 def _check_same_model(config: ResponseConfig, recipe: dict[str, Any], opts: Options, seed: int) -> None:
@@ -174,13 +187,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--added-protocol", action="append", default=[], metavar="PLAN",
                         help="a designed calibration (plan<seconds>) whose runs the registry holds beyond "
                              "the run's own, read by the `designed` plan strategy alone (repeatable)")
+    parser.add_argument("--paired-only", action="store_true",
+                        help="the registry holds the run's units and runs simulated otherwise: skip the "
+                             "check that its runs are the run's; the rows then compare only with each other")
     parser.add_argument("--response-model", help="each seed's response model from this file ({seed} is "
                         "replaced by the seed) instead of the run's")
     args = parser.parse_args(argv)
     torch.set_num_threads(1)
     try:
         out = rescore(args.run, args.registry, args.out, args.overrides, args.retrain, args.response_model,
-                      tuple(args.added_protocol))
+                      tuple(args.added_protocol), args.paired_only)
         print(f"report: {out}")
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)

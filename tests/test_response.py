@@ -385,6 +385,36 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     assert not (tmp_path / "c").exists()
 
 
+def test_rescoring_on_the_same_units_simulated_otherwise_is_refused_unless_paired_only(response_run, tmp_path):
+    """The run's units and runs simulated again without per-run session conditions: the rescoring
+    refuses such a registry, and with --paired-only scores the run's units on it beside the run's
+    references, with a report that says the ratios to them mean nothing."""
+    import importlib.util
+
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig, RunConditions
+    from test_cross_sensor import QUICK
+
+    spec = importlib.util.spec_from_file_location("rescore", REPO / "scripts" / "rescore_response.py")
+    rescore = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rescore)
+    calm = Registry(tmp_path / "calm")
+    session = RunConditions(atmosphere_sigma_pa=0, ambient_sigma_c=0, warmup_c=0, wander_c=0, force_bias_n=0)
+    simulate_into(calm, FleetConfig(run=session), 8, seed=11, protocols=("short", QUICK))
+    assert rescore.main([str(response_run), "--registry", str(calm.root), "--out", str(tmp_path / "a")]) == 2
+    out = tmp_path / "paired"
+    assert rescore.main([str(response_run), "--registry", str(calm.root), "--out", str(out), "--paired-only"]) == 0
+    then = json.loads((response_run / "metrics.json").read_text())["results"]
+    now = json.loads((out / "metrics.json").read_text())["results"]
+    assert [r for r in now if r["method"] == "per_unit"] == [r for r in then if r["method"] == "per_unit"]
+    mine = [r for r in then if r["method"].startswith("response@")]
+    again = [r for r in now if r["method"].startswith("response@")]
+    assert [(r["unit"], r["method"]) for r in again] == [(r["unit"], r["method"]) for r in mine]
+    assert all(a["force_rmse_n"] != b["force_rmse_n"] for a, b in zip(again, mine, strict=True))
+    assert (out / "report.md").read_text().startswith(f"> {rescore.PAIRED_ONLY_NOTE}")
+    assert json.loads((out / "provenance.json").read_text())["paired_only"] is True
+
+
 def test_an_interrupted_retraining_resumes_on_the_model_it_saved(response_run, fleet, tmp_path, monkeypatch):
     """A response model is saved as soon as it is trained; the same command on the directory an
     interruption left reuses it where its training digest matches, and trains over a file the
