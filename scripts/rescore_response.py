@@ -64,7 +64,8 @@ from anytip.train.response import TRAINING_FIELDS, ResponseFit, ResponseRecipe
 
 
 def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False,
-            response_model: str | None = None, added: tuple[str, ...] = (), paired_only: bool = False) -> Path:
+            response_model: str | None = None, added: tuple[str, ...] = (), paired_only: bool = False
+            ) -> Path:
     """The run's references and its units calibrated again by response transfer, in `out`; with
     `retrain`, each seed's response model is trained again on the run's training units with the
     options given; with `response_model` (a file name, `{seed}` replaced), each seed's model is

@@ -385,7 +385,7 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     assert not (tmp_path / "c").exists()
 
 
-def test_rescoring_on_the_same_units_simulated_otherwise_is_refused_unless_paired_only(response_run, tmp_path):
+def test_a_rescoring_on_the_units_simulated_otherwise_is_refused_unless_paired_only(response_run, tmp_path):
     """The run's units and runs simulated again without per-run session conditions: the rescoring
     refuses such a registry, and with --paired-only scores the run's units on it beside the run's
     references, with a report that says the ratios to them mean nothing."""
@@ -401,9 +401,10 @@ def test_rescoring_on_the_same_units_simulated_otherwise_is_refused_unless_paire
     calm = Registry(tmp_path / "calm")
     session = RunConditions(atmosphere_sigma_pa=0, ambient_sigma_c=0, warmup_c=0, wander_c=0, force_bias_n=0)
     simulate_into(calm, FleetConfig(run=session), 8, seed=11, protocols=("short", QUICK))
-    assert rescore.main([str(response_run), "--registry", str(calm.root), "--out", str(tmp_path / "a")]) == 2
+    command = [str(response_run), "--registry", str(calm.root), "--out"]
+    assert rescore.main([*command, str(tmp_path / "a")]) == 2
     out = tmp_path / "paired"
-    assert rescore.main([str(response_run), "--registry", str(calm.root), "--out", str(out), "--paired-only"]) == 0
+    assert rescore.main([*command, str(out), "--paired-only"]) == 0
     then = json.loads((response_run / "metrics.json").read_text())["results"]
     now = json.loads((out / "metrics.json").read_text())["results"]
     assert [r for r in now if r["method"] == "per_unit"] == [r for r in then if r["method"] == "per_unit"]

@@ -68,7 +68,8 @@ class Protocol(BaseModel):
 
     def to_json(self) -> dict:
         """The protocol as stored in a run. `order`, `layer_cycle` and `layers_per_patch` are left
-        out at their defaults, so runs made before they existed keep their content (and their registry hash)."""
+        out at their defaults, so runs made before they existed keep their content (and their registry
+        hash)."""
         data = self.model_dump(mode="json")
         if data["order"] == "serpentine":
             del data["order"]
