@@ -45,12 +45,14 @@ import time
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import torch
 
 from anytip.config import load_spec, public_config
+from anytip.data.arrays import FleetArrays
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
-from anytip.models.io import load_response
+from anytip.models.io import ModelFileError, load_models, load_response
 from anytip.models.response import ResponseConfig
 from anytip.pipelines.common import Context, load, load_extra
 from anytip.pipelines.cross_sensor import min_units, prepare
@@ -58,14 +60,15 @@ from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.pipelines.cross_sensor_response import check_trained_on, response_rows, val_by_method
 from anytip.rundir import check_run_dir, code_version, read_json, write_config, write_json, write_metrics
 from anytip.runner import rewrite_report
-from anytip.sensor.protocols import is_designed
-from anytip.train.metrics import target_key
+from anytip.sensor.protocols import is_designed, is_test_session
+from anytip.train.metrics import scores, target_key
 from anytip.train.response import TRAINING_FIELDS, ResponseFit, ResponseRecipe
+from anytip.train.shared_split import SeedData, predict_rows
 
 
 def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False,
-            response_model: str | None = None, added: tuple[str, ...] = (), paired_only: bool = False
-            ) -> Path:
+            response_model: str | None = None, added: tuple[str, ...] = (), paired_only: bool = False,
+            references: Path | None = None) -> Path:
     """The run's references and its units calibrated again by response transfer, in `out`; with
     `retrain`, each seed's response model is trained again on the run's training units with the
     options given; with `response_model` (a file name, `{seed}` replaced), each seed's model is
@@ -74,11 +77,18 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
     strategy's plans; every other run must be the run's own, unless `paired_only`: the registry holds
     the same units and runs simulated otherwise (another fleet config's run conditions), so the rescored
     rows stand only beside each other, per unit; their ratios to the run's references (scored on the
-    run's registry) mean nothing, and the report says so."""
-    wrong = [p for p in added if not is_designed(p)]
+    run's registry) mean nothing, and the report says so. `added` may name `retest`, a test session
+    of every unit: the held-out units are then tested on its rows alone, and `references` (a directory
+    with the run's saved per-unit references, `per_unit_seed<s>[_lr<j>]`) scores each reference
+    again on them, with the learning rate the run kept for its unit (without a test session, on the
+    run's own test rows: the run's rows back, a check of the saved references)."""
+    wrong = [p for p in added if not (is_designed(p) or is_test_session(p))]
     if wrong:
         raise AnytipError(f"--added-protocol {wrong[0]}: only a designed calibration's runs (plan<seconds>) "
-                          "may join a rescoring: no unit is trained or tested on them")
+                          "or a test session's (retest) may join a rescoring: no unit is trained on them")
+    if any(map(is_test_session, added)) and references is None:
+        raise AnytipError("a test session (--added-protocol retest) moves the held-out units' test rows, so "
+                          "their references are scored again: give --references with it")
     if retrain and response_model:
         raise AnytipError("--retrain and --response-model exclude each other")
     if response_model:  # the extra units trained that model; they are not read here
@@ -133,6 +143,8 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         if any(list(getattr(sd.split, k)) != was.get(k) for k in ("train", "val", "test")):
             raise AnytipError(f"seed {seed}: the split differs from the run's")
         fit = ResponseFit.from_loaded(saved[seed]) if seed in saved else None
+        if references is not None:
+            rows = _scored_again(rows, references, arrays, sd, opts, seed)
         got = response_rows(ctx, arrays, sd, opts, seed, fit, extra)
         del extra
         base = {"seed": seed, "split": rows[0]["split"], "n_train_units": len(sd.split.train)}
@@ -147,7 +159,7 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         print(f"seed {seed}: {len(got.rows)} held-out rows ({time.perf_counter() - start:.0f} s)", flush=True)
     ctx.provenance.update(rescored_from=str(run), overrides=overrides, seeds=spec.all_seeds,
                           retrained=retrain, response_model=response_model, code=code_version(),
-                          paired_only=paired_only,
+                          paired_only=paired_only, references=None if references is None else str(references),
                           wall_s=round(time.perf_counter() - start, 2))
     keys = [target_key(name) for name in ctx.provenance["targets"]]
     write_metrics(out, rows, keys, spec=spec.name, pipeline=spec.pipeline)
@@ -157,6 +169,39 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         text = report.read_text()
         report.write_text(f"> {PAIRED_ONLY_NOTE}\n\n{text}")
     return report
+
+
+def _scored_again(rows: list[dict[str, Any]], models: Path, arrays: FleetArrays, sd: SeedData, opts: Options,
+                  seed: int) -> list[dict[str, Any]]:
+    """The `per_unit` rows of `seed` scored again on their units' test rows now, each by the reference
+    the run saved in `models` (`per_unit_seed<s>_lr<j>`, j the learning rate the run kept for the unit),
+    every saved unit predicted at once as the run did (so its own test rows give its rows back)."""
+    lrs = list(opts.reference_lrs)
+    preds: dict[str, dict[str, np.ndarray]] = {}
+    for tag in ([f"_lr{j}" for j in range(len(lrs))] if len(lrs) > 1 else [""]):
+        path = models / f"per_unit_seed{seed}{tag}"
+        try:
+            saved = load_models(path)
+        except ModelFileError as e:
+            raise AnytipError(f"--references: {e}") from None
+        units = [str(u) for u in saved.meta.get("unit_ids", [])]
+        missing = [u for u in units if u not in sd.evals]
+        if missing:
+            raise AnytipError(f"--references: {path} holds units this split does not test ({missing[0]})")
+        got = predict_rows(saved.model, saved.in_scaler, saved.out_scaler, arrays,
+                           [sd.evals[u].test_rows for u in units])
+        preds[tag] = dict(zip(units, got, strict=True))
+    out = []
+    for row in rows:
+        if row["seed"] != seed:
+            out.append(row)
+            continue
+        tag = f"_lr{lrs.index(row['reference_lr'])}" if len(lrs) > 1 else ""
+        if row["unit"] not in preds[tag]:
+            raise AnytipError(f"--references: {models} holds no reference of unit {row['unit']}")
+        target = arrays.targets[sd.evals[row["unit"]].test_rows]
+        out.append(dict(row, **scores(preds[tag][row["unit"]], target, arrays.layout)))
+    return out
 
 
 PAIRED_ONLY_NOTE = ("Rescored with `--paired-only` on another registry than the run's: the `per_unit` rows "
@@ -191,13 +236,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--paired-only", action="store_true",
                         help="the registry holds the run's units and runs simulated otherwise: skip the "
                              "check that its runs are the run's; the rows then compare only with each other")
+    parser.add_argument("--references", type=Path, metavar="DIR",
+                        help="the run's saved per-unit references (per_unit_seed<s>[_lr<j>]), scored "
+                             "again on the held-out units' test rows (needed with --added-protocol retest)")
     parser.add_argument("--response-model", help="each seed's response model from this file ({seed} is "
                         "replaced by the seed) instead of the run's")
     args = parser.parse_args(argv)
     torch.set_num_threads(1)
     try:
         out = rescore(args.run, args.registry, args.out, args.overrides, args.retrain, args.response_model,
-                      tuple(args.added_protocol), args.paired_only)
+                      tuple(args.added_protocol), args.paired_only, args.references)
         print(f"report: {out}")
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)

@@ -224,6 +224,31 @@ def test_a_designed_calibrations_runs_are_a_plan_of_their_own_never_stream_test_
     assert len(calibration_stream(only, only.units[0], None).rows) == only.n_rows
 
 
+def test_a_test_sessions_runs_hold_a_units_test_rows_alone_and_nothing_else_reads_them(tmp_path):
+    """Units with a test session (`retest`) beside their calibration runs: their test rows are that
+    session's rows in their test patches, and no stream, plan, training or reference row comes from
+    the session; its test patches stay out of every other run's rows that a plan or reference reads."""
+    from anytip.train.shared_split import Roles, main_rows, prepare_seed
+
+    registry = Registry(tmp_path / "r")
+    simulate_into(registry, FleetConfig(), 4, seed=2, protocols=("short", "retest"))
+    arrays = load_arrays(registry, registry.list_runs())
+    session = np.array([arrays.runs[k].protocol == "retest" for k in arrays.run])
+    assert session.any() and not (main_rows(arrays, None) & session).any()
+    sd = prepare_seed(arrays, Roles(1, 1, None, 0.25, 0.1), None, False, seed=0)
+    for ev in sd.evals.values():
+        mine = np.flatnonzero(arrays.unit == arrays.units.index(ev.unit))
+        assert len(ev.test_rows) and session[ev.test_rows].all()
+        expected = mine[session[mine] & np.isin(arrays.patch[mine], ev.test_cells)]
+        np.testing.assert_array_equal(ev.test_rows, expected)
+        assert not session[ev.stream.rows].any() and not session[ev.presses.rows].any()
+        assert not np.isin(arrays.patch[ev.presses.rows], ev.test_cells).any()
+        cover = plan_for(Budget(30.0, "seconds", "cover"), ev.stream, ev.presses_for("cover"))
+        assert cover.presses > 0 and not session[cover.rows].any()
+    for unit in sd.split.train:
+        assert not session[calibration_stream(arrays, unit, None).rows].any()
+
+
 def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_path):
     """Runs made from the format spec alone, without in_contact or temperature: contact then comes
     from |F| >= 0.5 N, and presses (plans and ordinary use alike) from the rows it marks."""

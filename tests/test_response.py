@@ -416,6 +416,43 @@ def test_a_rescoring_on_the_units_simulated_otherwise_is_refused_unless_paired_o
     assert json.loads((out / "provenance.json").read_text())["paired_only"] is True
 
 
+def test_a_test_session_moves_the_test_rows_and_the_references_are_scored_again_on_them(response_run, fleet,
+                                                                                         tmp_path):
+    """With every unit's test session (`retest`) added, the rescoring tests the held-out units on its rows:
+    the run's saved references are scored again there (on the run's own rows they give its rows back),
+    and a test session without them is refused."""
+    import importlib.util
+
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    spec = importlib.util.spec_from_file_location("rescore", REPO / "scripts" / "rescore_response.py")
+    rescore = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(rescore)
+    then = json.loads((response_run / "metrics.json").read_text())["results"]
+    base = [str(response_run), "--references", str(response_run / "models"), "--out"]
+    same = tmp_path / "same"
+    assert rescore.main([*base, str(same), "--registry", str(fleet.root)]) == 0
+    kept = [r for r in then if r["method"].startswith("response@") or r["method"] == "per_unit"]
+    assert json.loads((same / "metrics.json").read_text())["results"] == kept
+    later = Registry(tmp_path / "later")
+    shutil.copytree(fleet.root, later.root, dirs_exist_ok=True)
+    simulate_into(later, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "retest"))
+    command = [str(response_run), "--registry", str(later.root), "--added-protocol", "retest", "--set",
+               "data.protocol=[full, short, retest]", "--out"]
+    assert rescore.main([*command, str(tmp_path / "none")]) == 2
+    out = tmp_path / "retest"
+    assert rescore.main([*command, str(out), "--references", str(response_run / "models")]) == 0
+    now = json.loads((out / "metrics.json").read_text())["results"]
+    for method in ("per_unit", "response@spread"):
+        a, b = ([r for r in rows if r["method"] == method] for rows in (then, now))
+        assert [r["unit"] for r in a] == [r["unit"] for r in b] and a
+        assert all(x["force_rmse_n"] != y["force_rmse_n"] for x, y in zip(a, b, strict=True))
+    assert [r.get("reference_lr") for r in then if r["method"] == "per_unit"] == [
+        r.get("reference_lr") for r in now if r["method"] == "per_unit"]
+
+
 def test_an_interrupted_retraining_resumes_on_the_model_it_saved(response_run, fleet, tmp_path, monkeypatch):
     """A response model is saved as soon as it is trained; the same command on the directory an
     interruption left reuses it where its training digest matches, and trains over a file the

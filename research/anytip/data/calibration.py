@@ -16,7 +16,7 @@ import numpy as np
 
 from anytip.data.arrays import FleetArrays
 from anytip.errors import AnytipError
-from anytip.sensor.protocols import is_designed
+from anytip.sensor.protocols import is_designed, is_test_session
 
 
 @dataclass(frozen=True)
@@ -60,7 +60,8 @@ def calibration_stream(arrays: FleetArrays, unit: str, protocol: str | None,
     ...), as a robot that presses the unit from every orientation in turn would play them;
     each visit keeps its own robot time (from the end of the run's previous visit). Runs of a
     designed calibration (`plan<seconds>`) are left out where the unit has other runs: they are
-    a plan of their own (`data.plans.plan_for`, strategy `designed`).
+    a plan of their own (`data.plans.plan_for`, strategy `designed`); so are those of a test
+    session (`retest`), which hold the unit's test rows alone.
     """
     if arrays.time is None:
         raise AnytipError("calibration streams need row times; load the runs with load_arrays")
@@ -69,6 +70,7 @@ def calibration_stream(arrays: FleetArrays, unit: str, protocol: str | None,
     mine = [k for k, r in enumerate(arrays.runs) if r.unit == unit]
     if not is_designed(protocol):  # a designed plan's runs are that plan, unless they are all the unit has
         mine = [k for k in mine if not is_designed(arrays.runs[k].protocol)] or mine
+    mine = [k for k in mine if not is_test_session(arrays.runs[k].protocol)] or mine  # so is a test session
     chosen = [k for k in mine if arrays.runs[k].protocol == protocol] or mine
     chosen.sort(key=lambda k: (arrays.runs[k].created, arrays.runs[k].run_id))
     pieces = [_visits(arrays, k) for k in chosen]  # per run: [(rows, seconds into the visit)]

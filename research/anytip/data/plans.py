@@ -36,7 +36,7 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream
 from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
-from anytip.sensor.protocols import design_protocol, is_designed, waypoints
+from anytip.sensor.protocols import design_protocol, is_designed, is_test_session, waypoints
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
@@ -344,6 +344,11 @@ def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: R
 def designed_rows(arrays: FleetArrays) -> np.ndarray:
     """(N,) bool: rows of runs of a designed calibration (`plan<seconds>`, `is_designed`)."""
     return np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if is_designed(r.protocol)])
+
+
+def test_session_rows(arrays: FleetArrays) -> np.ndarray:
+    """(N,) bool: rows of runs of a unit's test session (`retest`, `is_test_session`)."""
+    return np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if is_test_session(r.protocol)])
 
 
 def designed_name(seconds: float) -> str:

@@ -320,7 +320,7 @@ def reference_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Option
     recipe = opts.reference or ctx.spec.training
     for u, unit in enumerate(units):
         mine = unit_main_rows(arrays, unit, main)
-        train_rows = np.setdiff1d(mine, sd.evals[unit].test_rows)
+        train_rows = mine[~np.isin(arrays.patch[mine], sd.evals[unit].test_cells)]
         if opts.reference_val == "patches":
             val = held_out_patches(arrays.patch[train_rows], ctx.spec.splits.val_fraction,
                                    stream_seed(VALIDATION_PATCHES, seed, u))

@@ -120,7 +120,10 @@ PROTOCOLS: dict[str, Protocol] = {
     "sweep": Protocol(name="sweep", layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=True, directions=4,
                       ramp_s=0.25, hold_s=0.05, shear_s=0.12, gap_s=0.1, patch_rest_s=0.25,
                       order="spread"),
+    # The full protocol recorded in a session of its own: a unit's test session (`is_test_session`).
+    "retest": Protocol(name="retest"),
 }
+TEST_SESSION = "retest"
 
 
 DESIGNED = re.compile(r"plan(\d+(?:\.\d+)?)")  # `plan<seconds>`: the designed calibration of that budget
@@ -132,8 +135,15 @@ def is_designed(protocol: str | None) -> bool:
     return protocol is not None and DESIGNED.fullmatch(protocol) is not None
 
 
+def is_test_session(protocol: str | None) -> bool:
+    """Whether `protocol` names a unit's test session (`retest`): runs recorded apart from its
+    calibration, in sessions of their own. Where a unit has them, its held-out test rows come from
+    them alone and nothing else reads them (no training, calibration stream or plan)."""
+    return protocol == TEST_SESSION
+
+
 def get_protocol(protocol: str | Protocol | dict) -> Protocol:
-    """A built-in protocol by name ('full', 'short', 'quick', 'sweep', or 'plan<seconds>': the
+    """A built-in protocol by name ('full', 'short', 'quick', 'sweep', 'retest', or 'plan<seconds>': the
     designed calibration of that many robot seconds, `design_protocol`), or a Protocol / its dict."""
     if isinstance(protocol, Protocol):
         return protocol

@@ -20,7 +20,7 @@ import torch
 
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Plan, Presses, designed_rows, find_presses
+from anytip.data.plans import Plan, Presses, designed_rows, find_presses, test_session_rows
 from anytip.data.seeds import TEST_PATCHES, VALIDATION_ROWS, stream_seed
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
 from anytip.errors import AnytipError
@@ -38,13 +38,17 @@ from anytip.train.metrics import predict
 class EvalUnit:
     """A validation, held-out or factor unit: its test rows, its calibration stream, the whole
     presses of the stream's runs outside its test patches (what a plan may select) and those of
-    its designed calibrations' runs (what the `designed` strategy's plan takes)."""
+    its designed calibrations' runs (what the `designed` strategy's plan takes). `test_cells`:
+    the global patch ids of its test patches, which no calibration or reference of it reads in any
+    run; its test rows are its main rows there, or, where it has a test session (`retest`), that
+    session's rows there alone."""
 
     unit: str
     test_rows: np.ndarray
     stream: CalibrationStream
     presses: Presses
     designed: Presses
+    test_cells: np.ndarray
 
     def presses_for(self, strategy: str) -> Presses:
         """The presses a plan of `strategy` selects from."""
@@ -90,7 +94,8 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
     in common); their tensors follow the split's training units in `train`."""
     split = split_units(arrays.units, seed, max(roles.n_val_units, 1), max(roles.n_test_units, 1),
                         roles.n_train_units, roles.unit_folds, roles.n_factor_units)
-    main, designed = main_rows(arrays, calibration_protocol), designed_rows(arrays)
+    main, designed, session = (main_rows(arrays, calibration_protocol), designed_rows(arrays),
+                               test_session_rows(arrays))
     evals = {}
     for k, unit in enumerate([*split.val, *split.test, *split.factor]):
         mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
@@ -101,9 +106,11 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
-        evals[unit] = EvalUnit(unit, own[exclude[own]], stream,
-                               find_presses(arrays, unit, exclude | stream.outside(arrays)),
-                               find_presses(arrays, unit, exclude | ~designed))
+        retest = mine[session[mine]]
+        test = retest[exclude[retest]] if len(retest) else own[exclude[own]]
+        presses = find_presses(arrays, unit, exclude | stream.outside(arrays))
+        evals[unit] = EvalUnit(unit, test, stream, presses, find_presses(arrays, unit, exclude | ~designed),
+                               test_cells)
     members, stats, presses = training_units(arrays, split.train, roles, calibration_protocol, interleave,
                                              seed)
     if extra is not None:
@@ -139,11 +146,12 @@ def training_units(arrays: FleetArrays, units: Sequence[str], roles: Roles, cali
 
 
 def main_rows(arrays: FleetArrays, calibration_protocol: str | None) -> np.ndarray:
-    """(N,) bool: rows of runs other than the calibration protocol's and a designed calibration's
-    (what units are trained and tested on)."""
+    """(N,) bool: rows of runs other than the calibration protocol's, a designed calibration's and
+    a test session's (what units are trained and tested on; a unit with a test session is tested on
+    that alone)."""
     calib_runs = [k for k, r in enumerate(arrays.runs)
                   if calibration_protocol is not None and r.protocol == calibration_protocol]
-    return ~np.isin(arrays.run, calib_runs) & ~designed_rows(arrays)
+    return ~np.isin(arrays.run, calib_runs) & ~designed_rows(arrays) & ~test_session_rows(arrays)
 
 
 def unit_main_rows(arrays: FleetArrays, unit: str, main: np.ndarray) -> np.ndarray:
