@@ -13,7 +13,9 @@ how far the test sets can decide the target).
 
 `--against B1 B2 ...` compares the runs with other runs of the same held-out units and references
 (e.g. a rescoring): per (method, budget), the geometric mean over units of each unit's force and
-angle RMSE in the runs over its RMSE in B, with a 95% bootstrap interval over units.
+angle RMSE in the runs over its RMSE in B, with a 95% bootstrap interval over units. With
+`--test-rows-moved` the runs test the same units on other rows (a test session, entry 63): their
+references differ, and pair as well (`per_unit -1 s`).
 
 `--ceiling`, where rows record the half-widths their test rows needed: per (method, budget) the
 most unit-outputs one factor per output, chosen on these very units, could put in the band, and the
@@ -184,17 +186,19 @@ def pooled(runs: list[Path]) -> str:
     return "\n".join(lines)
 
 
-def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]]) -> str:
+def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]], moved: bool = False) -> str:
     """Per (method, budget) both hold: the geometric mean over units of rows' RMSE over against's,
-    force and angle [95%]; the units' references must be the same in both."""
+    force and angle [95%]; the units' references must be the same in both, unless the runs test the
+    same units on other rows (`moved`, a test session: entry 63), where the references pair too."""
     refs = {r["unit"]: r["force_rmse_n"] for r in rows if r["method"] == "per_unit"}
     other = {r["unit"]: r["force_rmse_n"] for r in against if r["method"] == "per_unit"}
-    if any(other.get(u) != f for u, f in refs.items()):
+    if not moved and any(other.get(u) != f for u, f in refs.items()):
         sys.exit("--against: the runs' per-unit references differ; pair runs of the same units and "
-                 "references")
-    b = {(r["method"], budget_of(r), r["unit"]): r for r in against if r["method"] != "per_unit"}
+                 "references (or give --test-rows-moved)")
+    keep = (lambda m: True) if moved else (lambda m: m != "per_unit")
+    b = {(r["method"], budget_of(r), r["unit"]): r for r in against if keep(r["method"])}
     lines = []
-    for method, budget in sorted({(r["method"], budget_of(r)) for r in rows if r["method"] != "per_unit"}):
+    for method, budget in sorted({(r["method"], budget_of(r)) for r in rows if keep(r["method"])}):
         mine = [(r, b[method, budget, r["unit"]]) for r in rows
                 if r["method"] == method and budget_of(r) == budget and (method, budget, r["unit"]) in b]
         if not mine:
@@ -232,6 +236,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--pooled", action="store_true",
                         help="each fold's factor learnt by every fold's learners but its held-out units "
                              "(entry 53)")
+    parser.add_argument("--test-rows-moved", action="store_true",
+                        help="with --against: the runs test the same units on other rows (a test session), "
+                             "so their references differ; pair every method's RMSE, the references' too")
     parser.add_argument("--strategies", nargs=2, metavar=("MINE", "THEIRS"),
                         help="pair each <method>@MINE row with the same unit's <method>@THEIRS row")
     args = parser.parse_args(argv)
@@ -242,7 +249,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.pooled:
         print("\n" + pooled(args.runs))
     if args.against:
-        print("\n" + paired(rows, rows_of(args.against)))
+        print("\n" + paired(rows, rows_of(args.against), args.test_rows_moved))
     if args.strategies:
         print("\n" + paired_strategies(rows, *args.strategies))
     return 0

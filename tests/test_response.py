@@ -417,7 +417,7 @@ def test_a_rescoring_on_the_units_simulated_otherwise_is_refused_unless_paired_o
 
 
 def test_a_test_session_moves_the_test_rows_and_the_references_are_scored_again_on_them(response_run, fleet,
-                                                                                         tmp_path):
+                                                                                         tmp_path, capsys):
     """With every unit's test session (`retest`) added, the rescoring tests the held-out units on its rows:
     the run's saved references are scored again there (on the run's own rows they give its rows back),
     and a test session without them is refused."""
@@ -451,6 +451,12 @@ def test_a_test_session_moves_the_test_rows_and_the_references_are_scored_again_
         assert all(x["force_rmse_n"] != y["force_rmse_n"] for x, y in zip(a, b, strict=True))
     assert [r.get("reference_lr") for r in then if r["method"] == "per_unit"] == [
         r.get("reference_lr") for r in now if r["method"] == "per_unit"]
+    table = _script("fold_table")  # paired with the run, the references as well, only when asked
+    with pytest.raises(SystemExit, match="references differ"):
+        table.main([str(out), "--against", str(response_run)])
+    assert table.main([str(out), "--against", str(response_run), "--test-rows-moved"]) == 0
+    said = capsys.readouterr().out
+    assert "per_unit -1 s, 2 units: force x" in said and "response@spread 40 s, 2 units" in said
 
 
 def test_an_interrupted_retraining_resumes_on_the_model_it_saved(response_run, fleet, tmp_path, monkeypatch):
