@@ -386,6 +386,9 @@ def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):
     shear = np.hypot(table["fx_n"], table["fy_n"])
     assert shear.max() > 0 and np.all(shear <= 0.8 * -table["fz_n"] + 1e-9)
     assert main(["calibrate", "--plan", "120", "--out", str(out)]) == 2  # exists, no --force
+    short = tmp_path / "p60.csv"  # a re-mount would take half of 60 s: the middle orientation alone
+    assert main(["calibrate", "--plan", "60", "--out", str(short)]) == 0
+    assert set(np.genfromtxt(short, delimiter=",", names=True)["orientation_deg"]) == {-45.0}
     assert main(["calibrate", "--plan", "1", "--out", str(tmp_path / "p1.csv")]) == 2
     assert "holds no press" in capsys.readouterr().err
 

@@ -268,7 +268,7 @@ def design_protocol(seconds: float, move_s: float = 2.0, remount_s: float = 30.0
     """The designed calibration of a new unit that fits `seconds` of robot time.
 
     Covers theta in [-45, 45] deg and phi in [-135, 45] deg from two orientations when the
-    re-mount between them takes at most half the budget, else the middle orientation alone;
+    re-mount between them takes at most a quarter of the budget, else the middle orientation alone;
     a budget that presses every cell of two orientations adds the third (as the full protocol).
     Each press: the next force level up to 25 N and a shear asterisk in 8 directions; the rig
     takes `move_s` before each press (the protocol's rest between patches). As many patches
@@ -285,7 +285,8 @@ def design_protocol(seconds: float, move_s: float = 2.0, remount_s: float = 30.0
     def patches_with(orientations: tuple[float, ...]) -> int:
         return int((seconds - remount_s * (len(orientations) - 1)) // (per_patch * len(orientations)))
 
-    orientations = (COVERING_ORIENTATIONS_DEG if remount_s <= seconds / 2 else (CENTRE_ORIENTATION_DEG,))
+    # two orientations only where the re-mount leaves most of the budget for points (entry 65)
+    orientations = (COVERING_ORIENTATIONS_DEG if remount_s <= seconds / 4 else (CENTRE_ORIENTATION_DEG,))
     if patches_with(orientations) > 36:  # every cell of two orientations pressed: add the third
         orientations = PROTOCOLS["full"].orientations_deg
     patches = patches_with(orientations)
