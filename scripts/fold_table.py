@@ -186,6 +186,12 @@ def pooled(runs: list[Path]) -> str:
     return "\n".join(lines)
 
 
+def ratios_text(pairs: list[tuple[dict[str, Any], dict[str, Any]]]) -> str:
+    """`force x.. [..], angle x.. [..]`: the geometric mean over units of each pair's RMSE ratio."""
+    force, angle = (paired_text([x[k] / y[k] for x, y in pairs]) for k in RMSE_KEYS)
+    return f"force x{force}, angle x{angle}"
+
+
 def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]], moved: bool = False) -> str:
     """Per (method, budget) both hold: the geometric mean over units of rows' RMSE over against's,
     force and angle [95%]; the units' references must be the same in both, unless the runs test the
@@ -203,8 +209,7 @@ def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]], moved: boo
                 if r["method"] == method and budget_of(r) == budget and (method, budget, r["unit"]) in b]
         if not mine:
             continue
-        force, angle = (paired_text([x[k] / y[k] for x, y in mine]) for k in RMSE_KEYS)
-        lines.append(f"{method} {budget:g} s, {len(mine)} units: force x{force}, angle x{angle}")
+        lines.append(f"{method} {budget:g} s, {len(mine)} units: {ratios_text(mine)}")
     return "\n".join(lines)
 
 
@@ -219,9 +224,7 @@ def paired_strategies(rows: list[dict[str, Any]], mine: str, theirs: str) -> str
         pairs = [(r, b[other, budget, r["unit"]]) for r in rows
                  if r["method"] == method and budget_of(r) == budget and (other, budget, r["unit"]) in b]
         if pairs:
-            force, angle = (paired_text([x[k] / y[k] for x, y in pairs]) for k in RMSE_KEYS)
-            lines.append(f"{method} over {other}, {budget:g} s, {len(pairs)} units: force x{force}, "
-                         f"angle x{angle}")
+            lines.append(f"{method} over {other}, {budget:g} s, {len(pairs)} units: {ratios_text(pairs)}")
     return "\n".join(lines)
 
 

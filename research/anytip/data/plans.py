@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import itertools
 import zlib
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -341,14 +342,19 @@ def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: R
     return select_presses(presses, budget.amount, rig, budget.strategy, seed)
 
 
+def _rows_of_runs(arrays: FleetArrays, protocol_is: Callable[[str | None], bool]) -> np.ndarray:
+    """(N,) bool: rows of the runs whose protocol `protocol_is` holds for."""
+    return np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if protocol_is(r.protocol)])
+
+
 def designed_rows(arrays: FleetArrays) -> np.ndarray:
     """(N,) bool: rows of runs of a designed calibration (`plan<seconds>`, `is_designed`)."""
-    return np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if is_designed(r.protocol)])
+    return _rows_of_runs(arrays, is_designed)
 
 
 def test_session_rows(arrays: FleetArrays) -> np.ndarray:
     """(N,) bool: rows of runs of a unit's test session (`retest`, `is_test_session`)."""
-    return np.isin(arrays.run, [k for k, r in enumerate(arrays.runs) if is_test_session(r.protocol)])
+    return _rows_of_runs(arrays, is_test_session)
 
 
 def designed_name(seconds: float) -> str:

@@ -62,6 +62,10 @@ class Protocol(BaseModel):
                 raise ValueError(
                     f"orientation {o} deg puts phi cells off the 15-deg grid in [-135, 45]"
                 )
+        return self
+
+    @model_validator(mode="after")
+    def _layers_per_patch_cycle(self) -> Protocol:
         if self.layers_per_patch > 1 and not self.layer_cycle:
             raise ValueError("layers_per_patch > 1 needs layer_cycle (else every layer is pressed)")
         return self
