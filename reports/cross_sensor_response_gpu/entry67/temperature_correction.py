@@ -1,0 +1,104 @@
+"""Research log entry 67: how much of the warm-up offset does each barometer's own temperature explain?
+
+For a registry and its warm-up-free twin (entry 66), per unit and barometer, the slope k (Pa/degC) of the
+tared reading on the barometer's temperature rise since the tare, over the contact-free rows after each
+full run's first contact: (a) the unit's own, (b) the mean of the other units' (a), (c) the slope of the
+warm-up offset itself (registry minus twin) at the same rows. Reported: the RMS of the warm-up offset at
+the contact rows before and after subtracting k times the rise, and (a) fitted on two runs and applied to
+the third (each run left out in turn).
+
+    python temperature_correction.py data/other16 data/other16u [more pairs...] > temperature_correction.md
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+
+from anytip.data.arrays import contact_mask, rest_reading, rest_rows
+from anytip.data.registry import Registry
+
+
+@dataclass
+class RunRows:
+    """One full run: the rise (n, C) degC, tared reading (n, C) Pa and warm-up offset (n, C) Pa at its
+    contact-free rows after the first contact (`rest`) and at its contact rows (`touch`)."""
+
+    rest: tuple[np.ndarray, np.ndarray, np.ndarray]
+    touch: tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def one_run(reg: Registry, twin: Registry, run_id: str) -> RunRows:
+    a, b = reg.open_run(run_id), twin.open_run(run_id)
+    if a.temperature is None:
+        raise SystemExit(f"{run_id}: no temperature dataset")
+    contact = contact_mask(a)
+    pa = a.pressure - rest_reading(a.pressure, contact, run_id, a.time)
+    pb = b.pressure - rest_reading(b.pressure, contact, run_id, b.time)
+    rise = a.temperature - a.temperature[rest_rows(contact, a.time)].astype(np.float64).mean(0)
+    after = np.arange(len(contact)) >= int(np.argmax(contact))
+    free = ~contact & after
+    return RunRows((rise[free], pa[free], pa[free] - pb[free]), (rise[contact], pa[contact], pa[contact] - pb[contact]))
+
+
+def slopes(rise: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """(C,) least-squares slope of y (n, C) on rise (n, C), per column, with an intercept."""
+    r, v = rise - rise.mean(0), y - y.mean(0)
+    return (r * v).sum(0) / (r * r).sum(0)
+
+
+def left(runs: list[RunRows], k: np.ndarray) -> np.ndarray:
+    """(n, C) the warm-up offset at the runs' contact rows after subtracting k (C,) times the rise."""
+    return np.concatenate([r.touch[2] - k * r.touch[0] for r in runs])
+
+
+def rms(x: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(np.square(x, dtype=np.float64))))
+
+
+def report(path: str, twin_path: str) -> str:
+    reg, twin = Registry(path, create=False), Registry(twin_path, create=False)
+    units = reg.units()
+    by_unit = {u: [one_run(reg, twin, r.run_id) for r in reg.list_runs(unit=u, protocol="full")] for u in units}
+    own, ceiling = {}, {}
+    for u, runs in by_unit.items():
+        rise, reading, warm = (np.concatenate([r.rest[i] for r in runs]) for i in range(3))
+        own[u], ceiling[u] = slopes(rise, reading), slopes(rise, warm)
+    before, after = {m: [] for m in "0abcl"}, None
+    for u, runs in by_unit.items():
+        fleet = np.mean([own[v] for v in units if v != u], axis=0)
+        before["0"].append(left(runs, np.zeros_like(own[u])))
+        before["a"].append(left(runs, own[u]))
+        before["b"].append(left(runs, fleet))
+        before["c"].append(left(runs, ceiling[u]))
+        for i, run in enumerate(runs):  # (a) from the other runs of the unit
+            others = [r for j, r in enumerate(runs) if j != i]
+            k = slopes(np.concatenate([r.rest[0] for r in others]), np.concatenate([r.rest[1] for r in others]))
+            before["l"].append(left([run], k))
+    after = {m: rms(np.concatenate(v)) for m, v in before.items()}
+    ks = np.stack(list(own.values()))
+    names = {"0": "no correction", "a": "(a) the unit's own slope, from its rest rows",
+             "l": "(a) from the unit's other two runs, applied to the third",
+             "b": "(b) the other units' mean slope", "c": "(c) the slope of the warm-up offset itself"}
+    lines = [f"## {path} against {twin_path}: {len(units)} units", "",
+             f"Slopes (a), Pa/degC over units and barometers: mean {ks.mean():.0f}, SD {ks.std():.0f}; "
+             f"(c): mean {np.stack(list(ceiling.values())).mean():.0f}, "
+             f"SD {np.stack(list(ceiling.values())).std():.0f}", "",
+             "| correction | warm-up offset left at the contact rows, RMS Pa | share of none |", "|---|---|---|"]
+    lines += [f"| {names[m]} | {after[m]:.0f} | {after[m] / after['0']:.2f} |" for m in "0acbl"]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str]) -> None:
+    if len(argv) < 2 or len(argv) % 2:
+        raise SystemExit(__doc__)
+    print("# Entry 67: the warm-up offset against each barometer's temperature "
+          "(generated by temperature_correction.py)\n")
+    for path, twin in zip(argv[::2], argv[1::2], strict=True):
+        print(report(path, twin))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
