@@ -71,7 +71,7 @@ def test_console_script_and_env_registry(tmp_path):
     assert (tmp_path / "envreg" / "catalog.sqlite").is_file()
 
 
-@pytest.mark.parametrize("verb", ["simulate", "import", "export", "list", "verify", "remove"])
+@pytest.mark.parametrize("verb", ["simulate", "import", "export", "list", "verify", "protocol", "remove"])
 def test_every_data_verb_has_help(verb, capsys):
     with pytest.raises(SystemExit) as e:
         main(["data", verb, "--help"])
@@ -92,3 +92,25 @@ def test_a_long_run_says_what_it_has_done_on_stderr(capsys, tmp_path):
     out = capsys.readouterr()
     assert out.out == "" and out.err.startswith("[cross_sensor +0 s] references trained")
     assert "not shown" not in out.err
+
+
+def test_data_protocol_marks_and_clears(tmp_path, capsys):
+    from anytip.data.runfile import write_run
+    from run_factory import make_run
+
+    reg = str(tmp_path / "reg")
+    files = [write_run(make_run("FT-1", o, source="rig"), tmp_path / f"{o}.h5") for o in (0, -45)]
+    code, text, _ = run_cli(capsys, "data", "import", str(files[0]), "--protocol", "plan120",
+                            "--registry", reg)
+    assert code == 0 and "1 run(s) added, 0 unchanged, marked as protocol 'plan120'" in text
+    run_cli(capsys, "data", "import", str(files[1]), "--registry", reg)
+    code, text, _ = run_cli(capsys, "data", "protocol", "FT-1_o-45_20240501T120000Z", "retest",
+                            "--registry", reg)
+    assert code == 0 and text == "FT-1_o-45_20240501T120000Z: retest\n"
+    code, text, _ = run_cli(capsys, "data", "list", "--registry", reg)
+    assert "retest *" in text and "plan120 *" in text and "* protocol marked in the registry" in text
+    code, text, _ = run_cli(capsys, "data", "protocol", "FT-1", "--clear", "--registry", reg)
+    assert code == 0 and text.count(": -\n") == 2
+    for args in (("FT-1",), ("FT-1", "retest", "--clear")):
+        code, _, err = run_cli(capsys, "data", "protocol", *args, "--registry", reg)
+        assert code == 2 and "give a protocol name or --clear, not both" in err

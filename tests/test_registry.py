@@ -375,3 +375,76 @@ def test_refused_add_leaves_no_scratch_files(reg):
         reg.add_runs([make_run("FT-1"), bad], source_paths=["one.h5", "two.h5"])
     assert "two.h5" in str(info.value) and "pressure" in str(info.value)
     assert snapshot(reg) == ([], [])
+
+
+# ---- protocols marked in the registry ------------------------------------------------------
+
+
+def test_a_catalog_of_schema_version_2_gains_protocol_marks_and_keeps_its_hash(tmp_path):
+    reg = Registry(tmp_path / "reg")
+    reg.add_runs([make_run("FT-1"), make_run("FT-2", protocol="full")])
+    before = reg.content_hash()
+    with sqlite3.connect(reg.db_path) as conn:  # as a catalog written before protocols could be marked
+        conn.execute("ALTER TABLE runs DROP COLUMN protocol_set")
+        conn.execute("PRAGMA user_version = 2")
+    reg = Registry(tmp_path / "reg")
+    assert [(r.protocol, r.protocol_set) for r in reg.list_runs()] == [(None, False), ("full", False)]
+    assert reg.content_hash() == before
+    with sqlite3.connect(reg.db_path) as conn:
+        assert conn.execute("PRAGMA user_version").fetchone()[0] == catalog.SCHEMA_VERSION
+
+
+def test_set_protocol_marks_a_measured_unit_and_changes_the_hash(reg):
+    runs = [make_run("FT-1", source="rig"), make_run("FT-1", -45, source="rig"), make_run("FT-2")]
+    reg.add_runs(runs)
+    files, before = snapshot(reg)[1], reg.content_hash()
+    marked = reg.set_protocol("FT-1", "retest")
+    assert [(r.protocol, r.protocol_set) for r in marked] == [("retest", True)] * 2
+    assert [r.unit for r in reg.list_runs(protocol="retest")] == ["FT-1", "FT-1"]
+    assert reg.content_hash() != before and snapshot(reg)[1] == files  # the files stay as they were
+    unmarked = make_run_id(runs[2])  # a run without a mark hashes as before marks existed
+    assert reg.content_hash([unmarked]) == catalog.hash_pairs([(unmarked, runs[2].content_hash())])
+    (one,) = reg.set_protocol(make_run_id(runs[1]), "plan120")
+    assert one.protocol == "plan120" and reg.record(make_run_id(runs[0])).protocol == "retest"
+    reg.set_protocol("FT-1", None)
+    assert reg.content_hash() == before and all(r.protocol is None for r in reg.list_runs())
+
+
+def test_a_protocol_the_file_names_is_kept(reg):
+    reg.add_runs([make_run("FT-1", protocol="full"), make_run("FT-1", -45)])
+    with pytest.raises(AnytipError, match=r"FT-1_o0_20240501T120000Z: its file names protocol 'full'"):
+        reg.set_protocol("FT-1", "retest")
+    assert [r.protocol for r in reg.list_runs()] == [None, "full"]  # all or nothing
+    assert [r.protocol_set for r in reg.set_protocol("FT-1", "full")] == [True, False]
+    assert [r.protocol for r in reg.set_protocol("FT-1", None)] == [None, "full"]
+    with pytest.raises(AnytipError, match=r"protocol 'a b' must match"):
+        reg.set_protocol("FT-1", "a b")
+
+
+def test_import_marks_its_runs_in_one_transaction(reg, tmp_path):
+    runs = [make_run("FT-1", source="rig"), make_run("FT-1", -45, source="rig")]
+    paths = write_files(tmp_path / "in", runs)
+    report = reg.import_paths(paths[:1], protocol="retest")
+    assert [(r.protocol, r.protocol_set) for r in report.added] == [("retest", True)]
+    report = reg.import_paths(paths, protocol="retest")  # the unchanged one keeps its mark
+    assert len(report.added) == 1 and [r.protocol for r in reg.list_runs()] == ["retest", "retest"]
+    state = snapshot(reg)
+    with pytest.raises(AnytipError, match=r"the registry marks it protocol 'retest' \(change a mark"):
+        reg.import_paths(paths, protocol="plan120")
+    simulated = write_files(tmp_path / "sim", [make_run("FT-2", protocol="full")])
+    with pytest.raises(AnytipError, match=r"FT-2_o0_20240501T120000Z: its file names protocol 'full'"):
+        reg.import_paths(simulated + [write_run(make_run("FT-3"), tmp_path / "x.h5")], protocol="retest")
+    assert snapshot(reg) == state
+
+
+def test_a_marked_test_session_is_read_as_one(reg):
+    from anytip.data.arrays import load_arrays
+    from anytip.data.plans import test_session_rows
+
+    runs = [make_run("FT-1", source="rig", n=200, seed=1), make_run("FT-1", -45, source="rig", n=200, seed=2)]
+    reg.add_runs(runs)
+    assert not test_session_rows(load_arrays(reg, reg.list_runs())).any()
+    reg.set_protocol(make_run_id(runs[1]), "retest")
+    arrays = load_arrays(reg, reg.list_runs())
+    expected = [k for k, r in enumerate(arrays.runs) if r.run_id == make_run_id(runs[1])]
+    assert np.array_equal(test_session_rows(arrays), np.isin(arrays.run, expected))

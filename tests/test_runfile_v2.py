@@ -247,6 +247,7 @@ def test_a_catalog_of_schema_version_1_learns_its_layouts_from_its_runs(tmp_path
     reg.add_runs([make_run("FT-1")])
     with sqlite3.connect(reg.db_path) as conn:  # as a catalog written before layouts were recorded
         conn.execute("DROP TABLE sensor_models")
+        conn.execute("ALTER TABLE runs DROP COLUMN protocol_set")
         conn.execute("PRAGMA user_version = 1")
     reg = Registry(tmp_path / "reg")
     with pytest.raises(AnytipError, match=r"'fingertip-8baro-r10' has 8 pressure channels .*\(run FT-1"):

@@ -41,10 +41,13 @@ def _print_runs(records, as_json: bool) -> None:
         table.add_column(col, justify="right" if col in ("orient.", "rows", "robot s") else "left")
     for r in records:
         table.add_row(
-            r.run_id, r.unit, r.sensor_model, f"{r.orientation_deg:g}", r.protocol or "-",
+            r.run_id, r.unit, r.sensor_model, f"{r.orientation_deg:g}",
+            (r.protocol or "-") + (" *" if r.protocol_set else ""),
             r.source, f"{r.rows:,}", f"{r.duration_s:,.0f}",
         )
     Console(width=max(140, Console().width)).print(table)
+    if any(r.protocol_set for r in records):
+        print("* protocol marked in the registry (`anytip data protocol`), not named by the run file")
 
 
 def _print_models(layouts: dict[str, str], records) -> None:
@@ -94,8 +97,19 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
 def cmd_import(args: argparse.Namespace) -> int:
     registry = _registry(args, create=True)
-    report = registry.import_paths([Path(p) for p in args.paths], column_map=args.csv_map)
-    print(report.summary())
+    report = registry.import_paths([Path(p) for p in args.paths], column_map=args.csv_map,
+                                   protocol=args.protocol)
+    print(report.summary() + (f", marked as protocol {args.protocol!r}" if args.protocol else ""))
+    return 0
+
+
+def cmd_protocol(args: argparse.Namespace) -> int:
+    if (args.protocol is None) == (not args.clear):
+        raise AnytipError("give a protocol name or --clear, not both")
+    records = _registry(args).set_protocol(args.target, None if args.clear else args.protocol)
+    for r in records:
+        mark = "(named by its file)" if r.protocol and not r.protocol_set else ""
+        print(f"{r.run_id}: {r.protocol or '-'} {mark}".rstrip())
     return 0
 
 
@@ -446,6 +460,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("paths", nargs="+", help="run files (.h5, .hdf5), CSV logs (.csv) or directories of them")
     p.add_argument("--csv-map", default=None,
                    help="column map YAML for CSV logs (default: the built-in rig34 map)")
+    p.add_argument("--protocol", default=None,
+                   help="mark every imported run as run by this protocol, e.g. retest (a unit's test "
+                        "session) or plan120 (the designed 120 s calibration); see `data protocol`")
     p = verb("export", cmd_export, "write a unit's or a run's interchange files")
     p.add_argument("target", metavar="UNIT_OR_RUN", help="a unit serial or a run id")
     p.add_argument("--out", required=True, help="directory for the <run_id>.h5 files")
@@ -459,6 +476,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--unit", default=None, help="only the runs of this unit serial")
     p.add_argument("--model", default=None, help="only the runs of this sensor model")
     verb("verify", cmd_verify, "re-hash payloads, find missing and orphaned files")
+    p = verb("protocol", cmd_protocol, "mark a unit's or a run's runs as run by a protocol "
+             "(retest: its test session; plan<seconds>: a designed calibration)")
+    p.add_argument("target", metavar="UNIT_OR_RUN", help="a unit serial or a run id")
+    p.add_argument("protocol", nargs="?", default=None, help="the protocol name ([A-Za-z0-9._-]{1,64})")
+    p.add_argument("--clear", action="store_true", help="remove the mark instead")
     p = verb("remove", cmd_remove, "remove a unit's or a run's runs")
     p.add_argument("target", metavar="UNIT_OR_RUN", help="a unit serial or a run id")
     return parser

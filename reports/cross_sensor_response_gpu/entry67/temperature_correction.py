@@ -40,7 +40,8 @@ def one_run(reg: Registry, twin: Registry, run_id: str) -> RunRows:
     rise = a.temperature - a.temperature[rest_rows(contact, a.time)].astype(np.float64).mean(0)
     after = np.arange(len(contact)) >= int(np.argmax(contact))
     free = ~contact & after
-    return RunRows((rise[free], pa[free], pa[free] - pb[free]), (rise[contact], pa[contact], pa[contact] - pb[contact]))
+    warm = pa - pb
+    return RunRows((rise[free], pa[free], warm[free]), (rise[contact], pa[contact], warm[contact]))
 
 
 def slopes(rise: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -61,7 +62,8 @@ def rms(x: np.ndarray) -> float:
 def report(path: str, twin_path: str) -> str:
     reg, twin = Registry(path, create=False), Registry(twin_path, create=False)
     units = reg.units()
-    by_unit = {u: [one_run(reg, twin, r.run_id) for r in reg.list_runs(unit=u, protocol="full")] for u in units}
+    by_unit = {u: [one_run(reg, twin, r.run_id) for r in reg.list_runs(unit=u, protocol="full")]
+               for u in units}
     own, ceiling = {}, {}
     for u, runs in by_unit.items():
         rise, reading, warm = (np.concatenate([r.rest[i] for r in runs]) for i in range(3))
@@ -75,7 +77,8 @@ def report(path: str, twin_path: str) -> str:
         before["c"].append(left(runs, ceiling[u]))
         for i, run in enumerate(runs):  # (a) from the other runs of the unit
             others = [r for j, r in enumerate(runs) if j != i]
-            k = slopes(np.concatenate([r.rest[0] for r in others]), np.concatenate([r.rest[1] for r in others]))
+            rise, reading = (np.concatenate([r.rest[i] for r in others]) for i in (0, 1))
+            k = slopes(rise, reading)
             before["l"].append(left([run], k))
     after = {m: rms(np.concatenate(v)) for m, v in before.items()}
     ks = np.stack(list(own.values()))
@@ -86,7 +89,8 @@ def report(path: str, twin_path: str) -> str:
              f"Slopes (a), Pa/degC over units and barometers: mean {ks.mean():.0f}, SD {ks.std():.0f}; "
              f"(c): mean {np.stack(list(ceiling.values())).mean():.0f}, "
              f"SD {np.stack(list(ceiling.values())).std():.0f}", "",
-             "| correction | warm-up offset left at the contact rows, RMS Pa | share of none |", "|---|---|---|"]
+             "| correction | warm-up offset left at the contact rows, RMS Pa | share of none |",
+             "|---|---|---|"]
     lines += [f"| {names[m]} | {after[m]:.0f} | {after[m] / after['0']:.2f} |" for m in "0acbl"]
     return "\n".join(lines) + "\n"
 

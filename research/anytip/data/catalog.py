@@ -19,7 +19,7 @@ from typing import Any
 from anytip.data.runfile import CalibrationRun, check_sensor_id, parse_created
 from anytip.errors import AnytipError
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 BUSY_TIMEOUT_S = 120.0
 RUN_ID_RE = re.compile(r"[A-Za-z0-9._-]{1,160}")
 
@@ -45,19 +45,25 @@ CREATE TABLE IF NOT EXISTS runs (
     sha256          TEXT NOT NULL,
     created         TEXT NOT NULL,
     path            TEXT NOT NULL,
-    imported_at     TEXT NOT NULL
+    imported_at     TEXT NOT NULL,
+    protocol_set    INTEGER NOT NULL DEFAULT 0
 );
 CREATE INDEX IF NOT EXISTS runs_unit ON runs (unit);
 CREATE INDEX IF NOT EXISTS runs_sensor_model ON runs (sensor_model);
 """ + SENSOR_MODELS_TABLE
 
+# A run's protocol set in the registry (`Registry.set_protocol`), not named by its file: 1.
+PROTOCOL_SET_COLUMN = "protocol_set INTEGER NOT NULL DEFAULT 0"
 # What a catalog of each older schema version lacks, applied in order when it is opened.
-MIGRATIONS = {1: SENSOR_MODELS_TABLE}
+MIGRATIONS = {1: SENSOR_MODELS_TABLE, 2: f"ALTER TABLE runs ADD COLUMN {PROTOCOL_SET_COLUMN}"}
+PROTOCOL_RE = re.compile(r"[A-Za-z0-9._-]{1,64}")
 
 
 @dataclass(frozen=True)
 class RunRecord:
-    """One catalog row. `path` is relative to the registry root; times are ISO 8601 UTC."""
+    """One catalog row. `path` is relative to the registry root; times are ISO 8601 UTC.
+    `protocol`: the protocol the run file names (a simulated run's `simulator` attribute) or, with
+    `protocol_set`, the one the registry was told (`Registry.set_protocol`, `import_paths`)."""
 
     run_id: str
     unit: str
@@ -72,6 +78,7 @@ class RunRecord:
     created: str
     path: str
     imported_at: str
+    protocol_set: bool = False
 
     def to_json(self) -> dict[str, Any]:
         """The record as a JSON-ready dict (column name -> value)."""
@@ -120,6 +127,13 @@ def make_run_id(run: CalibrationRun) -> str:
 def payload_relpath(unit: str, run_id: str) -> str:
     """Where a run's payload lives, relative to the registry root (POSIX separators)."""
     return f"runs/{check_sensor_id(unit, 'unit')}/{check_run_id(run_id)}.h5"
+
+
+def check_protocol(name: str) -> str:
+    """Return `name` if it may name a protocol ([A-Za-z0-9._-]{1,64}), else raise."""
+    if not isinstance(name, str) or not PROTOCOL_RE.fullmatch(name):
+        raise AnytipError(f"protocol {name!r} must match [A-Za-z0-9._-]{{1,64}}")
+    return name
 
 
 def protocol_name(run: CalibrationRun) -> str | None:
@@ -242,7 +256,7 @@ def forget_unused_models(conn: sqlite3.Connection) -> None:
 
 
 def _record(row: tuple) -> RunRecord:
-    return RunRecord(*row)
+    return RunRecord(*row[:-1], protocol_set=bool(row[-1]))
 
 
 def get(conn: sqlite3.Connection, run_id: str) -> RunRecord | None:
@@ -260,6 +274,19 @@ def query(conn: sqlite3.Connection, **equal: str | None) -> list[RunRecord]:
     return [_record(r) for r in conn.execute(sql, [equal[k] for k in keys])]
 
 
+def set_protocol(conn: sqlite3.Connection, run_id: str, protocol: str | None) -> None:
+    """Set a run's protocol as the registry's (None: clear it). The caller checks the run's file
+    names none."""
+    conn.execute("UPDATE runs SET protocol = ?, protocol_set = ? WHERE run_id = ?",
+                 (protocol, int(protocol is not None), run_id))
+
+
+def hash_entry(sha256: str, protocol: str | None, protocol_set: bool) -> str:
+    """What a run adds to the registry hash: its content hash, and a protocol set in the registry
+    (which changes what a benchmark reads of the run). Runs without one hash as before it existed."""
+    return f"{sha256}\tprotocol={protocol}" if protocol_set else sha256
+
+
 def insert(conn: sqlite3.Connection, record: RunRecord) -> None:
     marks = ", ".join("?" for _ in COLUMNS)
     conn.execute(f"INSERT INTO runs ({', '.join(COLUMNS)}) VALUES ({marks})", astuple(record))
@@ -270,7 +297,7 @@ def delete(conn: sqlite3.Connection, run_ids: Iterable[str]) -> None:
 
 
 def astuple(record: RunRecord) -> tuple:
-    return tuple(getattr(record, c) for c in COLUMNS)
+    return tuple(int(v) if isinstance(v, bool) else v for v in (getattr(record, c) for c in COLUMNS))
 
 
 def hash_pairs(pairs: Iterable[tuple[str, str]]) -> str:

@@ -153,15 +153,18 @@ class Registry:
 
     def import_paths(
         self, paths: str | Path | Iterable[str | Path],
-        column_map: str | Path | csv_import.ColumnMap | None = None,
+        column_map: str | Path | csv_import.ColumnMap | None = None, protocol: str | None = None,
     ) -> ImportReport:
         """Import interchange files (.h5, .hdf5) and rig CSV logs (.csv), recursing into directories.
 
         Every input is read and validated before anything is written; if any is refused,
         nothing is imported and the AnytipError lists every refused file with its problem.
         CSV logs are read with `column_map` (default configs/csv/rig34.yaml) and their
-        sidecar metadata (see anytip.data.csv_import).
+        sidecar metadata (see anytip.data.csv_import). With `protocol`, every imported run is
+        marked as run by that protocol (`set_protocol`), in the same transaction.
         """
+        if protocol is not None:
+            catalog.check_protocol(protocol)
         files, refused = _collect_inputs([paths] if isinstance(paths, (str, Path)) else paths)
         n_inputs, cmap = len(files) + len(refused), None
         clean_stale(self.root / "tmp")
@@ -178,7 +181,7 @@ class Registry:
                 except AnytipError as e:
                     refused.append(_named(e, path))
             self._raise_if_refused(staged, refused, n_inputs)
-            added, existing = self._commit(staged)
+            added, existing = self._commit(staged, protocol)
         # A second input with the content of an earlier one counts as unchanged.
         unchanged, seen = [], set()
         for s in staged:
@@ -187,6 +190,23 @@ class Registry:
                 unchanged.append(existing.get(run_id) or added[run_id])
             seen.add(run_id)
         return ImportReport(added=list(added.values()), unchanged=unchanged)
+
+    def set_protocol(self, unit_or_run_id: str, protocol: str | None) -> list[RunRecord]:
+        """Mark one run (by run id) or every run of a unit as run by `protocol` (None: clear the
+        mark), all or nothing; return the runs' records after. The catalog holds the mark, the run
+        files stay as they are: a run whose file names its protocol (a simulated run) keeps it, one
+        that names another refuses the call, and clearing leaves it alone. What a benchmark reads of a
+        protocol: a unit's test session (`retest`), a designed calibration (`plan<seconds>`), the
+        spec's `data.protocol`."""
+        if protocol is not None:
+            catalog.check_protocol(protocol)
+        with self._write() as conn:
+            records = self._resolve(conn, unit_or_run_id)
+            _refuse_protocol_clashes(records, protocol, self.root)
+            for rec in records:
+                if rec.protocol_set or rec.protocol is None:
+                    catalog.set_protocol(conn, rec.run_id, protocol)
+            return [catalog.get(conn, rec.run_id) for rec in records]
 
     def remove(self, unit_or_run_id: str) -> list[RunRecord]:
         """Remove one run (by run id) or every run of a unit; return the removed records."""
@@ -285,9 +305,12 @@ class Registry:
         return written
 
     def content_hash(self, run_ids: Iterable[str] | None = None) -> str:
-        """Order-independent sha256 over (run_id, sha256) of all runs, or of `run_ids` only."""
+        """Order-independent sha256 over (run_id, sha256) of all runs, or of `run_ids` only; a protocol
+        set in the registry is part of its run's entry (`catalog.hash_entry`)."""
         with closing(self._connect()) as conn:
-            pairs = dict(conn.execute("SELECT run_id, sha256 FROM runs").fetchall())
+            rows = conn.execute("SELECT run_id, sha256, protocol, protocol_set FROM runs").fetchall()
+        pairs = {run_id: catalog.hash_entry(sha, protocol, bool(marked))
+                 for run_id, sha, protocol, marked in rows}
         if run_ids is not None:
             wanted = set(run_ids)
             unknown = sorted(wanted - pairs.keys())
@@ -333,8 +356,10 @@ class Registry:
                     conn.execute("ROLLBACK")
                 raise
 
-    def _commit(self, staged: list[_Staged]) -> tuple[dict[str, RunRecord], dict[str, RunRecord]]:
-        """Move staged payloads into place and insert their rows, all or nothing.
+    def _commit(self, staged: list[_Staged], protocol: str | None = None
+                ) -> tuple[dict[str, RunRecord], dict[str, RunRecord]]:
+        """Move staged payloads into place and insert their rows, all or nothing, each marked as run
+        by `protocol` where given (`set_protocol`).
 
         Returns (added, already present with the same content), both keyed by run id.
         """
@@ -344,6 +369,16 @@ class Registry:
         with self._write(placed) as conn:
             self._sweep_orphans(conn)
             existing, new = self._split_existing(conn, staged)
+            if protocol is not None:
+                records = [s.record for s in new] + list(existing.values())
+                _refuse_protocol_clashes(records, protocol, self.root, marks_change=False)
+                for run_id, rec in existing.items():
+                    if rec.protocol is None:
+                        catalog.set_protocol(conn, run_id, protocol)
+                        existing[run_id] = replace(rec, protocol=protocol, protocol_set=True)
+                for s in new:
+                    if s.record.protocol is None:
+                        s.record = replace(s.record, protocol=protocol, protocol_set=True)
             _check_layouts(conn, new, self.db_path, self.open_run)
             for s in new:
                 dest = self.root / s.record.path
@@ -560,6 +595,26 @@ def _named(error: Exception, source: str | Path) -> str:
     """The error message, prefixed with the input's name unless it already starts with it."""
     msg = str(error)
     return msg if msg.startswith(str(source)) else f"{source}: {msg}"
+
+
+def _refuse_protocol_clashes(records: Sequence[RunRecord], protocol: str | None, root: Path,
+                             marks_change: bool = True) -> None:
+    """Raise, naming every run, where marking `records` as run by `protocol` (None: clearing the
+    mark) would contradict the protocol a run's file names, or (unless `marks_change`) another
+    mark the registry holds."""
+    problems = []
+    for rec in records:
+        if rec.protocol is None or rec.protocol == protocol or (rec.protocol_set and marks_change):
+            continue
+        if protocol is None and not rec.protocol_set:  # nothing to clear: the file names it
+            continue
+        whose = "the registry marks it" if rec.protocol_set else "its file names"
+        hint = " (change a mark with `anytip data protocol`)" if rec.protocol_set else ""
+        problems.append(f"run {rec.run_id}: {whose} protocol {rec.protocol!r}{hint}")
+    if problems:
+        wanted = f"marked as run by protocol {protocol!r}" if protocol else "have its protocol cleared"
+        raise AnytipError(f"{root}: nothing changed; a run cannot be {wanted} where:\n  "
+                          + "\n  ".join(problems))
 
 
 def _clash(s: _Staged, other: str, other_sha: str) -> str:
