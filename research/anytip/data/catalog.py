@@ -16,7 +16,7 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from anytip.data.runfile import CalibrationRun, check_sensor_id, parse_created
+from anytip.data.runfile import SENSOR_ID_RE, CalibrationRun, check_sensor_id, parse_created
 from anytip.errors import AnytipError
 
 SCHEMA_VERSION = 3
@@ -56,7 +56,6 @@ CREATE INDEX IF NOT EXISTS runs_sensor_model ON runs (sensor_model);
 PROTOCOL_SET_COLUMN = "protocol_set INTEGER NOT NULL DEFAULT 0"
 # What a catalog of each older schema version lacks, applied in order when it is opened.
 MIGRATIONS = {1: SENSOR_MODELS_TABLE, 2: f"ALTER TABLE runs ADD COLUMN {PROTOCOL_SET_COLUMN}"}
-PROTOCOL_RE = re.compile(r"[A-Za-z0-9._-]{1,64}")
 
 
 @dataclass(frozen=True)
@@ -130,8 +129,8 @@ def payload_relpath(unit: str, run_id: str) -> str:
 
 
 def check_protocol(name: str) -> str:
-    """Return `name` if it may name a protocol ([A-Za-z0-9._-]{1,64}), else raise."""
-    if not isinstance(name, str) or not PROTOCOL_RE.fullmatch(name):
+    """Return `name` if it may name a protocol (the sensor id pattern, [A-Za-z0-9._-]{1,64}), else raise."""
+    if not isinstance(name, str) or not SENSOR_ID_RE.fullmatch(name):
         raise AnytipError(f"protocol {name!r} must match [A-Za-z0-9._-]{{1,64}}")
     return name
 

@@ -203,10 +203,8 @@ class Registry:
         with self._write() as conn:
             records = self._resolve(conn, unit_or_run_id)
             _refuse_protocol_clashes(records, protocol, self.root)
-            for rec in records:
-                if rec.protocol_set or rec.protocol is None:
-                    catalog.set_protocol(conn, rec.run_id, protocol)
-            return [catalog.get(conn, rec.run_id) for rec in records]
+            marked = _mark(conn, records, protocol)
+        return [marked.get(rec.run_id, rec) for rec in records]
 
     def remove(self, unit_or_run_id: str) -> list[RunRecord]:
         """Remove one run (by run id) or every run of a unit; return the removed records."""
@@ -372,13 +370,9 @@ class Registry:
             if protocol is not None:
                 records = [s.record for s in new] + list(existing.values())
                 _refuse_protocol_clashes(records, protocol, self.root, marks_change=False)
-                for run_id, rec in existing.items():
-                    if rec.protocol is None:
-                        catalog.set_protocol(conn, run_id, protocol)
-                        existing[run_id] = replace(rec, protocol=protocol, protocol_set=True)
-                for s in new:
-                    if s.record.protocol is None:
-                        s.record = replace(s.record, protocol=protocol, protocol_set=True)
+                existing |= _mark(conn, existing.values(), protocol)
+                for s in new:  # not in the catalog yet: their rows are inserted marked
+                    s.record = _marked(s.record, protocol) or s.record
             _check_layouts(conn, new, self.db_path, self.open_run)
             for s in new:
                 dest = self.root / s.record.path
@@ -595,6 +589,27 @@ def _named(error: Exception, source: str | Path) -> str:
     """The error message, prefixed with the input's name unless it already starts with it."""
     msg = str(error)
     return msg if msg.startswith(str(source)) else f"{source}: {msg}"
+
+
+def _marked(rec: RunRecord, protocol: str | None) -> RunRecord | None:
+    """`rec` marked as run by `protocol` (None: its mark cleared), or None where its file names its
+    protocol (a mark never replaces that)."""
+    if rec.protocol is not None and not rec.protocol_set:
+        return None
+    return replace(rec, protocol=protocol, protocol_set=protocol is not None)
+
+
+def _mark(conn: sqlite3.Connection, records: Iterable[RunRecord], protocol: str | None
+          ) -> dict[str, RunRecord]:
+    """Mark the catalog rows of `records` as `_marked` says, inside the caller's transaction; the
+    changed records by run id."""
+    changed = {}
+    for rec in records:
+        new = _marked(rec, protocol)
+        if new is not None:
+            catalog.set_protocol(conn, rec.run_id, protocol)
+            changed[rec.run_id] = new
+    return changed
 
 
 def _refuse_protocol_clashes(records: Sequence[RunRecord], protocol: str | None, root: Path,

@@ -108,9 +108,9 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
         retest = mine[session[mine]]
         test = retest[exclude[retest]] if len(retest) else own[exclude[own]]
-        presses = find_presses(arrays, unit, exclude | stream.outside(arrays))
-        evals[unit] = EvalUnit(unit, test, stream, presses, find_presses(arrays, unit, exclude | ~designed),
-                               test_cells)
+        selectable = find_presses(arrays, unit, exclude | stream.outside(arrays))
+        own_designed = find_presses(arrays, unit, exclude | ~designed)
+        evals[unit] = EvalUnit(unit, test, stream, selectable, own_designed, test_cells)
     members, stats, presses = training_units(arrays, split.train, roles, calibration_protocol, interleave,
                                              seed)
     if extra is not None:
