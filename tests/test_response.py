@@ -291,6 +291,28 @@ def test_calibrate_caches_the_source_rows_own_responses_and_recomputes_a_bad_one
     assert not cache.exists() and load_models(tmp_path / "d").model is not None
 
 
+def test_calibrate_carries_over_only_the_rows_the_benchmark_trained_on(response_run, fleet, tmp_path):
+    """A registry that holds more runs of the training units than the benchmark trained on (a test
+    session, a designed calibration) calibrates a new unit as the benchmark's own registry does: those
+    runs are no source rows, so the unit's network is the same bit for bit."""
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    unit = _held_out(response_run)
+    later = Registry(tmp_path / "later")
+    shutil.copytree(fleet.root, later.root, dirs_exist_ok=True)  # the same runs again, and two protocols more
+    simulate_into(later, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "retest", "plan40"))
+    for run in later.list_runs(unit=unit):  # the new unit keeps its own runs alone
+        if run.protocol in ("retest", "plan40"):
+            later.remove(run.run_id)
+    assert {r.protocol for r in later.list_runs()} > {r.protocol for r in fleet.list_runs()}
+    nets = [load_models(calibrate_unit(response_run, unit, reg, tmp_path / name, budget_seconds=40,
+                                       method="response", interval_level=None).path)
+            for name, reg in (("own", fleet), ("later", later))]
+    assert all(torch.equal(x, y) for x, y in zip(*(n.model.state_dict().values() for n in nets), strict=True))
+
+
 def _set_response_loss(run: Path, value: float) -> None:
     path = run / "models" / "response_seed0.json"
     header = json.loads(path.read_text())

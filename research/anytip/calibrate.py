@@ -74,7 +74,13 @@ from anytip.train.response import (
     source_response_path,
     start_network_path,
 )
-from anytip.train.shared_split import OWN_CHECK_FOLDS, own_check_loss, plan_residuals
+from anytip.train.shared_split import (
+    OWN_CHECK_FOLDS,
+    main_rows,
+    own_check_loss,
+    plan_residuals,
+    unit_main_rows,
+)
 from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
 from anytip.uncertainty.fleet_margin import Learner, pooled_factor
 from anytip.validation import read_yaml
@@ -474,7 +480,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         pooled = interval_records(factor_from, response)
         return calibrate_by_response_unit(response, registry, arrays, stream, plan, budget, Path(out), notes,
                                           interval_level, str(meta.get("plan_strategy", "spread")), use,
-                                          pooled)
+                                          pooled, meta.get("calibration_protocol"))
     if factor_from:
         raise AnytipError("--factor-from is read by response transfer alone: the adapter's intervals have "
                           "their own fleet factor")
@@ -702,10 +708,12 @@ def pooled_learners(records: list[tuple[Path, dict[str, Any]]], key: str, strate
     return learners
 
 
-def _training_rows(registry: Registry, units: list[str], sensor_model: str
+def _training_rows(registry: Registry, units: list[str], sensor_model: str, calibration_protocol: str | None
                    ) -> tuple[FleetArrays, FleetBatchData]:
-    """The response model's training units' runs from the registry, and their rows in its order
-    (source rows)."""
+    """The response model's training units' runs from the registry, and the rows the benchmark
+    trained them on in its order (source rows): their main rows (`shared_split.main_rows`), so
+    neither a designed calibration's runs, a test session's nor the calibration protocol's runs that
+    a registry may hold beside them are carried over to the new unit."""
     runs = {u: registry.list_runs(unit=u, sensor_model=sensor_model) for u in units}
     missing = [u for u, records in runs.items() if not records]
     if missing:
@@ -714,9 +722,10 @@ def _training_rows(registry: Registry, units: list[str], sensor_model: str
                           "carries their rows over to the new unit, so calibrate on the benchmark's registry")
     records = [r for u in units for r in runs[u]]
     arrays = load_arrays(registry, records)
+    main = main_rows(arrays, calibration_protocol)
     members = []
     for u in units:
-        rows = np.flatnonzero(arrays.unit == arrays.units.index(u))
+        rows = unit_main_rows(arrays, u, main)
         x, y = torch.from_numpy(arrays.pressure[rows]), torch.from_numpy(arrays.targets[rows])
         members.append(UnitTensors(x, y, x[:1], y[:1], u))
     return arrays, FleetBatchData.from_units(members, "cpu", arrays.output_names)
@@ -750,14 +759,17 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
                                stream: CalibrationStream, plan: Plan, budget: float, out: Path,
                                notes: list[str], interval_level: float | None = 0.9,
                                strategy: str = "spread", use: UseRequest | None = None,
-                               pooled: list[tuple[Path, dict[str, Any]]] | None = None) -> Calibrated:
+                               pooled: list[tuple[Path, dict[str, Any]]] | None = None,
+                               calibration_protocol: str | None = None) -> Calibrated:
     """A new unit's own network by response transfer (train/response.py) on its plan, saved in the
     per-unit format; its own check is the RMS of the plan's pressures about its fitted response
     beside the benchmark's validation units' (alarm above OWN_CHECK_ALARM times the worst).
     `strategy`: how the plan was chosen (the shared model's `plan_strategy`), the key of what the
     response model recorded for such plans. `use`: the codes also (or, for an empty plan, only)
     from the unit's ordinary use (`unit_codes_with_use`). `pooled`: other response models'
-    intervals records (`interval_records`), whose learners join the model's own (`pooled_learners`)."""
+    intervals records (`interval_records`), whose learners join the model's own (`pooled_learners`).
+    `calibration_protocol`: the benchmark's (the shared model's), whose runs of the training units
+    are no source rows (`_training_rows`)."""
     loaded = load_response(path)
     meta = loaded.meta
     # the units whose rows are carried over (every training unit of a model saved before the choice)
@@ -769,7 +781,8 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         raise AnytipError(f"{path}: {e}") from None
     fit = ResponseFit.from_loaded(loaded)
     seed = int(meta.get("seed", 0))
-    training_arrays, training = _training_rows(registry, units, arrays.runs[0].sensor_model)
+    training_arrays, training = _training_rows(registry, units, arrays.runs[0].sensor_model,
+                                               calibration_protocol)
     X, Y = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
     shape = MLPConfig(**meta["shape"]) if isinstance(meta.get("shape"), dict) else MLPConfig()
     # where the unit's network starts: one the benchmark trained once on the same source rows

@@ -170,9 +170,29 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from anytip.runner import rewrite_report
+    from anytip.runner import pool_runs, rewrite_report
 
-    print(f"wrote {rewrite_report(args.run_dir)}")
+    if args.out is None:
+        if len(args.run_dir) > 1:
+            raise AnytipError("several run directories pool into one report: give --out DIR")
+        print(f"wrote {rewrite_report(args.run_dir[0])}")
+        return 0
+    print(f"wrote {pool_runs(args.run_dir, args.out, args.force)}")
+    return 0
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    from anytip.runner import compare_runs
+
+    labelled = []
+    for item in args.runs:
+        label, sep, rest = item.partition("=")
+        paths, _, method = rest.partition("#")
+        dirs = paths.split(",")
+        if not sep or not label or not all(dirs):
+            raise AnytipError(f"{item!r}: give each entry as LABEL=RUN_DIR[,RUN_DIR...][#METHOD]")
+        labelled.append((label, dirs, method or None))
+    print(f"wrote {compare_runs(labelled, args.out, args.force, args.title)}")
     return 0
 
 
@@ -372,9 +392,24 @@ def build_parser() -> argparse.ArgumentParser:
                              "$ANYTIP_SEARCH_STORAGE, else sqlite in the run directory); give the "
                              "password through $ANYTIP_SEARCH_STORAGE or PGPASSWORD, not here")
     search.add_argument("--workers", type=int, default=None, help="processes sharing the study here")
-    rep = sub.add_parser("report", help="write a finished run's report again from its recorded results")
-    rep.add_argument("run_dir", help="a run directory (config.yaml, metrics.json, provenance.json)")
+    rep = sub.add_parser("report", help="write a finished run's report again from its recorded results, "
+                                        "or pool several runs' held-out units (folds, seeds) into one report")
+    rep.add_argument("run_dir", nargs="+", help="a run directory (config.yaml, metrics.json, "
+                                                "provenance.json); with --out, several runs of one "
+                                                "cross_sensor benchmark")
+    rep.add_argument("--out", default=None, help="pool the runs into this new run directory and write its "
+                                                 "report")
+    rep.add_argument("--force", action="store_true", help="overwrite a pooled report already in --out")
     rep.set_defaults(func=cmd_report)
+    cmp = sub.add_parser("compare", help="finished cross_sensor runs side by side (severities, fleets, "
+                                         "recipes, ablations): per budget, a table and a figure")
+    cmp.add_argument("runs", nargs="+", metavar="LABEL=RUN_DIR[,RUN_DIR...][#METHOD]",
+                     help="a label and a run directory, or several whose held-out units pool (folds), comma "
+                          "separated: their validation units' choice per budget, or the method named after #")
+    cmp.add_argument("--out", required=True, help="where the comparison's report is written")
+    cmp.add_argument("--force", action="store_true", help="overwrite a comparison already in --out")
+    cmp.add_argument("--title", default=None, help="the report's heading (default: Comparison of N runs)")
+    cmp.set_defaults(func=cmd_compare)
     cal = sub.add_parser("calibrate", help="fit a new unit's adapter and save its folded model")
     _add_registry_opt(cal)
     cal.add_argument("--model", help="a cross_sensor run directory, or a shared model .safetensors file")

@@ -20,7 +20,17 @@ from anytip.config import ExperimentSpec, load_spec, public_config
 from anytip.data.registry import Registry
 from anytip.data.runfile import V1_LAYOUT
 from anytip.errors import AnytipError
-from anytip.pipelines.common import Context, check_options, check_registry, resolve_device
+from anytip.pipelines.common import (
+    Context,
+    check_options,
+    check_registry,
+    report_metrics,
+    resolve_device,
+    unit_of,
+)
+from anytip.report.cross_sensor import METRICS, chosen_lines, comparison_report, in_seconds, named_lines
+from anytip.report.markdown import table
+from anytip.report.writer import Report
 from anytip.train.metrics import target_key
 from anytip.validation import mask_secrets
 
@@ -98,23 +108,196 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
     return run_dir
 
 
-def rewrite_report(run_dir: str | Path) -> Path:
-    """Write a finished run's report again from what the run recorded (its config.yaml,
-    metrics.json and provenance.json), with this version's report writer: no training, no
-    registry. For pipelines that provide `report(ctx, rows)`; others are refused by name."""
+Finished = tuple[ExperimentSpec, dict[str, Any], list[dict[str, Any]]]  # a run's spec, provenance and rows
+
+
+def finished_run(run_dir: str | Path) -> Finished:
+    """What a finished run recorded: its spec (config.yaml), provenance and result rows; a missing
+    or malformed file is refused by name."""
     run_dir = Path(run_dir)
     for name in ("config.yaml", "metrics.json", "provenance.json"):
         if not (run_dir / name).is_file():
             raise AnytipError(f"{run_dir}: not a finished run directory (no {name})")
     spec = load_spec(run_dir / "config.yaml")
+    provenance = rundir.read_json(run_dir / "provenance.json")
+    metrics = rundir.read_json(run_dir / "metrics.json")
+    rows = metrics.get("results") if isinstance(metrics, dict) else None
+    if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
+        raise AnytipError(f"{run_dir / 'metrics.json'}: no 'results' list of rows")
+    if not isinstance(provenance, dict):
+        raise AnytipError(f"{run_dir / 'provenance.json'}: not a JSON object")
+    return spec, provenance, rows
+
+
+def rewrite_report(run_dir: str | Path) -> Path:
+    """Write a finished run's report again from what the run recorded (its config.yaml,
+    metrics.json and provenance.json), with this version's report writer: no training, no
+    registry. For pipelines that provide `report(ctx, rows)`; others are refused by name."""
+    run_dir = Path(run_dir)
+    spec, provenance, rows = finished_run(run_dir)
     module = importlib.import_module(f"anytip.pipelines.{spec.pipeline}")
     if not hasattr(module, "report"):
         raise AnytipError(f"{run_dir}: pipeline {spec.pipeline!r} cannot rewrite its report from "
                           "recorded results; run the spec again")
-    provenance = rundir.read_json(run_dir / "provenance.json")
     ctx = Context(spec, None, run_dir, torch.device("cpu"), False, provenance)  # type: ignore[arg-type]
-    rows = rundir.read_json(run_dir / "metrics.json").get("results")
-    if not isinstance(rows, list):
-        raise AnytipError(f"{run_dir / 'metrics.json'}: no 'results' list")
     module.report(ctx, rows)
     return run_dir / "report.md"
+
+
+POOLABLE = ("cross_sensor",)  # pipelines whose rows are held-out units scored against their own references
+COMPARISON = "comparison.json"  # what `compare_runs` writes beside its report
+
+
+def pool_runs(run_dirs: Sequence[str | Path], out: str | Path, force: bool = False) -> Path:
+    """Several finished runs of one benchmark (its unit folds or seeds, run apart) as one run
+    directory `out` whose report pools their held-out units, written with the report writer a run
+    uses: ratios per distinct unit over every run's units, and each budget's method chosen by the
+    mean validation loss over every run's seeds. Nothing is trained or read beyond the runs' own
+    files. The runs must share a pipeline that scores held-out units (`POOLABLE`), a sensor model
+    and its targets; a (unit, seed) scored in two runs (a run and its rescoring) is refused, as is
+    pooling fewer than two runs. Where the runs' specs differ beyond their seeds, the report lists
+    how. `out`'s config.yaml is the first run's spec with every run's seeds."""
+    dirs = [Path(d) for d in run_dirs]
+    if len(dirs) < 2:
+        raise AnytipError("pooling needs at least two run directories")
+    if len({d.resolve() for d in dirs}) < len(dirs):
+        raise AnytipError("a run directory is named twice; each run is pooled once")
+    out = Path(out)
+    if out.resolve() in {d.resolve() for d in dirs}:
+        raise AnytipError(f"--out {out}: is one of the pooled runs; choose another directory")
+    runs, rows = read_pool(dirs)
+    first_spec, first_prov, _ = runs[0]
+    rundir.check_run_dir(out, force)
+    out.mkdir(parents=True, exist_ok=True)
+    base = public_config(first_spec)
+    seeds = sorted({int(r["seed"]) for r in rows})
+    rundir.write_config(out, {**base, "seeds": seeds})
+    labels = _run_labels(dirs)
+    provenance = {k: first_prov.get(k) for k in ("sensor_model", "targets", "extra_units") if k in first_prov}
+    provenance.update(
+        units=sorted({str(u) for _, p, _ in runs for u in p.get("units", [])}),
+        cross_sensor={f"{label}/{key}": record for label, (_, p, _) in zip(labels, runs, strict=True)
+                      for key, record in p.get("cross_sensor", {}).items()},
+        pooled_from=[{"run": str(d), "label": label, "seeds": sorted({int(r["seed"]) for r in rs}),
+                      "held_out_units": len({r["unit"] for r in rs if r["method"] == "per_unit"}),
+                      "selection_content_hash": p.get("selection_content_hash"), "code": p.get("code"),
+                      "differs": _config_differences(base, public_config(spec))}
+                     for d, label, (spec, p, rs) in zip(dirs, labels, runs, strict=True)],
+        code=rundir.code_version())
+    keys = [target_key(name) for name in provenance.get("targets") or []]
+    rundir.write_metrics(out, rows, *([keys] if keys else []), spec=first_spec.name,
+                         pipeline=first_spec.pipeline)
+    rundir.write_json(out / "provenance.json", provenance)
+    return rewrite_report(out)
+
+
+def read_pool(dirs: Sequence[str | Path]) -> tuple[list[Finished], list[dict[str, Any]]]:
+    """Finished runs that pool (`finished_run` of each) and their rows together (`_pooled_rows`):
+    each of a pipeline in `POOLABLE`, all of one sensor model and its targets."""
+    dirs = [Path(d) for d in dirs]
+    runs = [finished_run(d) for d in dirs]
+    first = runs[0][1]
+    for d, (spec, prov, _) in zip(dirs, runs, strict=True):
+        if spec.pipeline not in POOLABLE:
+            raise AnytipError(f"{d}: pipeline {spec.pipeline!r} cannot be pooled or compared "
+                              f"(only {', '.join(POOLABLE)})")
+        for key in ("sensor_model", "targets"):
+            if prov.get(key) != first.get(key):
+                raise AnytipError(f"{d}: its {key} {prov.get(key)!r} differs from {dirs[0]}'s "
+                                  f"{first.get(key)!r}; only runs of one sensor model pool or compare")
+    return runs, _pooled_rows(dirs, [r for _, _, r in runs])
+
+
+def _pooled_rows(dirs: list[Path], rows_by_run: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
+    """Every run's rows, each marked with its run (`pooled_run`: the index in `dirs`); refuses a
+    held-out (unit, seed) that two runs score, which would pool one unit's draws as two."""
+    where: dict[tuple[str, int], int] = {}
+    out = []
+    for i, rows in enumerate(rows_by_run):
+        mine = {(str(r["unit"]), int(r["seed"])) for r in rows if "unit" in r and "seed" in r}
+        for key in sorted(mine):
+            if key in where:
+                raise AnytipError(f"unit {key[0]}, seed {key[1]} is scored in both {dirs[where[key]]} and "
+                                  f"{dirs[i]}: pool folds or seeds that hold out different units (report a "
+                                  "run and its rescoring apart)")
+            where[key] = i
+        out += [{**r, "pooled_run": i} for r in rows]
+    return out
+
+
+def _run_labels(dirs: list[Path]) -> list[str]:
+    """A short name per run (its directory's name, with its position where two share one)."""
+    names = [d.name for d in dirs]
+    return [n if names.count(n) == 1 else f"{i}:{n}" for i, n in enumerate(names)]
+
+
+def _config_differences(base: dict[str, Any], other: dict[str, Any], prefix: str = "") -> dict[str, Any]:
+    """{dotted key: other's value} where `other` differs from `base`, seeds aside."""
+    diff: dict[str, Any] = {}
+    for key in sorted(set(base) | set(other)):
+        name = f"{prefix}{key}"
+        a, b = base.get(key), other.get(key)
+        if name == "seeds" or a == b:
+            continue
+        if isinstance(a, dict) and isinstance(b, dict):
+            diff.update(_config_differences(a, b, f"{name}."))
+        else:
+            diff[name] = b
+    return diff
+
+
+def compare_runs(labelled: Sequence[tuple[str, Sequence[str | Path], str | None]], out: str | Path,
+                 force: bool = False, title: str | None = None) -> Path:
+    """Finished runs of one sensor model side by side in `out` (a report, its figure and
+    `comparison.json`). Each entry is (label, runs, method): one run, or several whose held-out units
+    pool (`read_pool`: a benchmark's folds), and either None, for each budget's method as the runs'
+    own validation units chose it (`report.cross_sensor.chosen_lines`, validation loss averaged over
+    the runs' seeds), or the method named. Runs of other fleets, severities or recipes compare, and
+    one run's methods (an ablation); nothing is trained or read beyond the runs' own files."""
+    if len(labelled) < 2:
+        raise AnytipError("a comparison needs at least two LABEL=RUN_DIR")
+    labels = [label for label, *_ in labelled]
+    if len(set(labels)) < len(labels) or not all(labels):
+        raise AnytipError(f"labels must be distinct and non-empty, got {labels}")
+    out = Path(out)
+    if (out / COMPARISON).exists() and not force:
+        raise AnytipError(f"{out}: already holds a comparison ({COMPARISON}); choose another --out or "
+                          "pass --force")
+    pools = {label: read_pool(dirs) for label, dirs, _ in labelled}
+    first = next(iter(pools.values()))[0][0][1]
+    for label, (runs, _) in pools.items():
+        for key in ("sensor_model", "targets"):
+            if runs[0][1].get(key) != first.get(key):
+                raise AnytipError(f"{label}: its {key} differs from {labels[0]}'s; compare runs of one "
+                                  "sensor model")
+    if len({in_seconds(rows) for _, rows in pools.values()}) > 1:
+        raise AnytipError("some runs budget in robot seconds and others in labeled samples; compare like "
+                          "with like")
+    metrics = report_metrics(unit_of(first["targets"])) if first.get("targets") else METRICS
+    groups = {label: _compared_lines(*pools[label], method, metrics, dirs)
+              for label, dirs, method in labelled}
+    out.mkdir(parents=True, exist_ok=True)
+    named = [[label, "<br>".join(f"`{d}`" for d in dirs),
+              f"`{method}`" if method else "chosen on validation units"] for label, dirs, method in labelled]
+    report = Report(out).add(f"# {title or f'Comparison of {len(labelled)} runs'}\n",
+                             table(["label", "runs", "method"], named) + "\n")
+    comparison_report(report, groups, in_seconds(pools[labels[0]][1]), metrics).write()
+    rundir.write_json(out / COMPARISON, {
+        "runs": {label: {"runs": [str(d) for d in dirs], "method": m} for label, dirs, m in labelled},
+        "lines": groups, "code": rundir.code_version()})
+    return out / "report.md"
+
+
+def _compared_lines(runs: list[Finished], rows: list[dict[str, Any]], method: str | None,
+                    metrics: Sequence[Any],
+                    dirs: Sequence[str | Path]) -> list[dict[str, Any]]:
+    """One comparison entry's lines from its runs (`read_pool`): the method named, or each budget's
+    validation choice over the runs' seeds."""
+    if method is not None:
+        return named_lines(rows, method, metrics, ", ".join(map(str, dirs)))
+    val_loss = {f"{i}/{k}": v.get("val_loss") for i, (_, prov, _) in enumerate(runs)
+                for k, v in prov.get("cross_sensor", {}).items()}
+    if not val_loss or not all(isinstance(v, dict) for v in val_loss.values()):
+        raise AnytipError(f"{', '.join(map(str, dirs))}: no validation losses recorded (provenance.json "
+                          "cross_sensor.*.val_loss); write its report again with `anytip report` first")
+    return chosen_lines(rows, val_loss, metrics)

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from anytip.errors import AnytipError
-from anytip.report.figures import save_figure, subplots
+from anytip.report.figures import plain_ratio_axis, save_figure, subplots
 from anytip.report.markdown import table
 from anytip.report.metric import FINGERTIP_METRICS, Metric
 from anytip.report.writer import Report
@@ -243,7 +243,8 @@ def ratio_figure(lines: list[dict[str, Any]], path: Path, seconds: bool,
         ax.axhline(1.1, color="k", ls=":", lw=1, label="1.1x")
         unit = "robot-seconds" if seconds else "labeled samples"
         ax.set_xticks(list(pos.values()), [f"{b:g}" if b >= 0 else "full" for b in budgets])
-        ax.set(xlabel=f"calibration budget [{unit}]", ylabel=f"{m.name} RMSE / per_unit", yscale="log")
+        ax.set(xlabel=f"calibration budget [{unit}]", ylabel=f"{m.name} RMSE / per_unit")
+        plain_ratio_axis(ax)
         ax.grid(alpha=0.3, which="both")
     axes[0][0].legend(fontsize=7)
     fig.suptitle("held-out units: ratio to their own per-unit models (mean over units, 95% interval)")
@@ -303,7 +304,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
     chosen = chosen_methods(val_loss)
     seeds = sorted({r["seed"] for r in rows})
     cs = ctx.provenance.get("cross_sensor", {})
-    first = cs.get(f"seed{seeds[0]}", {}).get("units", {})
+    first = next(iter(cs.values()), {}).get("units", {})
     return Report(ctx.run_dir).add(f"""# {ctx.spec.name}: one model for many units
 
 {ctx.spec.description.strip()}
@@ -311,6 +312,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
 {len(ctx.provenance.get('units', []))} units of `{ctx.provenance.get('sensor_model')}`; per seed
 {len(first.get('train', []))} training, {len(first.get('val', []))} validation and
 {len(first.get('test', []))} held-out units (seeds {seeds}).{_extra_text(ctx.provenance)}
+{pooled_section(ctx.provenance)}
 Every method is scored on the same held-out {held}
 ({ctx.spec.splits.patch_test_fraction:.0%} of each held-out unit's {held}) that no method saw in
 any run. {_budget_text(opts, seconds)}
@@ -340,6 +342,100 @@ interval over units].
 
 ![error against training units](rmse_vs_train_units.png)
 """)).write()
+
+
+def chosen_lines(rows: list[dict[str, Any]], val_loss: dict[str, dict[str, dict[str, float]]],
+                 metrics: Sequence[Metric] = METRICS) -> list[dict[str, Any]]:
+    """The `summary` line of each (budget, plan strategy)'s method as the run's validation units
+    chose it (`chosen_methods`; full training set only), with its `strategy`, in budget order."""
+    by_key = {(s["method"], s["budget"]): s for s in summary(full_set_rows(rows), metrics)}
+    chosen = chosen_methods(val_loss)
+    return [{**by_key[(method, budget)], "strategy": strategy}
+            for (budget, strategy), method in sorted(chosen.items(), key=lambda kv: (kv[0][0], str(kv[0][1])))
+            if (method, budget) in by_key]
+
+
+def named_lines(rows: list[dict[str, Any]], method: str, metrics: Sequence[Metric] = METRICS,
+                source: Any = "the run") -> list[dict[str, Any]]:
+    """The `summary` lines of `method` at each budget (full training set only), in budget order,
+    with its plan `strategy`; a method the rows do not hold is refused, naming the ones they do."""
+    lines = [ln for ln in summary(full_set_rows(rows), metrics) if ln["method"] == method]
+    if not lines:
+        held = sorted({r["method"] for r in rows if not is_reference(r["method"])})
+        raise AnytipError(f"{source}: no rows of method {method!r}; it holds {', '.join(held)}")
+    return [{**ln, "strategy": plan_of_method(method)} for ln in lines]
+
+
+def comparison_report(report: Report, groups: dict[str, list[dict[str, Any]]], seconds: bool,
+                      metrics: Sequence[Metric] = METRICS) -> Report:
+    """Several runs side by side (`anytip compare`): per run (its label) and budget, the method its
+    own validation units chose and that method's ratios to the held-out units' own per-unit models,
+    as a table and a figure (`chosen_lines` of each run)."""
+    unit = "robot-s" if seconds else "labeled samples"
+    body = [[label, f"{ln['budget']:g}", f"`{ln['method']}`",
+             "" if ln["seconds"] is None else f"{ln['seconds']:.1f}",
+             *(ratio_text(ln[f"{m.name}_unit"]) for m in metrics), ln["units"]]
+            for label, lines in groups.items() for ln in lines]
+    fig, axes = subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+    budgets = sorted({ln["budget"] for lines in groups.values() for ln in lines})
+    pos = {b: i for i, b in enumerate(budgets)}
+    series = _series(groups)
+    for ax, m in zip(axes[0], metrics, strict=True):
+        for k, (label, lines) in enumerate(series.items()):
+            mean, lo, hi = (np.array([ln[f"{m.name}_unit"][i] for ln in lines]) for i in range(3))
+            shift = 0.5 * (k / max(len(series) - 1, 1) - 0.5)
+            x = np.array([pos[ln["budget"]] for ln in lines]) + shift
+            ax.errorbar(x, mean, yerr=[mean - lo, hi - mean], marker="os^Dv"[k % 5], capsize=3, label=label)
+        ax.axhline(1.0, color="k", ls="--", lw=1.2, label="per_unit")
+        ax.axhline(1.1, color="k", ls=":", lw=1, label="1.1x")
+        ax.set_xticks(list(pos.values()), [f"{b:g}" for b in budgets])
+        ax.set(xlabel=f"calibration budget [{unit}]", ylabel=f"{m.name} RMSE / per_unit")
+        plain_ratio_axis(ax)
+        ax.grid(alpha=0.3, which="both")
+    axes[0][0].legend(fontsize=7)
+    fig.suptitle("held-out units: ratio to their own per-unit models (mean over units, 95% interval)")
+    return report.add(f"""## Side by side
+
+Per run and budget, the method named for it, or else the method with the lowest validation-unit loss
+in that run (held-out units never choose it), and its ratio to each held-out unit's own per-unit
+model: mean over distinct units [95% bootstrap interval over units].
+
+{table(['run', f'budget [{unit}]', 'method', 'robot-s',
+        *(f'{m.name} ratio' for m in metrics), 'units'], body)}
+
+{report.figure(fig, "ratio_by_run.png", "ratio to the per-unit models by run")}
+""")
+
+
+def _series(groups: dict[str, list[dict[str, Any]]]) -> dict[str, list[dict[str, Any]]]:
+    """One line of a figure per run, or per run and plan strategy where a run chose for several
+    (its label-free budget 0 heads each)."""
+    out: dict[str, list[dict[str, Any]]] = {}
+    for label, lines in groups.items():
+        strategies = sorted({ln["strategy"] for ln in lines if ln["strategy"] is not None})
+        if len(strategies) <= 1:
+            out[label] = lines
+            continue
+        for st in strategies:
+            out[f"{label} `{st}`"] = [ln for ln in lines if ln["strategy"] in (None, st)]
+    return out
+
+
+def pooled_section(provenance: dict[str, Any]) -> str:
+    """Which runs a pooled report (`anytip report RUN RUN ... --out DIR`) holds, and how their specs
+    differ from the first run's (whose spec the text above describes); empty for one run."""
+    pooled = provenance.get("pooled_from")
+    if not pooled:
+        return ""
+    body = [[f"`{p['run']}`", ", ".join(map(str, p["seeds"])), p["held_out_units"],
+             "; ".join(f"`{k}`: `{v}`" for k, v in p["differs"].items()) or "same spec"] for p in pooled]
+    return f"""
+This report pools {len(pooled)} runs (folds or seeds run apart), each held-out unit scored in one of
+them against its own per-unit model; each budget's method is the one with the lowest validation loss
+averaged over every run's seeds.
+
+{table(['run', 'seeds', 'held-out units', 'spec differs from the first run in'], body)}
+"""
 
 
 def _shape_text(ctx: Any, opts: Any) -> str:

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import FixedLocator, FormatStrFormatter, NullLocator
 
 OUTPUT_NAMES = ("Fx [N]", "Fy [N]", "Fz [N]", "theta [rad]", "phi [rad]")
 DPI = 120
@@ -20,6 +21,17 @@ def subplots(*grid: int, figsize: tuple[float, float], **kwargs: Any) -> tuple[F
     backend (importing this module changes no matplotlib setting)."""
     fig = Figure(figsize=figsize)
     return fig, fig.subplots(*grid, **kwargs)
+
+
+RATIO_TICKS = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 7.0, 10.0, 15.0, 20.0)
+
+
+def plain_ratio_axis(ax: Any) -> None:
+    """A log-scaled ratio axis labelled in plain numbers (0.9, 1, 1.1, 1.5, 2) instead of powers of ten."""
+    ax.set_yscale("log")
+    ax.yaxis.set_major_locator(FixedLocator(RATIO_TICKS))
+    ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    ax.yaxis.set_minor_locator(NullLocator())
 
 
 def save_figure(fig: Figure, path: Path) -> Path:
