@@ -798,3 +798,28 @@ def test_a_test_set_of_one_patch_cannot_move_coverage_and_many_patches_can():
                           0.9, 0)
     assert two["interval_test_patches"] == 4
     assert two["a_fleet_coverage_sd"] > 0.05 and two["a_exact_p_outside"] > 0.2
+
+
+def test_a_run_recorded_before_its_validation_losses_compares_and_pools_as_it_reports(cross_run, tmp_path):
+    """A run whose provenance predates recorded validation losses has them in its shared models'
+    metadata: `anytip compare` chooses from those and `anytip report --out` pools them, as its own
+    report does."""
+    from anytip.runner import compare_runs, pool_runs
+
+    old = tmp_path / "old"
+    shutil.copytree(cross_run, old)
+    prov = json.loads((old / "provenance.json").read_text())
+    recorded = {k: v.pop("val_loss") for k, v in prov["cross_sensor"].items()}
+    (old / "provenance.json").write_text(json.dumps(prov))
+    compare_runs([("old", [old], None), ("recorded", [cross_run], None)], tmp_path / "cmp")
+    lines = json.loads((tmp_path / "cmp" / "comparison.json").read_text())["lines"]
+    assert lines["old"] and lines["old"] == lines["recorded"]
+    moved = tmp_path / "moved"  # the same units under other seeds, so the two pool
+    shutil.copytree(cross_run, moved)
+    rows = json.loads((moved / "metrics.json").read_text())
+    for r in rows["results"]:
+        r["seed"] += 10
+    (moved / "metrics.json").write_text(json.dumps(rows))
+    pool_runs([old, moved], tmp_path / "pooled")
+    pooled = json.loads((tmp_path / "pooled" / "provenance.json").read_text())["cross_sensor"]
+    assert {k.split("/")[1]: v["val_loss"] for k, v in pooled.items() if k.startswith("old/")} == recorded

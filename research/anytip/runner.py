@@ -176,8 +176,9 @@ def pool_runs(run_dirs: Sequence[str | Path], out: str | Path, force: bool = Fal
     provenance = {k: first_prov.get(k) for k in ("sensor_model", "targets", "extra_units") if k in first_prov}
     provenance.update(
         units=sorted({str(u) for _, p, _ in runs for u in p.get("units", [])}),
-        cross_sensor={f"{label}/{key}": record for label, (_, p, _) in zip(labels, runs, strict=True)
-                      for key, record in p.get("cross_sensor", {}).items()},
+        cross_sensor={f"{label}/{key}": {**p["cross_sensor"][key], "val_loss": losses}
+                      for label, d, (spec, p, _) in zip(labels, dirs, runs, strict=True)
+                      for key, losses in _validation_losses(d, spec, p).items()},
         pooled_from=[{"run": str(d), "label": label, "seeds": sorted({int(r["seed"]) for r in rs}),
                       "held_out_units": len({r["unit"] for r in rs if r["method"] == "per_unit"}),
                       "selection_content_hash": p.get("selection_content_hash"), "code": p.get("code"),
@@ -295,9 +296,19 @@ def _compared_lines(runs: list[Finished], rows: list[dict[str, Any]], method: st
     validation choice over the runs' seeds."""
     if method is not None:
         return named_lines(rows, method, metrics, ", ".join(map(str, dirs)))
-    val_loss = {f"{i}/{k}": v.get("val_loss") for i, (_, prov, _) in enumerate(runs)
-                for k, v in prov.get("cross_sensor", {}).items()}
-    if not val_loss or not all(isinstance(v, dict) for v in val_loss.values()):
+    val_loss = {f"{i}/{k}": losses for i, (d, (spec, prov, _)) in enumerate(zip(dirs, runs, strict=True))
+                for k, losses in _validation_losses(d, spec, prov).items()}
+    if not any(val_loss.values()):
         raise AnytipError(f"{', '.join(map(str, dirs))}: no validation losses recorded (provenance.json "
-                          "cross_sensor.*.val_loss); write its report again with `anytip report` first")
+                          "cross_sensor.*.val_loss, or the shared models' metadata): no method was chosen on "
+                          "validation units; name one after #")
     return chosen_lines(rows, val_loss, metrics)
+
+
+def _validation_losses(run_dir: str | Path, spec: ExperimentSpec, provenance: dict[str, Any]
+                       ) -> dict[str, dict[str, dict[str, float]]]:
+    """A finished cross_sensor run's validation losses per seed (`cross_sensor.recorded_val_losses`)."""
+    from anytip.pipelines.cross_sensor import recorded_val_losses
+
+    ctx = Context(spec, None, Path(run_dir), torch.device("cpu"), False, provenance)  # type: ignore[arg-type]
+    return recorded_val_losses(ctx)

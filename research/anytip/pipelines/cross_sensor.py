@@ -144,11 +144,20 @@ def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
     recorded before validation losses went into its provenance has them in its shared models'
     metadata (`val_loss_by_budget`), which is read instead."""
     opts = parse_options(ctx)
-    for key, seed_prov in ctx.provenance.get("cross_sensor", {}).items():
-        if "val_loss" not in seed_prov:
-            seed_prov["val_loss"] = saved_val_losses(ctx.run_dir / "models", key, opts)
+    for key, losses in recorded_val_losses(ctx).items():
+        ctx.provenance["cross_sensor"][key]["val_loss"] = losses
     targets = ctx.provenance.get("targets")
     write_report(ctx, rows, opts, report_metrics(unit_of(targets)) if targets else METRICS)
+
+
+def recorded_val_losses(ctx: Context) -> dict[str, dict[str, dict[str, float]]]:
+    """{seed key: {method: {budget: loss}}} of a finished run (`ctx.run_dir`): as its provenance
+    records them, or, for a run recorded before validation losses went there, from its shared models'
+    metadata (`saved_val_losses`)."""
+    opts = parse_options(ctx)
+    models = ctx.run_dir / "models"
+    return {key: record["val_loss"] if "val_loss" in record else saved_val_losses(models, key, opts)
+            for key, record in ctx.provenance.get("cross_sensor", {}).items()}
 
 
 def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, dict[str, float]]:
