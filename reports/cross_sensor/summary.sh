@@ -1,0 +1,62 @@
+#!/bin/bash
+# The consolidated cross-sensor reports in this directory, written from committed runs alone (no
+# training, no registry): pooled folds (`anytip report RUN RUN ... --out DIR`) and comparisons
+# (`anytip compare LABEL=RUN[,RUN...][#METHOD] ... --out DIR`). Run from the repository root with
+# the virtual environment active (`. .venv/bin/activate`):
+#   bash reports/cross_sensor/summary.sh
+set -euo pipefail
+R=reports/cross_sensor
+folds() {  # folds DIR PREFIX N: DIR/PREFIX0,...,DIR/PREFIX<N-1>
+  local out=() k
+  for ((k = 0; k < $3; k++)); do out+=("$1/$2$k"); done
+  (IFS=,; echo "${out[*]}")
+}
+pool() {  # pool OUT DIR PREFIX N
+  # shellcheck disable=SC2046
+  anytip report $(folds "$2" "$3" "$4" | tr , ' ') --out "$R/$1" --force
+}
+f88() { folds "reports/$1" fleet88_seed 2; }
+o16() { folds "reports/$1" other16_seed 4; }
+
+# fleet88 (88 pre-registered held-out units, two folds) and other16 (another elastomer, every unit
+# held out once, four folds)
+pool fleet88_budgets reports/cross_sensor_budgets fleet88_seed 2          # plan alone, 10 to 600 s (entry 74)
+pool fleet88_use reports/cross_sensor_response_label_free fleet88_seed 2  # with 600 s of ordinary use
+pool fleet88_gpu reports/cross_sensor_response_gpu/entry52 fleet88_seed 2 # 1,024 simulated units
+pool fleet88_designed reports/cross_sensor_response_gpu/entry58 fleet88_seed 2  # designed plan beside cover
+pool other16_budgets reports/cross_sensor_response_start other16_seed 4   # plan alone, 30 to 600 s
+pool other16_use reports/cross_sensor_response_label_free/other16_use other16_seed 4
+pool other16_gpu reports/cross_sensor_response_gpu/entry54/b512e60 other16_seed 4
+pool other16_budgets_use reports/cross_sensor_budgets other16_seed 4  # 10 to 120 s, with ordinary use (entry 75)
+
+anytip compare --force --out $R/recipe \
+  --title "The 2-minute recipe, one ingredient added at a time (fleet88, 88 pre-registered held-out units)" \
+  "adapters (input_affine+film) on the same plans=$(folds reports/cross_sensor_response88 seed 2)#adapted:input_affine+film[4000 steps]@cover" \
+  "response transfer, 16 registry units (entry 22)=$(folds reports/cross_sensor_response88 seed 2)#response@cover" \
+  "+ Gauss-Newton codes, 40-epoch network (entry 24)=$(f88 cross_sensor_response_rescored)#response@cover" \
+  "+ 128 simulated units in the response model (entry 25)=$(f88 cross_sensor_response_extra)#response@cover" \
+  "+ network started from the pooled network (entry 26)=$(f88 cross_sensor_response_start)#response@cover" \
+  "+ 600 s of ordinary use in the codes' fit (entry 46)=$(f88 cross_sensor_response_label_free)#response+use@cover" \
+  "+ 1,024 simulated units, GPU (entries 48, 52)=$(f88 cross_sensor_response_gpu/entry52)#response+use@cover"
+
+anytip compare --force --out $R/recipe_other16 \
+  --title "The 2-minute recipe, one ingredient added at a time (other16, every unit held out once)" \
+  "adapters (input_stats), label-free=$(folds reports/cross_sensor_response_folds16 seed 4)#adapted:input_stats" \
+  "response transfer, 10 registry units (entry 23)=$(folds reports/cross_sensor_response_folds16 seed 4)#response@cover" \
+  "+ Gauss-Newton codes, 40-epoch network (entry 24)=$(o16 cross_sensor_response_rescored)#response@cover" \
+  "+ 128 simulated default-fingertip units (entry 25)=$(o16 cross_sensor_response_extra)#response@cover" \
+  "+ network started from the pooled network (entry 26)=$(o16 cross_sensor_response_start)#response@cover" \
+  "+ 600 s of ordinary use in the codes' fit (entry 46)=$(o16 cross_sensor_response_label_free/other16_use)#response+use@cover" \
+  "+ 1,024 simulated units, GPU (entry 51)=$(o16 cross_sensor_response_gpu/entry51)#response+use@cover" \
+  "+ the unit's network in batches of 512, 60 epochs (entry 54)=$(o16 cross_sensor_response_gpu/entry54/b512e60)#response+use@cover"
+
+S=reports/cross_sensor_response_severity
+anytip compare --force --out $R/severity \
+  --title "Response transfer by unit-to-unit spread (fleet24's seed and split, 6 held-out units; entries 32, 34)" \
+  "severity 0.5=$S/severity0.5" "severity 1=reports/cross_sensor_response_start/fleet24_seed1" \
+  "severity 2=$S/severity2" "severity 2, extra units drawn at 2=$S/severity2_extra2"
+
+anytip compare --force --out $R/units \
+  --title "Response transfer by the units its response model learnt (fleet88 fold 0, 44 held-out units; entry 31)" \
+  "16 registry + 128 simulated units=reports/cross_sensor_response_start/fleet88_seed0" \
+  "16 registry + 1,024 simulated units (GPU)=reports/cross_sensor_response_gpu/rescored_fleet88_seed0_extra1024_rps32768"
