@@ -164,3 +164,23 @@ def test_a_comparison_entry_pools_folds_and_may_hold_the_same_units_as_another(t
     again = finished_run(tmp_path / "rescored", 0, {"U1": (1.0, 1.1, 1.0)}, {"a@cover": 0.1, "b@cover": 0.2})
     with pytest.raises(AnytipError, match="unit U1, seed 0 is scored in both"):
         compare_runs([("x", [a, again], None), ("y", [b], None)], tmp_path / "cmp2")
+
+
+def test_no_run_read_is_overwritten_and_a_row_without_its_keys_is_named(tmp_path, capsys):
+    a, b = folds(tmp_path)
+    before = (a / "metrics.json").read_text()
+    into_a_run = (["report", str(a), str(b), "--out", str(a)],
+                  ["compare", f"x={a}", f"y={b}", "--out", str(b)])
+    for argv in into_a_run:
+        assert main(argv) == 2
+        assert "is one of the runs read" in capsys.readouterr().err
+    other = finished_run(tmp_path / "other", 5, {"U7": (1.0, 1.0, 1.0)}, {"a@cover": 0.1, "b@cover": 0.2})
+    report = (other / "report.md").exists()
+    assert main(["compare", f"x={a}", f"y={b}", "--out", str(other)]) == 2
+    assert "holds a finished run" in capsys.readouterr().err
+    assert (other / "report.md").exists() == report and (a / "metrics.json").read_text() == before
+    rows = read_json(b / "metrics.json")
+    del rows["results"][0]["seed"]
+    write_json(b / "metrics.json", rows)
+    assert main(["report", str(a), str(b), "--out", str(tmp_path / "p")]) == 2
+    assert "metrics.json: a result row lacks 'seed'" in capsys.readouterr().err

@@ -124,6 +124,9 @@ def finished_run(run_dir: str | Path) -> Finished:
     rows = metrics.get("results") if isinstance(metrics, dict) else None
     if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
         raise AnytipError(f"{run_dir / 'metrics.json'}: no 'results' list of rows")
+    missing = next((k for r in rows for k in rundir.ROW_KEYS if k not in r), None)
+    if missing is not None:
+        raise AnytipError(f"{run_dir / 'metrics.json'}: a result row lacks {missing!r}")
     if not isinstance(provenance, dict):
         raise AnytipError(f"{run_dir / 'provenance.json'}: not a JSON object")
     return spec, provenance, rows
@@ -163,8 +166,7 @@ def pool_runs(run_dirs: Sequence[str | Path], out: str | Path, force: bool = Fal
     if len({d.resolve() for d in dirs}) < len(dirs):
         raise AnytipError("a run directory is named twice; each run is pooled once")
     out = Path(out)
-    if out.resolve() in {d.resolve() for d in dirs}:
-        raise AnytipError(f"--out {out}: is one of the pooled runs; choose another directory")
+    _refuse_out_among(out, dirs)
     runs, rows = read_pool(dirs)
     first_spec, first_prov, _ = runs[0]
     rundir.check_run_dir(out, force)
@@ -197,16 +199,23 @@ def read_pool(dirs: Sequence[str | Path]) -> tuple[list[Finished], list[dict[str
     each of a pipeline in `POOLABLE`, all of one sensor model and its targets."""
     dirs = [Path(d) for d in dirs]
     runs = [finished_run(d) for d in dirs]
-    first = runs[0][1]
-    for d, (spec, prov, _) in zip(dirs, runs, strict=True):
+    for d, (spec, _, _) in zip(dirs, runs, strict=True):
         if spec.pipeline not in POOLABLE:
             raise AnytipError(f"{d}: pipeline {spec.pipeline!r} cannot be pooled or compared "
                               f"(only {', '.join(POOLABLE)})")
+    _one_sensor_model([(str(d), prov) for d, (_, prov, _) in zip(dirs, runs, strict=True)])
+    return runs, _pooled_rows(dirs, [r for _, _, r in runs])
+
+
+def _one_sensor_model(named: list[tuple[str, dict[str, Any]]]) -> None:
+    """Refuse (name, provenance) pairs whose sensor model or targets differ from the first's: only
+    runs of one sensor model pool or compare."""
+    first_name, first = named[0]
+    for name, prov in named[1:]:
         for key in ("sensor_model", "targets"):
             if prov.get(key) != first.get(key):
-                raise AnytipError(f"{d}: its {key} {prov.get(key)!r} differs from {dirs[0]}'s "
+                raise AnytipError(f"{name}: its {key} {prov.get(key)!r} differs from {first_name}'s "
                                   f"{first.get(key)!r}; only runs of one sensor model pool or compare")
-    return runs, _pooled_rows(dirs, [r for _, _, r in runs])
 
 
 def _pooled_rows(dirs: list[Path], rows_by_run: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
@@ -215,7 +224,7 @@ def _pooled_rows(dirs: list[Path], rows_by_run: list[list[dict[str, Any]]]) -> l
     where: dict[tuple[str, int], int] = {}
     out = []
     for i, rows in enumerate(rows_by_run):
-        mine = {(str(r["unit"]), int(r["seed"])) for r in rows if "unit" in r and "seed" in r}
+        mine = {(str(r["unit"]), int(r["seed"])) for r in rows}
         for key in sorted(mine):
             if key in where:
                 raise AnytipError(f"unit {key[0]}, seed {key[1]} is scored in both {dirs[where[key]]} and "
@@ -224,6 +233,12 @@ def _pooled_rows(dirs: list[Path], rows_by_run: list[list[dict[str, Any]]]) -> l
             where[key] = i
         out += [{**r, "pooled_run": i} for r in rows]
     return out
+
+
+def _refuse_out_among(out: Path, dirs: Sequence[Path]) -> None:
+    """Refuse an output directory that is one of the runs read: their own files are never replaced."""
+    if out.resolve() in {d.resolve() for d in dirs}:
+        raise AnytipError(f"--out {out}: is one of the runs read; choose another directory")
 
 
 def _run_labels(dirs: list[Path]) -> list[str]:
@@ -261,16 +276,16 @@ def compare_runs(labelled: Sequence[tuple[str, Sequence[str | Path], str | None]
     if len(set(labels)) < len(labels) or not all(labels):
         raise AnytipError(f"labels must be distinct and non-empty, got {labels}")
     out = Path(out)
+    _refuse_out_among(out, [Path(d) for _, dirs, _ in labelled for d in dirs])
+    if (out / "metrics.json").exists():
+        raise AnytipError(f"--out {out}: holds a finished run, whose report.md a comparison would replace; "
+                          "choose another directory")
     if (out / COMPARISON).exists() and not force:
         raise AnytipError(f"{out}: already holds a comparison ({COMPARISON}); choose another --out or "
                           "pass --force")
     pools = {label: read_pool(dirs) for label, dirs, _ in labelled}
-    first = next(iter(pools.values()))[0][0][1]
-    for label, (runs, _) in pools.items():
-        for key in ("sensor_model", "targets"):
-            if runs[0][1].get(key) != first.get(key):
-                raise AnytipError(f"{label}: its {key} differs from {labels[0]}'s; compare runs of one "
-                                  "sensor model")
+    _one_sensor_model([(label, runs[0][1]) for label, (runs, _) in pools.items()])
+    first = pools[labels[0]][0][0][1]
     if len({in_seconds(rows) for _, rows in pools.values()}) > 1:
         raise AnytipError("some runs budget in robot seconds and others in labeled samples; compare like "
                           "with like")

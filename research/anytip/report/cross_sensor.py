@@ -18,6 +18,8 @@ from anytip.report.writer import Report
 if TYPE_CHECKING:
     from pathlib import Path
 
+    from matplotlib.figure import Figure
+
 
 METRICS = FINGERTIP_METRICS
 
@@ -226,29 +228,36 @@ def ratio_figure(lines: list[dict[str, Any]], path: Path, seconds: bool,
                  metrics: Sequence[Metric] = METRICS) -> Path:
     """Each metric's ratio to per_unit against the budget, per method (`summary` lines): the
     mean over distinct held-out units with its 95% bootstrap interval; 1.0 and 1.1 marked."""
-    fig, axes = subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
     fleet = [ln for ln in lines if not is_reference(ln["method"])]
-    budgets = sorted({ln["budget"] for ln in fleet})
+    series = {method: sorted((ln for ln in fleet if ln["method"] == method), key=lambda ln: ln["budget"])
+              for method in sorted({ln["method"] for ln in fleet})}
+    return save_figure(_ratio_plot(series, seconds, metrics), path)
+
+
+def _ratio_plot(series: dict[str, list[dict[str, Any]]], seconds: bool, metrics: Sequence[Metric]) -> Figure:
+    """One panel per metric: its ratio to per_unit against the budget, one errorbar line per series
+    (`summary` lines in budget order: mean over distinct held-out units, 95% interval), the series
+    side by side within a budget; 1.0 and 1.1 marked."""
+    fig, axes = subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
+    budgets = sorted({ln["budget"] for lines in series.values() for ln in lines})
     pos = {b: i for i, b in enumerate(budgets)}
-    methods = sorted({ln["method"] for ln in fleet})
+    unit = "robot-seconds" if seconds else "labeled samples"
     for ax, m in zip(axes[0], metrics, strict=True):
-        for k, method in enumerate(methods):
-            mine = sorted((ln for ln in fleet if ln["method"] == method), key=lambda ln: ln["budget"])
-            mean, lo, hi = (np.array([ln[f"{m.name}_unit"][i] for ln in mine]) for i in range(3))
-            shift = 0.6 * (k / max(len(methods) - 1, 1) - 0.5)  # side by side within a budget
-            x = np.array([pos[ln["budget"]] for ln in mine]) + shift
+        for k, (label, lines) in enumerate(series.items()):
+            mean, lo, hi = (np.array([ln[f"{m.name}_unit"][i] for ln in lines]) for i in range(3))
+            shift = 0.6 * (k / max(len(series) - 1, 1) - 0.5)  # side by side within a budget
+            x = np.array([pos[ln["budget"]] for ln in lines]) + shift
             ax.errorbar(x, mean, yerr=[mean - lo, hi - mean], marker="os^Dv"[k // 10 % 5], capsize=3,
-                        label=method)
+                        label=label)
         ax.axhline(1.0, color="k", ls="--", lw=1.2, label="per_unit")
         ax.axhline(1.1, color="k", ls=":", lw=1, label="1.1x")
-        unit = "robot-seconds" if seconds else "labeled samples"
         ax.set_xticks(list(pos.values()), [f"{b:g}" if b >= 0 else "full" for b in budgets])
         ax.set(xlabel=f"calibration budget [{unit}]", ylabel=f"{m.name} RMSE / per_unit")
         plain_ratio_axis(ax)
         ax.grid(alpha=0.3, which="both")
     axes[0][0].legend(fontsize=7)
     fig.suptitle("held-out units: ratio to their own per-unit models (mean over units, 95% interval)")
-    return save_figure(fig, path)
+    return fig
 
 
 def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path,
@@ -368,32 +377,15 @@ def named_lines(rows: list[dict[str, Any]], method: str, metrics: Sequence[Metri
 
 def comparison_report(report: Report, groups: dict[str, list[dict[str, Any]]], seconds: bool,
                       metrics: Sequence[Metric] = METRICS) -> Report:
-    """Several runs side by side (`anytip compare`): per run (its label) and budget, the method its
-    own validation units chose and that method's ratios to the held-out units' own per-unit models,
-    as a table and a figure (`chosen_lines` of each run)."""
+    """Several runs side by side (`anytip compare`): per entry (its label) and budget, a method (the
+    entry's validation choice, `chosen_lines`, or one named, `named_lines`) and its ratios to the
+    held-out units' own per-unit models, as a table and a figure."""
     unit = "robot-s" if seconds else "labeled samples"
     body = [[label, f"{ln['budget']:g}", f"`{ln['method']}`",
              "" if ln["seconds"] is None else f"{ln['seconds']:.1f}",
              *(ratio_text(ln[f"{m.name}_unit"]) for m in metrics), ln["units"]]
             for label, lines in groups.items() for ln in lines]
-    fig, axes = subplots(1, len(metrics), figsize=(6 * len(metrics), 4.5), squeeze=False)
-    budgets = sorted({ln["budget"] for lines in groups.values() for ln in lines})
-    pos = {b: i for i, b in enumerate(budgets)}
-    series = _series(groups)
-    for ax, m in zip(axes[0], metrics, strict=True):
-        for k, (label, lines) in enumerate(series.items()):
-            mean, lo, hi = (np.array([ln[f"{m.name}_unit"][i] for ln in lines]) for i in range(3))
-            shift = 0.5 * (k / max(len(series) - 1, 1) - 0.5)
-            x = np.array([pos[ln["budget"]] for ln in lines]) + shift
-            ax.errorbar(x, mean, yerr=[mean - lo, hi - mean], marker="os^Dv"[k % 5], capsize=3, label=label)
-        ax.axhline(1.0, color="k", ls="--", lw=1.2, label="per_unit")
-        ax.axhline(1.1, color="k", ls=":", lw=1, label="1.1x")
-        ax.set_xticks(list(pos.values()), [f"{b:g}" for b in budgets])
-        ax.set(xlabel=f"calibration budget [{unit}]", ylabel=f"{m.name} RMSE / per_unit")
-        plain_ratio_axis(ax)
-        ax.grid(alpha=0.3, which="both")
-    axes[0][0].legend(fontsize=7)
-    fig.suptitle("held-out units: ratio to their own per-unit models (mean over units, 95% interval)")
+    fig = _ratio_plot(_series(groups), seconds, metrics)
     return report.add(f"""## Side by side
 
 Per run and budget, the method named for it, or else the method with the lowest validation-unit loss
