@@ -333,7 +333,7 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                                    plan_rows=plan_rows)
             began = time.perf_counter()
             codes[arm] = plan_and_use_codes(fit, recipe, free, X, Y0, n_eff, candidates, seed,
-                                            Labeled(Xp, Yp, plan.n_effective), codes["plan"], scale)
+                                            Labeled(Xp, Yp, plan.n_effective), codes["plan"], scale)[0]
             found[f"seconds_{arm}"] = time.perf_counter() - began
             found[f"code_rms_{arm}_off_truth"] = float((codes[arm] - labelled).pow(2).mean().sqrt())
     return {a: c for a, c in codes.items() if a in arms}, found

@@ -229,9 +229,9 @@ def test_a_plans_rows_are_thinned_in_the_joint_fit_still_weighing_the_whole_plan
     start = fit_codes(fit, [X_l], [y], [150.0], ResponseRecipe())[0]
     args = (fit, ResponseRecipe())
     rest = (X, _contacts(80, 13), 80.0, _contacts(200, 14), 0)
-    thinned = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=50), *rest, plan, start)
-    handed = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, few, start)
-    every = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, plan, start)
+    thinned = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=50), *rest, plan, start)[0]
+    handed = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, few, start)[0]
+    every = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, plan, start)[0]
     torch.testing.assert_close(thinned, handed)
     assert not torch.equal(thinned, every)
 

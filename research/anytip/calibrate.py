@@ -55,11 +55,13 @@ from anytip.train.label_free import (
     FleetUse,
     Labeled,
     LabelFreeRecipe,
+    distilled_rows,
     encoder_codes,
     fleet_force_scale,
     search_candidates,
     unit_codes_with_use,
     use_inputs,
+    with_use_method,
 )
 from anytip.train.metrics import predict, scores, target_key
 from anytip.train.response import (
@@ -798,10 +800,11 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     given, used = None, Plan.empty()
     if use is not None:
         fleet = _fleet_use(path, meta, fit, use, (training_arrays, units), seed, notes)
-        given, used = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays, stream,
-                                      Labeled(X, Y, plan.n_effective), seed)
+        given, used, distilled = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays, stream,
+                                                 Labeled(X, Y, plan.n_effective), seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
-                                        [stream.unit], arrays.output_names, start=start, codes=given)
+                                        [stream.unit], arrays.output_names, start=start, codes=given,
+                                        extra=[distilled] if use is not None else None)
     wall_s = time.perf_counter() - tick
     own = _response_own_check(loaded, fit, plan, (X, Y, codes[0]), _at_budget(
         _strategy_table(meta, "residual", strategy), budget), notes)
@@ -813,7 +816,8 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         pool = (pooled, stream.unit) if pooled else None
         bands = _response_intervals(meta, residuals, budget, strategy, interval_level, arrays.output_names,
                                     on_other, notes, use is not None, pool)
-    method = "response" if use is None else "response+use" if len(plan.rows) else "response:label_free"
+    method = ("response" if use is None else with_use_method(fleet.free) if len(plan.rows)
+              else "response:label_free")
     result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, len(used.rows), 0.0, check,
                         notes, None, wall_s, bands, 0.0, own, used.contact_seconds)
     save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
@@ -889,10 +893,16 @@ def _fleet_use(path: Path, meta: dict[str, Any], fit: ResponseFit, use: UseReque
 
 def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUse,
                     fleet_rows: tuple[SourceRows, LoadedModels | None], arrays: FleetArrays,
-                    stream: CalibrationStream, plan: Labeled, seed: int) -> tuple[Tensor, Plan]:
+                    stream: CalibrationStream, plan: Labeled, seed: int
+                    ) -> tuple[Tensor, Plan, tuple[Tensor, Tensor] | None]:
     """The unit's codes (1, C, k) from its ordinary use (whole presses of its stream, labels unread)
-    and its plan's labeled rows `plan` (none: label-free), and the ordinary use read."""
+    and its plan's labeled rows `plan` (none: label-free), the ordinary use read, and the rows it adds
+    to the unit's network (`distilled_rows`; None unless the benchmark distilled with a plan)."""
     source, start = fleet_rows
+    if fleet.free.distil == "oracle":
+        raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.recipe.distil: 'oracle' reads the true "
+                          "contacts of the unit's ordinary use, a benchmark's research ceiling; a unit in "
+                          "use has none (benchmark with distil: fitted or off)")
     if start is None:
         raise AnytipError(f"{path}: its recipe trains a unit's network from scratch; reading ordinary use "
                           "pulls each unlabeled row's contact towards the pooled start network's "
@@ -909,5 +919,6 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
     except ValueError as e:
         raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.encoder: {e}") from None
     candidates = search_candidates(source.Y, fleet.free.candidates, seed)
-    codes = unit_codes_with_use(fit, recipe, fleet, X, Y0, candidates, seed, plan, first)
-    return codes[None], used
+    codes, fitted = unit_codes_with_use(fit, recipe, fleet, X, Y0, candidates, seed, plan, first)
+    distilled = distilled_rows(fleet.free, X, fitted) if len(plan.X) else None
+    return codes[None], used, distilled

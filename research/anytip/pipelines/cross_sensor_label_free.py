@@ -31,6 +31,7 @@ from anytip.train.label_free import (
     ForceScale,
     Labeled,
     LabelFreeRecipe,
+    distilled_rows,
     fleet_code_encoder,
     fleet_force_scale,
     plan_and_use_codes,
@@ -39,11 +40,10 @@ from anytip.train.label_free import (
     use_inputs,
 )
 from anytip.train.metrics import scores
-from anytip.train.response import ResponseFit, SourceRows, transfer, unit_networks
+from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
 from anytip.train.shared_split import SeedData, predict_rows
 
 METHOD = "response:label_free"
-WITH_USE = "response+use"  # a labeled budget's method with the unit's ordinary use (`with_plans`)
 
 
 @dataclass(frozen=True)
@@ -88,7 +88,7 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     assert opts.response is not None
     recipe, units = opts.response.recipe(), [*sd.split.val, *sd.split.test]
     codes = [unit_codes_with_use(fit, recipe, read.fleet, read.X[u], read.Y0[u], read.candidates, seed,
-                                 first=read.first[u]) for u in units]
+                                 first=read.first[u])[0] for u in units]
     carried = ((transfer(fit, source, z), source.Y) for z in codes)
     nets = unit_networks(carried, ctx.spec.model, recipe, seed, [f"{u}@label_free" for u in units],
                          arrays.output_names, fit.device, ctx.progress, start)
@@ -109,17 +109,31 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
 
 
 def plan_use_codes(fit: ResponseFit, opts: Options, read: OrdinaryUse, seed: int,
-                   jobs: list[tuple[str, Plan]], X: list[Tensor], Y: list[Tensor], codes: Tensor) -> Tensor:
+                   jobs: list[tuple[str, Plan]], X: list[Tensor], Y: list[Tensor], codes: Tensor
+                   ) -> tuple[Tensor, list[Tensor]]:
     """(M, C, k) codes of M labeled jobs (unit, plan) with rows X[m] (n_m, C) Pa, Y[m] (n_m, D), each
     from one joint fit of its plan's rows and its unit's ordinary use (`plan_and_use_codes`, entry 45),
-    started from the plan's own codes `codes` (M, C, k)."""
+    started from the plan's own codes `codes` (M, C, k); and each job's fitted contacts of its unit's
+    unlabeled rows (n_u, D) physical."""
     assert opts.response is not None
     recipe, fleet = opts.response.recipe(), read.fleet
-    return torch.stack([
-        plan_and_use_codes(fit, recipe, fleet.free, read.X[u], read.Y0[u], fleet.n_effective(),
-                           read.candidates, seed,
-                           Labeled(x.to(fit.device), y.to(fit.device), plan.n_effective), z, fleet.scale)
-        for (u, plan), x, y, z in zip(jobs, X, Y, codes, strict=True)])
+    fits = [plan_and_use_codes(fit, recipe, fleet.free, read.X[u], read.Y0[u], fleet.n_effective(),
+                               read.candidates, seed,
+                               Labeled(x.to(fit.device), y.to(fit.device), plan.n_effective), z, fleet.scale)
+            for (u, plan), x, y, z in zip(jobs, X, Y, codes, strict=True)]
+    return torch.stack([z for z, _ in fits]), [c for _, c in fits]
+
+
+def use_rows_for(read: OrdinaryUse, arrays: FleetArrays, unit: str, fitted: Tensor
+                 ) -> tuple[Tensor, Tensor] | None:
+    """The rows `unit`'s ordinary use adds to its network (`distilled_rows`): its fitted rows'
+    pressures with their fitted contacts `fitted` (n, D), or their true contacts for `oracle`."""
+    free = read.fleet.free
+    truth = None
+    if free.distil == "oracle":
+        rows = read.uses[unit].rows
+        truth = torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), free.rows).numpy()]])
+    return distilled_rows(free, read.X[unit], fitted, None if truth is None else truth.to(fitted.device))
 
 
 def use_fields(use: Plan) -> dict[str, Any]:

@@ -162,6 +162,13 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.plan_rows, ge=1, le=2**22, description="at most this many of a plan's "
         "labeled rows, evenly spaced, enter its joint fit with the ordinary use (null: all of them; "
         "research log entry 46)")
+    distil: Literal["off", "fitted", "oracle"] = Field(
+        default=LabelFreeRecipe.distil, description="with_plans: the ordinary use's fitted rows also train "
+        "the unit's network, labeled with the joint fit's contacts (`fitted`, rows `response+use+distil@`), "
+        "with their true contacts (`oracle`, a research ceiling that `anytip calibrate` refuses, rows "
+        "`response+use+oracle@`), or not (`off`; research log entry 78)")
+    distil_repeat: int = Field(default=LabelFreeRecipe.distil_repeat, ge=1, le=1000,
+                               description="times each of those rows enters the unit's network's rows")
     with_plans: bool = Field(
         default=False, description="also calibrate every labeled budget with the unit's ordinary use: its "
         "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "

@@ -33,17 +33,18 @@ from anytip.pipelines.cross_sensor_jobs import (
 )
 from anytip.pipelines.cross_sensor_label_free import METHOD as LABEL_FREE
 from anytip.pipelines.cross_sensor_label_free import (
-    WITH_USE,
     OrdinaryUse,
     label_free_rows,
     plan_use_codes,
     read_ordinary_use,
     use_fields,
+    use_rows_for,
 )
 from anytip.pipelines.cross_sensor_options import Options, budget_list
 from anytip.train.adapt import pooled_scaler
 from anytip.train.data import FleetBatchData
 from anytip.train.fleet import FitResult
+from anytip.train.label_free import WITH_USE, with_use_method
 from anytip.train.metrics import scores
 from anytip.train.response import (
     ResponseFit,
@@ -73,6 +74,7 @@ class ResponseRows(NamedTuple):
     val_loss: dict[Budget, float]
     label_free_loss: float | None = None
     use_val_loss: dict[Budget, float] = {}  # noqa: RUF012  (a NamedTuple's default, never mutated)
+    use_method: str = WITH_USE  # the method of use_val_loss's rows (`with_use_method`)
 
 
 def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
@@ -151,7 +153,9 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         meta["intervals"] = intervals_meta(opts.intervals.level, arrays.output_names, bands, use_bands,
                                            len(sd.split.factor))
     save_response(response_path(ctx, seed), fit.model, fit.noise_var, fit.code_var, meta)
-    return ResponseRows(rows, val_loss, free_loss, use_loss)
+    free = opts.response.label_free
+    return ResponseRows(rows, val_loss, free_loss, use_loss,
+                        WITH_USE if free is None else with_use_method(free.recipe()))
 
 
 def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
@@ -168,19 +172,22 @@ def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     so it starts as the job's `response@` network did and the two differ by their codes alone."""
     assert opts.response is not None
     recipe, jobs = opts.response.recipe(), plans.jobs
-    joint = plan_use_codes(fit, opts, read, seed, [(u, p) for u, _, p in jobs], plans.X, plans.Y, plans.codes)
-    mine = calibrated(ctx, arrays, sd, fit, carry, recipe, jobs, seed, joint)
+    joint, fitted = plan_use_codes(fit, opts, read, seed, [(u, p) for u, _, p in jobs], plans.X, plans.Y,
+                                   plans.codes)
+    extra = [use_rows_for(read, arrays, u, c) for (u, _, _), c in zip(jobs, fitted, strict=True)]
+    mine = calibrated(ctx, arrays, sd, fit, carry, recipe, jobs, seed, joint, extra)
     ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated with their ordinary use")
     bands = Bands({}, {}, {})
     if opts.intervals is not None:
         with_use = None
         if factor is not None:  # the factor units' joint fit from their plan codes, as the jobs' own
             pairs = [(u, p) for u, _, p in factor.jobs]
-            both = plan_use_codes(fit, opts, read, seed, pairs, factor.X, factor.Y, factor.codes)
-            with_use = calibrated(ctx, arrays, sd, fit, carry, recipe, factor.jobs, seed, both)
+            both, found = plan_use_codes(fit, opts, read, seed, pairs, factor.X, factor.Y, factor.codes)
+            more = [use_rows_for(read, arrays, u, c) for (u, _), c in zip(pairs, found, strict=True)]
+            with_use = calibrated(ctx, arrays, sd, fit, carry, recipe, factor.jobs, seed, both, more)
         bands = plan_bands(mine.nets, arrays, sd, mine.at(), mine.plans(), opts.intervals.level,
                            factor=with_use)
-    rows = [{"method": WITH_USE + plan_suffix(b), "unit": u, **budget_fields(b, plan),
+    rows = [{"method": with_use_method(read.fleet.free) + plan_suffix(b), "unit": u, **budget_fields(b, plan),
              **use_fields(read.uses[u]), **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
              **bands.fields.get(m, {})}
             for m, ((u, b, plan), pred) in enumerate(zip(jobs, mine.preds, strict=True))
@@ -215,16 +222,19 @@ class Calibrated(NamedTuple):
 
 def calibrated(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit,
                carry: tuple[SourceRows, FitResult | None], recipe: ResponseRecipe,
-               jobs: list[tuple[str, Budget, Plan]], seed: int, codes: Tensor | None = None) -> Calibrated:
+               jobs: list[tuple[str, Budget, Plan]], seed: int, codes: Tensor | None = None,
+               extra: list[tuple[Tensor, Tensor] | None] | None = None) -> Calibrated:
     """`jobs` calibrated by response transfer with `recipe` (`carry`: the source rows and the start
-    network), their codes fitted on their plans or given (`codes`, (M, C, k)), and scored on their
+    network), their codes fitted on their plans or given (`codes`, (M, C, k)), each network also
+    trained on its job's `extra` rows where given (`calibrate_by_response`), and scored on their
     units' test rows."""
     source, start = carry
     X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
     Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
     ids = [f"{u}@{b.label}" for u, b, _ in jobs]
     nets, got = calibrate_by_response(fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model,
-                                      recipe, seed, ids, arrays.output_names, ctx.progress, start, codes)
+                                      recipe, seed, ids, arrays.output_names, ctx.progress, start, codes,
+                                      extra)
     preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     return Calibrated(jobs, X, Y, got, nets, preds)
@@ -272,7 +282,7 @@ def budget_losses(preds: list[np.ndarray], jobs: list[tuple[str, Budget, Plan]],
 
 def val_by_method(got: ResponseRows) -> dict[str, dict[str, float]]:
     """{row method: {budget: validation-unit loss}} of every method of response transfer's rows."""
-    out = validation_by_method(METHOD, got.val_loss) | validation_by_method(WITH_USE, got.use_val_loss)
+    out = validation_by_method(METHOD, got.val_loss) | validation_by_method(got.use_method, got.use_val_loss)
     if got.label_free_loss is not None:
         out[LABEL_FREE] = {"0": got.label_free_loss}
     return out

@@ -57,6 +57,9 @@ from anytip.train.response import (
     respond,
 )
 
+DISTIL = ("off", "fitted", "oracle")
+WITH_USE = "response+use"  # a labeled budget's method with the unit's ordinary use
+
 
 @dataclass(frozen=True)
 class LabelFreeRecipe:
@@ -67,7 +70,10 @@ class LabelFreeRecipe:
     `start`: the search's first codes, the fleet's code encoder's for the unit (`fleet_code_encoder`,
     entry 44) or zero (the fleet's typical unit); `plan_rows`: at most this many of a plan's labeled
     rows, evenly spaced, enter a joint fit with them (`plan_and_use_codes`; None: all of them, entry
-    45), as `fit_codes` reads `code_rows` of them (entry 46)."""
+    45), as `fit_codes` reads `code_rows` of them (entry 46); `distil`: with a plan, the unlabeled rows
+    join the unit's network's rows `distil_repeat` times, labeled with the joint fit's contacts
+    (`fitted`), with their true contacts (`oracle`, a research ceiling: ordinary use has none), or
+    not at all (`off`; entry 78)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -78,9 +84,12 @@ class LabelFreeRecipe:
     force_scale: bool = True
     start: Literal["encoder", "zero"] = "encoder"
     plan_rows: int | None = 2048
+    distil: Literal["off", "fitted", "oracle"] = "off"
+    distil_repeat: int = 1
 
     def __post_init__(self) -> None:
-        counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1}
+        counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
+                  "distil_repeat": 1}
         for key, least in counts.items():
             v = getattr(self, key)
             if not (v is None and key == "plan_rows") and (type(v) is not int or v < least):
@@ -93,6 +102,8 @@ class LabelFreeRecipe:
             raise ValueError(f"force_scale: expected true or false, got {self.force_scale!r}")
         if self.start not in ("encoder", "zero"):
             raise ValueError(f"start: expected 'encoder' or 'zero', got {self.start!r}")
+        if self.distil not in DISTIL:
+            raise ValueError(f"distil: expected one of {', '.join(DISTIL)}, got {self.distil!r}")
 
     @classmethod
     def from_json(cls, values: Any) -> LabelFreeRecipe:
@@ -474,29 +485,52 @@ def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRe
 
 def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
                        n_eff: float, candidates: Tensor, seed: int, labeled: Labeled, codes: Tensor,
-                       scale: ForceScale | None = None) -> Tensor:
+                       scale: ForceScale | None = None) -> tuple[Tensor, Tensor]:
     """A unit's codes (C, k) from its plan's labeled rows and its ordinary use's unlabeled pressures
-    X (n, C) Pa together (entry 45): each unlabeled row's first contact is its nearest candidate under
-    the plan's own codes `codes` (C, k), scaled to the force prior where given, then the joint fit
-    with at most `free.plan_rows` of the labeled rows (entry 46), pulled towards contacts Y0 (n, D).
-    Without unlabeled rows: `codes`."""
+    X (n, C) Pa together (entry 45), and the unlabeled rows' fitted contacts (n, D) physical: each
+    unlabeled row's first contact is its nearest candidate under the plan's own codes `codes` (C, k),
+    scaled to the force prior where given, then the joint fit with at most `free.plan_rows` of the
+    labeled rows (entry 46), pulled towards contacts Y0 (n, D). Without unlabeled rows: `codes`."""
     if not len(X):
-        return codes
+        return codes, Y0
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes)
-    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale,
-                     labeled.thinned(free.plan_rows))[0]
+    z, c, _ = joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale,
+                        labeled.thinned(free.plan_rows))
+    return z, c
 
 
 def unit_codes_with_use(fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUse, X: Tensor, Y0: Tensor,
                         candidates: Tensor, seed: int, plan: Labeled | None = None,
-                        first: Tensor | None = None) -> Tensor:
+                        first: Tensor | None = None) -> tuple[Tensor, Tensor]:
     """One new unit's codes (C, k) from its ordinary use's pressures X (n, C) Pa, each row's contact
     pulled towards Y0 (n, D), read as `fleet` says: with a plan's labeled rows, their joint fit
     started from the plan's own codes (`plan_and_use_codes`, entries 45-46); without (or with an empty
-    plan), the label-free fit searched from `first` (C, k) (`label_free_codes`, entry 44)."""
+    plan), the label-free fit searched from `first` (C, k) (`label_free_codes`, entry 44). Also the
+    rows' fitted contacts (n, D) physical."""
     n_eff = fleet.n_effective()
     if plan is not None and len(plan.X):
         codes = fit_codes(fit, [plan.X], [plan.Y], [plan.n_eff], recipe, seed)[0]
         return plan_and_use_codes(fit, recipe, fleet.free, X, Y0, n_eff, candidates, seed, plan, codes,
                                   fleet.scale)
-    return label_free_codes(fit, recipe, fleet.free, X, Y0, n_eff, candidates, seed, fleet.scale, first)[0]
+    z, c, _ = label_free_codes(fit, recipe, fleet.free, X, Y0, n_eff, candidates, seed, fleet.scale, first)
+    return z, c
+
+
+def with_use_method(free: LabelFreeRecipe) -> str:
+    """The method of a labeled budget calibrated with the unit's ordinary use: `response+use`, with
+    `+distil` or `+oracle` where the use's rows join the unit's network (`free.distil`, entry 78)."""
+    return {"off": WITH_USE, "fitted": f"{WITH_USE}+distil", "oracle": f"{WITH_USE}+oracle"}[free.distil]
+
+
+def distilled_rows(free: LabelFreeRecipe, X: Tensor, fitted: Tensor, truth: Tensor | None = None
+                   ) -> tuple[Tensor, Tensor] | None:
+    """What a unit's ordinary use adds to its network's rows under `free.distil` (entry 78): its
+    unlabeled pressures X (n, C) Pa, `free.distil_repeat` times, with the joint fit's contacts
+    `fitted` (n, D) or, for `oracle`, their true contacts `truth` (n, D); None for `off`."""
+    if free.distil == "off":
+        return None
+    labels = fitted if free.distil == "fitted" else truth
+    if labels is None:
+        raise ValueError("distil: oracle needs the ordinary use's true contacts, which only a benchmark has")
+    r = free.distil_repeat
+    return X.repeat(r, 1), labels.to(X.dtype).repeat(r, 1)

@@ -28,7 +28,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -397,20 +397,31 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
                           recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0,
                           ids: list[str] | None = None, output_names: tuple[str, ...] = OUTPUT_NAMES,
                           progress: bool = False, start: FitResult | LoadedModels | None = None,
-                          codes: Tensor | None = None) -> tuple[FitResult, Tensor]:
+                          codes: Tensor | None = None,
+                          extra: Sequence[tuple[Tensor, Tensor] | None] | None = None
+                          ) -> tuple[FitResult, Tensor]:
     """M new units' plain networks of `shape` (one batched fleet) and their codes (M, C, k).
 
     Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
-    n_effective[m] rows (or given as `codes`); its network trained on the transferred source rows
-    and its own calibration rows (`unit_networks`), from `start` (`start_network`) where the
-    recipe's `inverse_start` is `pooled`."""
+    n_effective[m] rows (or given as `codes`); its network trained on the transferred source rows,
+    its own calibration rows and its `extra[m]` rows (pressures (e, C) Pa, contacts (e, D)) where
+    given (`unit_networks`), from `start` (`start_network`) where the recipe's `inverse_start` is
+    `pooled`."""
     if (start is None) != (recipe.inverse_start == "scratch"):
         raise ValueError(f"inverse_start {recipe.inverse_start!r} with{'out' if start is None else ''} "
                          "a start network")
     if codes is None:
         codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
-    rows = ((torch.cat([transfer(fit, source, codes[m]), x.to(fit.device)]),
-             torch.cat([source.Y, y.to(fit.device)])) for m, (x, y) in enumerate(zip(X, Y, strict=True)))
+    more = list(extra) if extra is not None else [None] * len(X)
+
+    def job_rows(m: int, x: Tensor, y: Tensor) -> tuple[Tensor, Tensor]:
+        xs, ys = [transfer(fit, source, codes[m]), x.to(fit.device)], [source.Y, y.to(fit.device)]
+        if more[m] is not None:
+            xs.append(more[m][0].to(fit.device))
+            ys.append(more[m][1].to(fit.device))
+        return torch.cat(xs), torch.cat(ys)
+
+    rows = (job_rows(m, x, y) for m, (x, y) in enumerate(zip(X, Y, strict=True)))
     return unit_networks(rows, shape, recipe, seed, ids, output_names, fit.device, progress, start), codes
 
 
