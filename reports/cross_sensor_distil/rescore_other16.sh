@@ -1,5 +1,5 @@
 #!/bin/bash
-# Research log entry 78: entry 54's other16 fold K rescored at 120 s with ARM = off, fitted or oracle
+# Research log entry 78: entry 54's other16 fold K rescored at 120 s with ARM = none, fitted or oracle
 # (`options.response.label_free.distil`, 4 repeats), without intervals.
 #   bash reports/cross_sensor_distil/rescore_other16.sh K ARM
 set -euo pipefail

@@ -902,7 +902,7 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
     if fleet.free.distil == "oracle":
         raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.recipe.distil: 'oracle' reads the true "
                           "contacts of the unit's ordinary use, a benchmark's research ceiling; a unit in "
-                          "use has none (benchmark with distil: fitted or off)")
+                          "use has none (benchmark with distil: fitted or none)")
     if start is None:
         raise AnytipError(f"{path}: its recipe trains a unit's network from scratch; reading ordinary use "
                           "pulls each unlabeled row's contact towards the pooled start network's "

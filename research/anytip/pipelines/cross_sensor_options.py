@@ -162,11 +162,11 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.plan_rows, ge=1, le=2**22, description="at most this many of a plan's "
         "labeled rows, evenly spaced, enter its joint fit with the ordinary use (null: all of them; "
         "research log entry 46)")
-    distil: Literal["off", "fitted", "oracle"] = Field(
+    distil: Literal["none", "fitted", "oracle"] = Field(
         default=LabelFreeRecipe.distil, description="with_plans: the ordinary use's fitted rows also train "
         "the unit's network, labeled with the joint fit's contacts (`fitted`, rows `response+use+distil@`), "
         "with their true contacts (`oracle`, a research ceiling that `anytip calibrate` refuses, rows "
-        "`response+use+oracle@`), or not (`off`; research log entry 78)")
+        "`response+use+oracle@`), or not (`none`, the default; research log entry 78)")
     distil_repeat: int = Field(default=LabelFreeRecipe.distil_repeat, ge=1, le=1000,
                                description="times each of those rows enters the unit's network's rows")
     with_plans: bool = Field(

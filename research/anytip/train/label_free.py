@@ -57,7 +57,7 @@ from anytip.train.response import (
     respond,
 )
 
-DISTIL = ("off", "fitted", "oracle")
+DISTIL = ("none", "fitted", "oracle")
 WITH_USE = "response+use"  # a labeled budget's method with the unit's ordinary use
 
 
@@ -73,7 +73,7 @@ class LabelFreeRecipe:
     45), as `fit_codes` reads `code_rows` of them (entry 46); `distil`: with a plan, the unlabeled rows
     join the unit's network's rows `distil_repeat` times, labeled with the joint fit's contacts
     (`fitted`), with their true contacts (`oracle`, a research ceiling: ordinary use has none), or
-    not at all (`off`; entry 78)."""
+    not at all (`none`; entry 78)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -84,7 +84,7 @@ class LabelFreeRecipe:
     force_scale: bool = True
     start: Literal["encoder", "zero"] = "encoder"
     plan_rows: int | None = 2048
-    distil: Literal["off", "fitted", "oracle"] = "off"
+    distil: Literal["none", "fitted", "oracle"] = "none"
     distil_repeat: int = 1
 
     def __post_init__(self) -> None:
@@ -519,7 +519,7 @@ def unit_codes_with_use(fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUs
 def with_use_method(free: LabelFreeRecipe) -> str:
     """The method of a labeled budget calibrated with the unit's ordinary use: `response+use`, with
     `+distil` or `+oracle` where the use's rows join the unit's network (`free.distil`, entry 78)."""
-    return {"off": WITH_USE, "fitted": f"{WITH_USE}+distil", "oracle": f"{WITH_USE}+oracle"}[free.distil]
+    return {"none": WITH_USE, "fitted": f"{WITH_USE}+distil", "oracle": f"{WITH_USE}+oracle"}[free.distil]
 
 
 def distilled_rows(free: LabelFreeRecipe, X: Tensor, fitted: Tensor, truth: Tensor | None = None
@@ -527,7 +527,7 @@ def distilled_rows(free: LabelFreeRecipe, X: Tensor, fitted: Tensor, truth: Tens
     """What a unit's ordinary use adds to its network's rows under `free.distil` (entry 78): its
     unlabeled pressures X (n, C) Pa, `free.distil_repeat` times, with the joint fit's contacts
     `fitted` (n, D) or, for `oracle`, their true contacts `truth` (n, D); None for `off`."""
-    if free.distil == "off":
+    if free.distil == "none":
         return None
     labels = fitted if free.distil == "fitted" else truth
     if labels is None:
