@@ -14,6 +14,7 @@ from anytip.train.label_free import (
     ForceScale,
     Labeled,
     LabelFreeRecipe,
+    distilled_rows,
     joint_fit,
     joint_objective,
     label_free_codes,
@@ -22,6 +23,7 @@ from anytip.train.label_free import (
     plan_and_use_codes,
     schur_step,
     searched_start,
+    with_use_method,
 )
 from anytip.train.response import ResponseFit, ResponseRecipe, fit_codes
 
@@ -295,3 +297,23 @@ def test_the_models_jacobians_are_autograds_per_row(force_cols):
         off = want_z.detach().clone()
         off[:, torch.arange(6), torch.arange(6)] = 0  # a barometer's pressure reads no other's code
         assert off.abs().max() == 0
+
+
+def test_distilled_rows_repeat_the_use_with_fitted_or_true_contacts_and_a_bad_choice_is_named():
+    """`distil` (entry 78): none adds nothing; fitted adds the pressures with the joint fit's contacts,
+    oracle with the true ones, each `distil_repeat` times; oracle without true contacts and an unknown
+    choice are refused by name; each choice has its own method name."""
+    X, fitted, truth = torch.randn(7, 8), _contacts(7, 1), _contacts(7, 2)
+    assert distilled_rows(LabelFreeRecipe(), X, fitted, truth) is None
+    xs, ys = distilled_rows(LabelFreeRecipe(distil="fitted", distil_repeat=3), X, fitted, truth)
+    assert xs.shape == (21, 8) and torch.equal(xs[14:], X) and torch.equal(ys[7:14], fitted)
+    xs, ys = distilled_rows(LabelFreeRecipe(distil="oracle"), X, fitted, truth)
+    assert torch.equal(xs, X) and torch.equal(ys, truth)
+    with pytest.raises(ValueError, match="oracle needs the ordinary use's true contacts"):
+        distilled_rows(LabelFreeRecipe(distil="oracle"), X, fitted)
+    with pytest.raises(ValueError, match="distil: expected one of none, fitted, oracle, got 'off'"):
+        LabelFreeRecipe(distil="off")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="distil_repeat: expected a whole number >= 1"):
+        LabelFreeRecipe(distil_repeat=0)
+    names = {with_use_method(LabelFreeRecipe(distil=d)) for d in ("none", "fitted", "oracle")}  # type: ignore[arg-type]
+    assert names == {"response+use", "response+use+distil", "response+use+oracle"}

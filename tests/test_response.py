@@ -1247,3 +1247,35 @@ def _margin_of(got) -> float:
     """The margin a calibration applied: 1 unless a note says otherwise."""
     said = [n for n in got.notes if n.startswith("the fleet factor times ")]
     return float(said[0].split()[4].rstrip(":")) if said else 1.0
+
+
+def test_ordinary_use_distilled_into_the_units_network_is_a_method_of_its_own_in_the_run_and_calibrate(
+        fleet, tmp_path):
+    """`label_free.distil: fitted` (entry 78): the run's rows with ordinary use are
+    `response+use+distil@`, chosen on their own validation loss; `anytip calibrate` reads the choice
+    from the response model: the same codes as without it, another network, the method recorded;
+    a model whose record says `oracle` (true contacts, a benchmark's ceiling) is refused by name."""
+    free = ("label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2, "
+            "with_plans: true, zero_shot: false, distil: fitted, distil_repeat: 2}")
+    over = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"), "splits.n_train_units=3",
+            "options.adapters=[input_affine]", "options.fits=[{}]"]
+    run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
+    methods = {r["method"].split("@")[0] for r in json.loads((run / "metrics.json").read_text())["results"]}
+    assert "response+use+distil" in methods and "response+use" not in methods
+    val = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["val_loss"]
+    assert any(k.startswith("response+use+distil@") for k in val)
+    unit, response = _held_out(run), run / "models" / "response_seed0.safetensors"
+    calibrate_unit(run, unit, fleet, tmp_path / "fitted", budget_seconds=40, use_seconds=15)
+    header = json.loads(response.with_suffix(".json").read_text())
+    assert header["meta"]["label_free"]["recipe"]["distil"] == "fitted"
+    header["meta"]["label_free"]["recipe"]["distil"] = "none"
+    response.with_suffix(".json").write_text(json.dumps(header))
+    calibrate_unit(run, unit, fleet, tmp_path / "none", budget_seconds=40, use_seconds=15)
+    got = {k: load_models(tmp_path / k) for k in ("fitted", "none")}
+    assert [got[k].meta["method"] for k in ("fitted", "none")] == ["response+use+distil", "response+use"]
+    assert got["fitted"].meta["codes"] == got["none"].meta["codes"]
+    assert not torch.equal(got["fitted"].model.weights[0], got["none"].model.weights[0])
+    header["meta"]["label_free"]["recipe"]["distil"] = "oracle"
+    response.with_suffix(".json").write_text(json.dumps(header))
+    with pytest.raises(AnytipError, match=r"response_seed0.json: meta.label_free.recipe.distil: 'oracle'"):
+        calibrate_unit(run, unit, fleet, tmp_path / "oracle", budget_seconds=40, use_seconds=15)
