@@ -66,6 +66,19 @@ from anytip.train.response import TRAINING_FIELDS, ResponseFit, ResponseRecipe
 from anytip.train.shared_split import SeedData, predict_rows
 
 
+def rescored_from(run: Path, overrides: list[str], retrain: bool, response_model: str | None,
+                  added: tuple[str, ...]) -> str:
+    """The sentence a rescored run's description starts with, so that its report says what was
+    scored again and how (the source spec's description follows it, budgets and methods as the
+    source had them)."""
+    how = [f"`--set {o}`" for o in overrides]
+    how += ["the response models trained again"] if retrain else []
+    how += [f"the response models `{response_model}`"] if response_model else []
+    how += [f"the runs of `{p}` added" for p in added]
+    return (f"Rescored by response transfer alone from `{run}`"
+            f"{' with ' + ', '.join(how) if how else ''}; the source's description:")
+
+
 def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain: bool = False,
             response_model: str | None = None, added: tuple[str, ...] = (), paired_only: bool = False,
             references: Path | None = None) -> Path:
@@ -91,9 +104,11 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
                           "their references are scored again: give --references with it")
     if retrain and response_model:
         raise AnytipError("--retrain and --response-model exclude each other")
+    said = rescored_from(run, overrides, retrain, response_model, added)
     if response_model:  # the extra units trained that model; they are not read here
         overrides = [*overrides, "options.extra_units=null"]
     spec = load_spec(run / "config.yaml", [*overrides, "options.adapters=[]"])
+    spec = spec.model_copy(update={"description": f"{said} {spec.description}".strip()})
     old = read_json(run / "provenance.json")
     ctx = Context(spec, Registry(registry, create=False), out, torch.device("cpu"), False,
                   {"spec_file": str(run / "config.yaml")})

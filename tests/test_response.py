@@ -18,12 +18,16 @@ from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_flat_into
 from anytip.errors import AnytipError
 from anytip.models.io import ModelFileError, load_models, load_response, save_response
+from anytip.models.mlp import MLPConfig
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.runner import run_experiment
 from anytip.train.data import FleetBatchData, UnitTensors
+from anytip.train.fleet import joined_fits
+from anytip.train.metrics import predict
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
+    calibrate_by_response,
     fit_codes,
     residual_rms,
     source_rows,
@@ -152,6 +156,37 @@ def test_transfer_to_a_training_unit_gives_its_own_rows_back(made_up):
     torch.testing.assert_close(moved[own], source.X[own], atol=1e-3, rtol=0)
     other = transfer(fit, source, fit.model.codes.detach()[4])
     assert (other[own] - source.X[own]).abs().max() > 10  # another unit reads the same contact otherwise
+
+
+def test_a_job_trains_as_alone_in_its_group_and_the_joined_fleet_keeps_each_jobs_network(made_up):
+    """`calibrate_by_response(groups=...)`: a fleet's epoch is its largest job's, so a small plan
+    trained beside a large one takes more steps than alone; in a group of its own each job's network
+    is the one it gets alone (what `anytip calibrate` trains), and the joined fleet holds every job's
+    network, scalers and id at its own index."""
+    _, _, fit = made_up
+    new, _ = made_up_fleet(2, seed=97)
+    X = [new.unit(0).X_train[:40], new.unit(1).X_train[:400]]
+    Y = [new.unit(0).Y_train[:40], new.unit(1).Y_train[:400]]
+    source = source_rows(fit, made_up[0], 50, seed=0)
+    recipe = replace(FAST_FIT, inverse_batch=64)
+
+    def nets(m: list[int], groups: list[str] | None = None):
+        return calibrate_by_response(fit, source, [X[i] for i in m], [Y[i] for i in m], [40.0] * len(m),
+                                     MLPConfig(sizes=(C, 16, 5)), recipe, ids=[f"job{i}" for i in m],
+                                     groups=groups)[0]
+
+    alone, together, apart = [nets([0]), nets([1])], nets([0, 1]), nets([0, 1], ["small", "large"])
+    probe = new.unit(0).X_val[:30][None]
+    for m in (0, 1):
+        mine = predict(alone[m].model, alone[m].in_scaler, alone[m].out_scaler, probe)[0]
+        torch.testing.assert_close(predict(apart.model.model_slice(m), apart.in_scaler.take([m]),
+                                           apart.out_scaler.take([m]), probe)[0], mine, rtol=0, atol=0)
+    small = predict(together.model.model_slice(0), together.in_scaler.take([0]),
+                    together.out_scaler.take([0]), probe)[0]
+    assert not torch.equal(small, predict(alone[0].model, alone[0].in_scaler, alone[0].out_scaler, probe)[0])
+    assert apart.unit_ids == ["job0", "job1"] and [p["jobs"] for p in apart.extra["parts"]] == [[0], [1]]
+    with pytest.raises(ValueError, match="not 0..1 once each"):
+        joined_fits([([0], alone[0]), ([0], alone[1])])
 
 
 def test_a_saved_response_model_loads_equal_and_a_damaged_one_is_named(made_up, tmp_path):
@@ -385,6 +420,7 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     assert now == mine
     assert (out / "models" / "shared_input_affine-film_seed0.safetensors").is_file()  # calibrate reads it
     assert "response@spread" in (out / "report.md").read_text()
+    assert f"Rescored by response transfer alone from `{response_run}`;" in (out / "report.md").read_text()
     assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(tmp_path / "b"),
                          "--set", "options.response.hidden=64"]) == 2
     assert not (tmp_path / "b").exists()
@@ -396,6 +432,8 @@ def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, 
     assert rescore.main([str(response_run), "--registry", str(fleet.root), "--out", str(wider), "--retrain",
                          "--set", "options.response.hidden=48"]) == 0
     assert load_response(wider / "models" / "response_seed0.safetensors").model.config.hidden == 48
+    assert ("with `--set options.response.hidden=48`, the response models trained again; the source's "
+            "description:") in (wider / "report.md").read_text().replace("\n", " ")
     assert len(load_response(again / "models" / "response_seed0.safetensors").meta["training_digest"]) == 64
     crafted = tmp_path / "crafted"
     shutil.copytree(response_run, crafted)

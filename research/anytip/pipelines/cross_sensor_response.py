@@ -226,15 +226,16 @@ def calibrated(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit
                extra: list[tuple[Tensor, Tensor] | None] | None = None) -> Calibrated:
     """`jobs` calibrated by response transfer with `recipe` (`carry`: the source rows and the start
     network), their codes fitted on their plans or given (`codes`, (M, C, k)), each network also
-    trained on its job's `extra` rows where given (`calibrate_by_response`), and scored on their
-    units' test rows."""
+    trained on its job's `extra` rows where given (`calibrate_by_response`), one batched fleet per
+    budget (so a job trains for as many steps as `anytip calibrate` gives its plan, whatever other
+    budgets the run holds), and scored on their units' test rows."""
     source, start = carry
     X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
     Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
     ids = [f"{u}@{b.label}" for u, b, _ in jobs]
     nets, got = calibrate_by_response(fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model,
                                       recipe, seed, ids, arrays.output_names, ctx.progress, start, codes,
-                                      extra)
+                                      extra, [b for _, b, _ in jobs])
     preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     return Calibrated(jobs, X, Y, got, nets, preds)

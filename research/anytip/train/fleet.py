@@ -9,6 +9,7 @@ update and per-unit samplers, unit u's trained weights do not depend on any othe
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -155,6 +156,29 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     return FitResult(model, in_scaler, out_scaler, history, list(data.unit_ids), recipe, seed,
                      time.perf_counter() - start, output_names=data.output_names,
                      extra={"steps": step + 1, "steps_per_epoch": steps_per_epoch})
+
+
+def joined_fits(parts: Sequence[tuple[Sequence[int], FitResult]]) -> FitResult:
+    """One fleet of fleets trained apart: part (jobs, fit) puts fit's model i at index jobs[i] (the
+    parts' jobs together are 0..M-1 once each), with its scalers and unit id. Their training curves
+    do not share evaluation points, so they stay apart, each with its jobs, under extra["parts"];
+    the joined history is empty. Wall time is the parts' sum."""
+    order = [(m, fit, i) for jobs, fit in parts for i, m in enumerate(jobs)]
+    order.sort(key=lambda t: t[0])
+    if [m for m, _, _ in order] != list(range(len(order))):
+        raise ValueError(f"the parts' jobs are not 0..{len(order) - 1} once each")
+    first = parts[0][1]
+    model = BatchedMLP.from_plain([fit.model.to_plain(i) for _, fit, i in order], first.model.config)
+
+    def scaler(which: str) -> Scaler:
+        taken = [getattr(fit, which).take([i]) for _, fit, i in order]
+        return Scaler(torch.cat([t.mean for t in taken]), torch.cat([t.std for t in taken]))
+
+    ids = [fit.unit_ids[i] for _, fit, i in order]
+    return FitResult(model, scaler("in_scaler"), scaler("out_scaler"), [], ids, first.recipe,
+                     first.seed, sum(fit.wall_s for _, fit in parts), output_names=first.output_names,
+                     extra={"parts": [{"jobs": list(jobs), "history": fit.history, **fit.extra}
+                                      for jobs, fit in parts]})
 
 
 def start_mismatch(init: FitResult | LoadedModels, config: MLPConfig) -> str | None:

@@ -28,7 +28,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Hashable, Iterable, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -43,7 +43,7 @@ from anytip.models.io import LoadedModels, LoadedResponse
 from anytip.models.mlp import MLPConfig
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.train.data import FleetBatchData, UnitSampler, UnitTensors, pad_rows
-from anytip.train.fleet import FitResult, ProgressBar, train_fleet
+from anytip.train.fleet import FitResult, ProgressBar, joined_fits, train_fleet
 from anytip.train.recipe import FAST, TrainRecipe, lr_at, set_lr
 
 CODE_FITS = ("gauss_newton", "adam")  # how a new unit's codes are fitted (fit_codes)
@@ -398,15 +398,19 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
                           ids: list[str] | None = None, output_names: tuple[str, ...] = OUTPUT_NAMES,
                           progress: bool = False, start: FitResult | LoadedModels | None = None,
                           codes: Tensor | None = None,
-                          extra: Sequence[tuple[Tensor, Tensor] | None] | None = None
-                          ) -> tuple[FitResult, Tensor]:
-    """M new units' plain networks of `shape` (one batched fleet) and their codes (M, C, k).
+                          extra: Sequence[tuple[Tensor, Tensor] | None] | None = None,
+                          groups: Sequence[Hashable] | None = None) -> tuple[FitResult, Tensor]:
+    """M new units' plain networks of `shape` and their codes (M, C, k).
 
     Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
     n_effective[m] rows (or given as `codes`); its network trained on the transferred source rows,
     its own calibration rows and its `extra[m]` rows (pressures (e, C) Pa, contacts (e, D)) where
     given (`unit_networks`), from `start` (`start_network`) where the recipe's `inverse_start` is
-    `pooled`."""
+    `pooled`. The jobs of one key of `groups` (one per job; None: one group) train as one batched
+    fleet, each group apart, in the order of its first job: a fleet's epoch is as long as its largest
+    job's rows (`UnitSampler`), so a job trained beside much larger ones (a 10 s plan beside a 600 s
+    plan) would take more steps than `anytip calibrate` gives it alone, and its draws are those of
+    its index within its group."""
     if (start is None) != (recipe.inverse_start == "scratch"):
         raise ValueError(f"inverse_start {recipe.inverse_start!r} with{'out' if start is None else ''} "
                          "a start network")
@@ -421,8 +425,15 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
             ys.append(more[m][1].to(fit.device))
         return torch.cat(xs), torch.cat(ys)
 
-    rows = (job_rows(m, x, y) for m, (x, y) in enumerate(zip(X, Y, strict=True)))
-    return unit_networks(rows, shape, recipe, seed, ids, output_names, fit.device, progress, start), codes
+    keys = list(groups) if groups is not None else [None] * len(X)
+    parts = []
+    for key in dict.fromkeys(keys):
+        ms = [m for m, k in enumerate(keys) if k == key]
+        rows = (job_rows(m, X[m], Y[m]) for m in ms)
+        nets = unit_networks(rows, shape, recipe, seed, None if ids is None else [ids[m] for m in ms],
+                             output_names, fit.device, progress, start)
+        parts.append((ms, nets))
+    return parts[0][1] if len(parts) == 1 else joined_fits(parts), codes
 
 
 def start_network_path(response_path: Path) -> Path:
