@@ -20,13 +20,13 @@ o16() { folds "reports/$1" other16_seed 4; }
 
 # fleet88 (88 pre-registered held-out units, two folds) and other16 (another elastomer, every unit
 # held out once, four folds)
-pool fleet88_budgets reports/cross_sensor_budgets fleet88_seed 2          # plan alone, 10 to 600 s (entry 74)
+pool fleet88_budgets reports/cross_sensor_budgets fleet88_grouped_seed 2  # plan alone, 10 to 600 s, one fleet per budget (entry 79)
 pool fleet88_use reports/cross_sensor_response_label_free fleet88_seed 2  # with 600 s of ordinary use
 pool fleet88_use60 reports/cross_sensor_budgets fleet88_use60_seed 2      # 60 s, with ordinary use (entry 76)
 pool fleet88_use30 reports/cross_sensor_budgets fleet88_use30_seed 2      # 30 s, with ordinary use (entry 77)
 pool fleet88_gpu reports/cross_sensor_response_gpu/entry52 fleet88_seed 2 # 1,024 simulated units
 pool fleet88_designed reports/cross_sensor_response_gpu/entry58 fleet88_seed 2  # designed plan beside cover
-pool other16_budgets reports/cross_sensor_response_start other16_seed 4   # plan alone, 30 to 600 s
+pool other16_budgets reports/cross_sensor_budgets other16_grouped_seed 4  # plan alone, 30 to 600 s, one fleet per budget (entry 79)
 pool other16_use reports/cross_sensor_response_label_free/other16_use other16_seed 4
 pool other16_gpu reports/cross_sensor_response_gpu/entry54/b512e60 other16_seed 4
 pool other16_budgets_use reports/cross_sensor_budgets other16_seed 4  # 10 to 120 s, with ordinary use (entry 75)
