@@ -29,7 +29,7 @@ pool fleet88_designed reports/cross_sensor_response_gpu/entry58 fleet88_seed 2  
 pool other16_budgets reports/cross_sensor_budgets other16_grouped_seed 4  # plan alone, 30 to 600 s, one fleet per budget (entry 79)
 pool other16_use reports/cross_sensor_response_label_free/other16_use other16_seed 4
 pool other16_gpu reports/cross_sensor_response_gpu/entry54/b512e60 other16_seed 4
-pool other16_budgets_use reports/cross_sensor_budgets other16_seed 4  # 10 to 120 s, with ordinary use (entry 75)
+pool other16_budgets_use reports/cross_sensor_budgets other16_use_grouped_seed 4  # 10 to 120 s, with ordinary use, one fleet per budget (entries 75, 79)
 
 anytip compare --force --out $R/recipe \
   --title "The 2-minute recipe, one ingredient added at a time (fleet88, 88 pre-registered held-out units)" \
