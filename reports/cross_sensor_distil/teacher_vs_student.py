@@ -21,7 +21,6 @@ import anytip.calibrate as cal
 from anytip.cli import main
 from anytip.models.io import load_models
 from anytip.train.metrics import predict
-from anytip.train.response import evenly_spaced
 
 got: dict[str, Any] = {}
 _use, _distil = cal.stream_ordinary_use, cal.distilled_rows
@@ -49,7 +48,7 @@ if __name__ == "__main__":
     main(["calibrate", "--model", run, "--unit", unit, "--registry", registry, "--budget-seconds", "120",
           "--method", "response", "--ordinary-use", "600", "--out", out, "--force"])
     arrays, free = got["arrays"], got["free"]
-    rows = got["used"].rows[evenly_spaced(len(got["used"].rows), free.rows).numpy()]
+    rows = got["used"].rows[free.read_rows(len(got["used"].rows))]
     truth, fc = arrays.targets[rows], list(arrays.force_columns)
     net = load_models(out + "/model.safetensors")
     teacher = got["fitted"].numpy() - truth

@@ -797,14 +797,14 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
             raise AnytipError(f"{start_network_path(path)}: {problem}")
     tick = time.perf_counter()
     source = _source_rows(path, fit, training, recipe.source_rows, seed, notes)
-    given, used = None, Plan.empty()
+    given, used, distilled = None, Plan.empty(), None
     if use is not None:
         fleet = _fleet_use(path, meta, fit, use, (training_arrays, units), seed, notes)
         given, used, distilled = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays, stream,
                                                  Labeled(X, Y, plan.n_effective), seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
-                                        extra=[distilled] if use is not None else None)
+                                        extra=[distilled])
     wall_s = time.perf_counter() - tick
     own = _response_own_check(loaded, fit, plan, (X, Y, codes[0]), _at_budget(
         _strategy_table(meta, "residual", strategy), budget), notes)

@@ -40,7 +40,7 @@ from anytip.train.label_free import (
     use_inputs,
 )
 from anytip.train.metrics import scores
-from anytip.train.response import ResponseFit, SourceRows, evenly_spaced, transfer, unit_networks
+from anytip.train.response import ResponseFit, SourceRows, transfer, unit_networks
 from anytip.train.shared_split import SeedData, predict_rows
 
 METHOD = "response:label_free"
@@ -132,7 +132,7 @@ def use_rows_for(read: OrdinaryUse, arrays: FleetArrays, unit: str, fitted: Tens
     truth = None
     if free.distil == "oracle":
         rows = read.uses[unit].rows
-        truth = torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), free.rows).numpy()]])
+        truth = torch.from_numpy(arrays.targets[rows[free.read_rows(len(rows))]])
     return distilled_rows(free, read.X[unit], fitted, None if truth is None else truth.to(fitted.device))
 
 

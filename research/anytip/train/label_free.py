@@ -105,6 +105,10 @@ class LabelFreeRecipe:
         if self.distil not in DISTIL:
             raise ValueError(f"distil: expected one of {', '.join(DISTIL)}, got {self.distil!r}")
 
+    def read_rows(self, n: int) -> np.ndarray:
+        """Indices of the rows a fit reads of n rows of ordinary use: at most `rows`, evenly spaced."""
+        return evenly_spaced(n, self.rows).numpy()
+
     @classmethod
     def from_json(cls, values: Any) -> LabelFreeRecipe:
         """A recipe from JSON values (`asdict`'s); ValueError naming an unknown or bad key."""
@@ -224,7 +228,7 @@ def fleet_force_scale(arrays: FleetArrays, units: list[str], protocol: str | Non
     for u in units:
         rows = ordinary_rows(arrays, u, protocol, interleave, free.seconds, seed)
         if len(rows):
-            labels.append(torch.from_numpy(arrays.targets[rows[evenly_spaced(len(rows), free.rows).numpy()]]))
+            labels.append(torch.from_numpy(arrays.targets[rows[free.read_rows(len(rows))]]))
     return ForceScale.from_units(labels, columns)
 
 
@@ -242,7 +246,7 @@ def use_inputs(P: np.ndarray, free: LabelFreeRecipe, start: FitResult | LoadedMo
     rows, evenly spaced, X (m, C) Pa; the start network's contacts there Y0 (m, D), which the fit pulls
     each row towards; and the encoder's first codes (C, k) from the statistics of all of P (None
     without an encoder or with fewer than two rows). All on `device`."""
-    X = torch.from_numpy(P[evenly_spaced(len(P), free.rows).numpy()])
+    X = torch.from_numpy(P[free.read_rows(len(P))])
     Y0 = predict(start.model, start.in_scaler, start.out_scaler, X[None].to(start.in_scaler.mean.device))[0]
     return X.to(device), Y0.to(device), encoder_codes(P, coder, device)
 
@@ -526,7 +530,7 @@ def distilled_rows(free: LabelFreeRecipe, X: Tensor, fitted: Tensor, truth: Tens
                    ) -> tuple[Tensor, Tensor] | None:
     """What a unit's ordinary use adds to its network's rows under `free.distil` (entry 78): its
     unlabeled pressures X (n, C) Pa, `free.distil_repeat` times, with the joint fit's contacts
-    `fitted` (n, D) or, for `oracle`, their true contacts `truth` (n, D); None for `off`."""
+    `fitted` (n, D) or, for `oracle`, their true contacts `truth` (n, D); None for `none`."""
     if free.distil == "none":
         return None
     labels = fitted if free.distil == "fitted" else truth

@@ -418,8 +418,8 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
         codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
     more = list(extra) if extra is not None else [None] * len(X)
 
-    def job_rows(m: int, x: Tensor, y: Tensor) -> tuple[Tensor, Tensor]:
-        xs, ys = [transfer(fit, source, codes[m]), x.to(fit.device)], [source.Y, y.to(fit.device)]
+    def job_rows(m: int) -> tuple[Tensor, Tensor]:
+        xs, ys = [transfer(fit, source, codes[m]), X[m].to(fit.device)], [source.Y, Y[m].to(fit.device)]
         if more[m] is not None:
             xs.append(more[m][0].to(fit.device))
             ys.append(more[m][1].to(fit.device))
@@ -429,7 +429,7 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
     parts = []
     for key in dict.fromkeys(keys):
         ms = [m for m, k in enumerate(keys) if k == key]
-        rows = (job_rows(m, X[m], Y[m]) for m in ms)
+        rows = (job_rows(m) for m in ms)
         nets = unit_networks(rows, shape, recipe, seed, None if ids is None else [ids[m] for m in ms],
                              output_names, fit.device, progress, start)
         parts.append((ms, nets))
