@@ -258,8 +258,12 @@ def test_the_response_method_runs_on_a_sensor_without_a_force_target(tmp_path):
     assert load_response(run / "models" / "response_seed0.safetensors").model.force_cols.numel() == 0
 
 
+def _held_out_units(run: Path) -> list[str]:
+    return json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]["test"]
+
+
 def _held_out(run: Path) -> str:
-    return json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]["test"][0]
+    return _held_out_units(run)[0]
 
 
 def test_calibrate_by_response_writes_the_units_own_network(response_run, fleet, tmp_path, capsys):
@@ -610,6 +614,47 @@ def _write_lab_run(path: Path, serial: str, k: int, rng) -> None:
             d.attrs["components"] = comps
 
 
+def _lab_registry(tmp_path: Path) -> Registry:
+    """A registry of 9 units' runs written from the format spec alone (`_write_lab_run`)."""
+    files = tmp_path / "lab"
+    files.mkdir()
+    rng = np.random.default_rng(3)
+    for u in range(9):
+        _write_lab_run(files / f"LAB-P{u}.h5", f"LAB-P{u}", u, rng)
+    reg = Registry(tmp_path / "registry")
+    reg.import_paths([files])
+    return reg
+
+
+def test_a_budgets_rows_do_not_depend_on_the_other_budgets_and_distil_reads_a_labs_runs(tmp_path):
+    """On runs written from the format alone: each budget's networks train apart (entry 79), so a
+    run that adds a 40 s budget gives the 20 s rows of a run without it, bit for bit; ordinary use
+    distilled into the unit's network (`distil: fitted`) scores every held-out unit at both budgets
+    and `anytip calibrate` reads it so."""
+    reg = _lab_registry(tmp_path)
+    over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
+    over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 300, source_rows: 500, "
+             "inverse_epochs: 2, inverse_start: pooled, label_free: {seconds: 20, rows: 64, candidates: 256, "
+             "rounds: 1, iterations: 2, with_plans: true, zero_shot: false, distil: fitted}}",
+             "data.protocol=null", "options.calibration_protocol=null", "options.plan_strategies=[spread]"]
+    runs = {b: run_experiment(SPEC, reg, out=tmp_path / f"b{len(b)}", progress=False,
+                              overrides=[*over, f"options.budgets=[{','.join(map(str, b))}]"])
+            for b in ((0, 20), (0, 20, 40))}
+    rows = {b: json.loads((run / "metrics.json").read_text())["results"] for b, run in runs.items()}
+    scored = ("_rmse", "_rmse_n", "_halfwidth", "response_residual_pa", "unit", "method", "calib_samples")
+    at20 = {b: [{k: v for k, v in r.items() if k.endswith(scored)} for r in got
+                if r["method"].startswith("response") and r["budget_s"] == 20] for b, got in rows.items()}
+    # errors, widths and plans alike (the coverage diagnostics redraw test patches by the run's job count)
+    assert len(at20[(0, 20)]) == 4 and at20[(0, 20)] == at20[(0, 20, 40)]
+    test = _held_out_units(runs[(0, 20)])
+    for budget in (20, 40):
+        got = {r["unit"]: r for r in rows[(0, 20, 40)]
+               if r["method"] == "response+use+distil@spread" and r["budget_s"] == budget}
+        assert set(got) == set(test) and all(np.isfinite(r["u_rmse"]) for r in got.values())
+    calibrate_unit(runs[(0, 20)], test[0], reg, tmp_path / "cal", budget_seconds=20, use_seconds=15)
+    assert load_models(tmp_path / "cal").meta["method"] == "response+use+distil"
+
+
 @pytest.mark.parametrize("start", ["scratch", "pooled"])
 def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_path, start):
     """Runs another lab might write (format version 2 from the spec alone: one kind of run per unit,
@@ -619,13 +664,7 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     the pooled start network."""
     import numpy as np
 
-    files = tmp_path / "lab"
-    files.mkdir()
-    rng = np.random.default_rng(3)
-    for u in range(9):
-        _write_lab_run(files / f"LAB-P{u}.h5", f"LAB-P{u}", u, rng)
-    reg = Registry(tmp_path / "registry")
-    reg.import_paths([files])
+    reg = _lab_registry(tmp_path)
     over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
     free = "" if start == "scratch" else (", label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, "
                                            "iterations: 2, with_plans: true}")
