@@ -28,6 +28,10 @@ log entry 33). `--registry-fleet FILE` gives the fleet config the registry's uni
 with (`anytip data simulate --fleet FILE`; default: the default fleet), e.g. other16's
 `configs/fleets/other_elastomer.yaml`.
 
+`--extra-fleet FILE` draws the extra units from another fleet config, e.g. `configs/fleets/severe.yaml`
+(twice the default spread; research log entry 80); the models' names end in the file's stem, and an
+`--extra-store` records the config it was written with and refuses another.
+
 Nothing is read from the run's registry: the script needs only the runs' specs and splits. The
 registry's training units are simulated again from their fleet seed and protocols (their ids,
 SIM<seed>-<index>, give the index; `--registry-fleet`), and the extra units are units 0..N-1 of the
@@ -166,6 +170,21 @@ def capped(rows: list[np.ndarray], max_rows: int, seed: int) -> list[np.ndarray]
     return [rows[0][fit], rows[1][fit], rows[2][val], rows[3][val]]
 
 
+def checked_store(store: Path, fleet: FleetConfig) -> None:
+    """Records `fleet` in `store` (a new one), or checks that an earlier call stored units of the
+    same fleet config (the units' ids do not say which fleet they were drawn from)."""
+    marker, wanted = store / "extra_fleet.json", fleet.model_dump_json(indent=1)
+    if marker.exists():
+        if marker.read_text() != wanted:
+            raise AnytipError(f"{store}: its extra units were simulated with another fleet config "
+                              f"({marker}); give that --extra-fleet, or another --extra-store")
+        return
+    if store.exists() and any(store.iterdir()):
+        raise AnytipError(f"{store}: holds extra units that name no fleet config; delete it or give another")
+    store.mkdir(parents=True, exist_ok=True)
+    marker.write_text(wanted)
+
+
 def rows_digest(rows: Rows) -> str:
     """SHA-256 (hex) of a unit's id and its four row arrays."""
     h = hashlib.sha256(rows[0].encode())
@@ -213,6 +232,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--extra-seed", type=int, default=8)
     parser.add_argument("--extra", default="128,1024", help="comma-separated counts of extra units")
     parser.add_argument("--extra-protocols", default="full")
+    parser.add_argument("--extra-fleet", type=Path, default=None,
+                        help="fleet config YAML of the extra units (default: the default fleet); a model's "
+                        "name then ends in _<the file's stem>")
     parser.add_argument("--rows-per-step", default="", help="comma-separated rows_per_step to train with "
                         "besides the run's, at the largest count")
     parser.add_argument("--models", default="", help="comma-separated EXTRA:ROWS_PER_STEP models to train "
@@ -279,10 +301,14 @@ def run(args: argparse.Namespace) -> None:
     folds = folds_of(args.runs)
     wanted = models_of(args, folds[0].opts.response.recipe().rows_per_step)
     counts = sorted(wanted)
+    tag = f"_{args.extra_fleet.stem}" if args.extra_fleet else ""
     own = registry_rows(folds, args)
     first = max(len(f.train) for f in folds)  # extra units follow the training units, the same in every fold
     ids = extra_ids(args.extra_seed, counts[-1])
-    tasks = [Task(FleetConfig(), args.extra_seed, unit_index(u, args.extra_seed), args.extra_protocols,
+    extra_fleet = load_fleet_config(args.extra_fleet) if args.extra_fleet else FleetConfig()
+    if args.extra_store is not None:
+        checked_store(args.extra_store, extra_fleet)
+    tasks = [Task(extra_fleet, args.extra_seed, unit_index(u, args.extra_seed), args.extra_protocols,
                   ((-1, first + j),)) for j, u in enumerate(ids)]
     split_seed = folds[0].seed if args.extra_split_seed is None else args.extra_split_seed
     extra = {rows[0]: rows for rows in gather(tasks, folds[0].roles, split_seed, args.workers,
@@ -305,7 +331,7 @@ def run(args: argparse.Namespace) -> None:
             data = FleetBatchData.from_units(members, args.device, OUTPUT_NAMES)
             for rps in wanted[n]:
                 asked = replace(recipe, rows_per_step=rps, steps=args.steps or recipe.steps)
-                name = f"{fold.name}_seed{fold.seed}_extra{n}_rps{rps}"
+                name = f"{fold.name}_seed{fold.seed}_extra{n}_rps{rps}{tag}"
                 log["models"].append(train_one(data, fold, asked, args.out / name))
                 log_path.write_text(json.dumps(log, indent=1))
             del data
