@@ -29,6 +29,7 @@ pool fleet88_designed reports/cross_sensor_response_gpu/entry58 fleet88_seed 2  
 pool other16_budgets reports/cross_sensor_budgets other16_grouped_seed 4  # plan alone, 30 to 600 s, one fleet per budget (entry 79)
 pool other16_use reports/cross_sensor_response_label_free/other16_use other16_seed 4
 pool other16_gpu reports/cross_sensor_response_gpu/entry54/b512e60 other16_seed 4
+pool other16_gpu_wide reports/cross_sensor_response_gpu/entry80 other16_seed 4  # 1,024 units at twice the spread (entry 80)
 pool other16_budgets_use reports/cross_sensor_budgets other16_use_grouped_seed 4  # 10 to 120 s, with ordinary use, one fleet per budget (entries 75, 79)
 
 anytip compare --force --out $R/recipe \
@@ -50,7 +51,8 @@ anytip compare --force --out $R/recipe_other16 \
   "+ network started from the pooled network (entry 26)=$(o16 cross_sensor_response_start)#response@cover" \
   "+ 600 s of ordinary use in the codes' fit (entry 46)=$(o16 cross_sensor_response_label_free/other16_use)#response+use@cover" \
   "+ 1,024 simulated units, GPU (entry 51)=$(o16 cross_sensor_response_gpu/entry51)#response+use@cover" \
-  "+ the unit's network in batches of 512, 60 epochs (entry 54)=$(o16 cross_sensor_response_gpu/entry54/b512e60)#response+use@cover"
+  "+ the unit's network in batches of 512, 60 epochs (entry 54)=$(o16 cross_sensor_response_gpu/entry54/b512e60)#response+use@cover" \
+  "+ the 1,024 units drawn at twice the spread (entry 80)=$(o16 cross_sensor_response_gpu/entry80)#response+use@cover"
 
 S=reports/cross_sensor_response_severity
 anytip compare --force --out $R/severity \
