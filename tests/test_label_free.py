@@ -299,6 +299,41 @@ def test_the_models_jacobians_are_autograds_per_row(force_cols):
         assert off.abs().max() == 0
 
 
+def test_the_joint_fit_takes_derivatives_only_where_a_step_starts(monkeypatch):
+    """A refused trial costs its forward passes alone: the joint fit takes no derivatives at a trial
+    it refuses and each point's at most once, and gives bit for bit what it gives when every trial's
+    derivatives are taken at once."""
+    fit, truth_y = _fit(), _contacts(120, 8)
+    codes = 0.2 * torch.randn(8, 4, generator=torch.Generator().manual_seed(4))
+    with torch.no_grad():
+        X_l = fit.model(truth_y, codes)
+        X = fit.model(_contacts(80, 9), codes)
+    labeled, model = Labeled(X_l, truth_y, 120.0), fit.model
+    plain, taken, forwards = type(model).linearisation, [], []
+
+    def counted(self, labels, codes):
+        pressure, derivatives = plain(self, labels, codes)
+        forwards.append(len(forwards))
+        mine = (len(forwards) - 1) // 2  # 0: the start; j: the trial of step j (unlabeled, then labeled rows)
+        return pressure, lambda: (taken.append(mine), derivatives())[1]
+
+    monkeypatch.setattr(type(model), "linearisation", counted)
+    z, y, trace = joint_fit(fit, X, _contacts(80, 10), 80.0, 12, 1e-3, labeled=labeled)
+    refused = [j for j in range(2, 13) if trace[j - 1] == trace[j - 2]]
+    assert len(forwards) == 2 * 13 and refused  # else this test checks nothing
+    assert not set(refused) & set(taken) and 0 in taken
+    assert all(taken.count(p) == 2 for p in set(taken))  # once for each of the point's two passes
+
+    def eager(self, labels, codes):
+        pressure, derivatives = plain(self, labels, codes)
+        both = derivatives()
+        return pressure, lambda: both
+
+    monkeypatch.setattr(type(model), "linearisation", eager)
+    z2, y2, trace2 = joint_fit(fit, X, _contacts(80, 10), 80.0, 12, 1e-3, labeled=labeled)
+    assert torch.equal(z, z2) and torch.equal(y, y2) and trace == trace2
+
+
 def test_distilled_rows_repeat_the_use_with_fitted_or_true_contacts_and_a_bad_choice_is_named():
     """`distil` (entry 78): none adds nothing; fitted adds the pressures with the joint fit's contacts,
     oracle with the true ones, each `distil_repeat` times; oracle without true contacts and an unknown

@@ -19,6 +19,7 @@ Shapes: U units, C barometers, D label columns, k = code_dim; pressures in Pa (t
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
 import torch
@@ -129,14 +130,26 @@ class ResponseModel(nn.Module):
         code (*, C, k), detached. Pressure c of a row depends on that row's labels and code c alone,
         so one backward pass through per-(row, barometer) copies of both gives every derivative:
         about the cost of two forward passes, where forward tangents cost one per label column."""
+        pressure, derivatives = self.linearisation(labels, codes)
+        return (pressure, *derivatives())
+
+    def linearisation(self, labels: Tensor, codes: Tensor
+                      ) -> tuple[Tensor, Callable[[], tuple[Tensor, Tensor]]]:
+        """`jacobians` in two parts: the pressures (*, C) Pa now, and a call that gives their
+        derivatives ((*, C, D), (*, C, k)) from the same forward pass, once, when asked. A caller that
+        may not need them (a refused trial step) skips the backward pass, about two thirds of the cost."""
         C, k = self.n_channels, codes.shape[-1]
         lead = torch.broadcast_shapes(labels.shape[:-1], codes.shape[:-2])
         y = labels.unsqueeze(-2).expand(*lead, C, labels.shape[-1]).detach().clone().requires_grad_(True)
         z = codes.detach().expand(*lead, C, k).clone().requires_grad_(True)
         with torch.enable_grad():
             pressure = self._pressure(y, z)
+
+        def derivatives() -> tuple[Tensor, Tensor]:
             dy, dz = torch.autograd.grad(pressure.sum(), (y, z))
-        return pressure.detach(), dy, dz
+            return dy, dz
+
+        return pressure.detach(), derivatives
 
     def code_parameters(self) -> list[nn.Parameter]:
         return [self.codes]

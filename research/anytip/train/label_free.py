@@ -33,6 +33,7 @@ Shapes: n unlabeled rows, C barometers, D label columns, k code_dim, S candidate
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, fields
 from typing import Any, Literal
 
@@ -44,14 +45,12 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.plans import stream_ordinary_use
 from anytip.models.io import LoadedModels
-from anytip.models.response import ResponseModel
 from anytip.train.code_encoder import CodeEncoder, stream_features
 from anytip.train.fleet import FitResult
 from anytip.train.metrics import predict
 from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
-    code_jacobian,
     evenly_spaced,
     fit_codes,
     respond,
@@ -286,12 +285,27 @@ def mean_square_force(Y: Tensor, columns: tuple[int, ...]) -> float:
     return float(Y[:, list(columns)].pow(2).sum(-1).mean())
 
 
-def jacobians(model: ResponseModel, c: Tensor, codes: Tensor) -> tuple[Tensor, Tensor, Tensor]:
-    """At standardised contacts c (n, D) and codes (C, k): the pressures (n, C) Pa, their Jacobian
-    in c (n, C, D) and in each barometer's own code (n, C, k)."""
-    std = model.label_std
-    pred, Jy, Jz = model.jacobians(c * std + model.label_mean, codes)
-    return pred, Jy * std, Jz  # d pressure / d standardised contact
+@dataclass
+class Linearised:
+    """The joint fit at one point: the unlabeled rows' pressures `pred` (n, C) Pa and the labeled
+    rows' `known` (m, C) Pa, with their derivatives taken from the same forward passes when first
+    asked (a refused trial never asks; `ResponseModel.linearisation`)."""
+
+    pred: Tensor
+    known: Tensor | None
+    _unlabeled: Callable[[], tuple[Tensor, Tensor]]
+    _labeled: Callable[[], tuple[Tensor, Tensor]] | None
+    _std: Tensor
+    _taken: tuple[Tensor, Tensor, Tensor | None] | None = None
+
+    def derivatives(self) -> tuple[Tensor, Tensor, Tensor | None]:
+        """d pred / d standardised contact (n, C, D), d pred / d code (n, C, k) and d known / d code
+        (m, C, k) (None without labeled rows); one backward pass each, the first time only."""
+        if self._taken is None:
+            Jy, Jz = self._unlabeled()
+            Jk = None if self._labeled is None else self._labeled()[1]
+            self._taken = (Jy * self._std, Jz, Jk)
+        return self._taken
 
 
 @dataclass(frozen=True)
@@ -373,24 +387,25 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     c0 = (Y0 - mean) / std
     c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
 
-    def linearised(cc: Tensor, zz: Tensor) -> tuple[float, tuple[Tensor | None, ...]]:
-        """The objective at (cc, zz) and what a step from there needs: the unlabeled rows' pressures
-        and Jacobians, then the labeled rows' (both from one backward pass each, whose forward
-        pass gives the objective too: a refused trial costs no more than a kept one)."""
-        pred, Jc, Jz = jacobians(model, cc, zz)
-        known, Jk = code_jacobian(model, labeled.Y, zz) if labeled is not None else (None, None)
+    def linearised(cc: Tensor, zz: Tensor) -> tuple[float, Linearised]:
+        """The objective at (cc, zz) and what a step from there needs: the unlabeled and the labeled
+        rows' pressures, their Jacobians (one backward pass each) deferred until a step is taken
+        from there, so a refused trial costs its forward passes alone."""
+        pred, unlabeled = model.linearisation(cc * std + mean, zz)
+        known, known_d = model.linearisation(labeled.Y, zz) if labeled is not None else (None, None)
         obj = objective_at(fit, X, c0, w, cc, zz, lam, pred, scale, labeled, known)
-        return obj, (pred, Jc, Jz, known, Jk)
+        return obj, Linearised(pred, known, unlabeled, known_d, std)
 
     (obj, at), damping, trace = linearised(c, z), 1e-2, []
     for _ in range(iterations):
-        pred, Jc, Jz, known, Jk = at
+        pred, known = at.pred, at.known
+        Jc, Jz, Jk = at.derivatives()
         r = X - pred
         Hcc = torch.einsum("ncd,nce,c->nde", Jc, Jc, Wc) + w * lam * torch.eye(D, device=X.device)
         gc = torch.einsum("ncd,nc,c->nd", Jc, r, Wc) - w * lam * (c - c0)
         Hzz = torch.einsum("nck,ncj,c->ckj", Jz, Jz, Wc) + torch.diag_embed(inv_spread.expand(C, k))
         gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) - z * inv_spread
-        if labeled is not None:
+        if labeled is not None and Jk is not None:
             Wk = labeled.n_eff / len(labeled.X) / fit.noise_var
             Hzz = Hzz + torch.einsum("nck,ncj,c->ckj", Jk, Jk, Wk)
             gz = gz + torch.einsum("nck,nc,c->ck", Jk, labeled.X - known, Wk)
