@@ -1,13 +1,14 @@
 """anytip.train.label_free: a unit's codes from unlabeled pressures alone."""
 
 import json
-from dataclasses import replace
+from dataclasses import asdict, replace
 
 import numpy as np
 import pytest
 import torch
 
 from anytip.models.response import ResponseConfig, ResponseModel
+from anytip.train import label_free
 from anytip.train.code_encoder import ENCODER_QUANTILES, PA_FLOOR, CodeEncoder, stream_features
 from anytip.train.label_free import (
     FleetUse,
@@ -231,9 +232,11 @@ def test_a_plans_rows_are_thinned_in_the_joint_fit_still_weighing_the_whole_plan
     start = fit_codes(fit, [X_l], [y], [150.0], ResponseRecipe())[0]
     args = (fit, ResponseRecipe())
     rest = (X, _contacts(80, 13), 80.0, _contacts(200, 14), 0)
-    thinned = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=50), *rest, plan, start)[0]
-    handed = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, few, start)[0]
-    every = plan_and_use_codes(*args, LabelFreeRecipe(iterations=5, plan_rows=None), *rest, plan, start)[0]
+    thin = LabelFreeRecipe(plan_iterations=5, plan_rows=50)
+    whole = replace(thin, plan_rows=None)
+    thinned = plan_and_use_codes(*args, thin, *rest, plan, start)[0]
+    handed = plan_and_use_codes(*args, whole, *rest, few, start)[0]
+    every = plan_and_use_codes(*args, whole, *rest, plan, start)[0]
     torch.testing.assert_close(thinned, handed)
     assert not torch.equal(thinned, every)
 
@@ -270,6 +273,30 @@ def test_how_a_fleet_reads_ordinary_use_survives_json_and_a_bad_value_is_named()
             FleetUse.from_json({**values, key: value}, 5)
     with pytest.raises(ValueError, match="plan_rows"):
         replace(LabelFreeRecipe(), plan_rows=0)
+    with pytest.raises(ValueError, match="recipe: plan_iterations"):
+        FleetUse.from_json({**values, "recipe": {**values["recipe"], "plan_iterations": 0}}, 5)
+
+
+def test_the_joint_fit_with_a_plan_takes_plan_iterations_steps_and_old_records_their_iterations(monkeypatch):
+    """`plan_iterations` (entry 81): the joint fit with a plan's rows runs that many steps (default 10),
+    or `iterations` where it is None; a recipe recorded before it existed reads None, so a saved model
+    calibrates a unit with the steps its benchmark took."""
+    assert LabelFreeRecipe().steps_with_plan() == 10
+    assert LabelFreeRecipe(iterations=7, plan_iterations=None).steps_with_plan() == 7
+    old = {k: v for k, v in asdict(LabelFreeRecipe(iterations=30)).items() if k != "plan_iterations"}
+    assert LabelFreeRecipe.from_json(old).steps_with_plan() == 30
+    assert LabelFreeRecipe.from_json(asdict(LabelFreeRecipe())).steps_with_plan() == 10
+    steps = []
+    real = label_free.joint_fit
+    monkeypatch.setattr(label_free, "joint_fit", lambda *a, **k: (steps.append(a[4]), real(*a, **k))[1])
+    fit, y = _fit(), _contacts(60, 11)
+    codes = 0.2 * torch.randn(8, 4, generator=torch.Generator().manual_seed(5))
+    with torch.no_grad():
+        X_l, X = fit.model(y, codes), fit.model(_contacts(40, 12), codes)
+    rest = (X, _contacts(40, 13), 40.0, _contacts(100, 14), 0, Labeled(X_l, y, 60.0), codes)
+    for free in (LabelFreeRecipe(plan_iterations=3), LabelFreeRecipe(iterations=4, plan_iterations=None)):
+        plan_and_use_codes(fit, ResponseRecipe(), free, *rest)
+    assert steps == [3, 4]
 
 
 @pytest.mark.parametrize("force_cols", [[0, 1, 2], []])

@@ -57,6 +57,7 @@ from anytip.train.response import (
 )
 
 DISTIL = ("none", "fitted", "oracle")
+OPTIONAL = ("plan_rows", "plan_iterations")  # counts that may be None
 WITH_USE = "response+use"  # a labeled budget's method with the unit's ordinary use
 
 
@@ -72,7 +73,8 @@ class LabelFreeRecipe:
     45), as `fit_codes` reads `code_rows` of them (entry 46); `distil`: with a plan, the unlabeled rows
     join the unit's network's rows `distil_repeat` times, labeled with the joint fit's contacts
     (`fitted`), with their true contacts (`oracle`, a research ceiling: ordinary use has none), or
-    not at all (`none`; entry 78)."""
+    not at all (`none`; entry 78); `plan_iterations`: the joint fit's steps with a plan's labeled rows
+    (None: `iterations`, as runs before entry 81 recorded it; 10 lose nothing to 30, entry 81)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -85,13 +87,14 @@ class LabelFreeRecipe:
     plan_rows: int | None = 2048
     distil: Literal["none", "fitted", "oracle"] = "none"
     distil_repeat: int = 1
+    plan_iterations: int | None = 10
 
     def __post_init__(self) -> None:
         counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
-                  "distil_repeat": 1}
+                  "distil_repeat": 1, "plan_iterations": 1}
         for key, least in counts.items():
             v = getattr(self, key)
-            if not (v is None and key == "plan_rows") and (type(v) is not int or v < least):
+            if not (v is None and key in OPTIONAL) and (type(v) is not int or v < least):
                 raise ValueError(f"{key}: expected a whole number >= {least}, got {v!r}")
         for key, most in (("seconds", 600.0), ("pull", math.inf)):
             v = getattr(self, key)
@@ -103,6 +106,10 @@ class LabelFreeRecipe:
             raise ValueError(f"start: expected 'encoder' or 'zero', got {self.start!r}")
         if self.distil not in DISTIL:
             raise ValueError(f"distil: expected one of {', '.join(DISTIL)}, got {self.distil!r}")
+
+    def steps_with_plan(self) -> int:
+        """The joint fit's steps with a plan's labeled rows (`plan_iterations`, else `iterations`)."""
+        return self.iterations if self.plan_iterations is None else self.plan_iterations
 
     def read_rows(self, n: int) -> np.ndarray:
         """Indices of the rows a fit reads of n rows of ordinary use: at most `rows`, evenly spaced."""
@@ -116,7 +123,7 @@ class LabelFreeRecipe:
         unknown = set(values) - {f.name for f in fields(cls)}
         if unknown:
             raise ValueError(f"unknown keys {sorted(unknown)}")
-        return cls(**values)
+        return cls(**{"plan_iterations": None, **values})  # recorded before entry 81: `iterations` steps
 
 
 @dataclass(frozen=True)
@@ -508,12 +515,13 @@ def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFree
     """A unit's codes (C, k) from its plan's labeled rows and its ordinary use's unlabeled pressures
     X (n, C) Pa together (entry 45), and the unlabeled rows' fitted contacts (n, D) physical: each
     unlabeled row's first contact is its nearest candidate under the plan's own codes `codes` (C, k),
-    scaled to the force prior where given, then the joint fit with at most `free.plan_rows` of the
-    labeled rows (entry 46), pulled towards contacts Y0 (n, D). Without unlabeled rows: `codes`."""
+    scaled to the force prior where given, then `free.steps_with_plan()` steps of the joint fit with
+    at most `free.plan_rows` of the labeled rows (entry 46), pulled towards contacts Y0 (n, D).
+    Without unlabeled rows: `codes`."""
     if not len(X):
         return codes, Y0
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes)
-    z, c, _ = joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale,
+    z, c, _ = joint_fit(fit, X, Y0, n_eff, free.steps_with_plan(), free.pull, start, scale,
                         labeled.thinned(free.plan_rows))
     return z, c
 
