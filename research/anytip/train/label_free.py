@@ -32,6 +32,7 @@ Shapes: n unlabeled rows, C barometers, D label columns, k code_dim, S candidate
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, fields
@@ -59,6 +60,8 @@ from anytip.train.response import (
 DISTIL = ("none", "fitted", "oracle")
 OPTIONAL = ("plan_rows", "plan_iterations")  # counts that may be None
 WITH_USE = "response+use"  # a labeled budget's method with the unit's ordinary use
+# the joint fit at one point: pressures of the unlabeled and labeled rows, and their Jacobians when asked
+Point = tuple[Tensor, Tensor | None, Callable[[], tuple[Tensor, Tensor, Tensor | None]]]
 
 
 @dataclass(frozen=True)
@@ -292,29 +295,6 @@ def mean_square_force(Y: Tensor, columns: tuple[int, ...]) -> float:
     return float(Y[:, list(columns)].pow(2).sum(-1).mean())
 
 
-@dataclass
-class Linearised:
-    """The joint fit at one point: the unlabeled rows' pressures `pred` (n, C) Pa and the labeled
-    rows' `known` (m, C) Pa, with their derivatives taken from the same forward passes when first
-    asked (a refused trial never asks; `ResponseModel.linearisation`)."""
-
-    pred: Tensor
-    known: Tensor | None
-    _unlabeled: Callable[[], tuple[Tensor, Tensor]]
-    _labeled: Callable[[], tuple[Tensor, Tensor]] | None
-    _std: Tensor
-    _taken: tuple[Tensor, Tensor, Tensor | None] | None = None
-
-    def derivatives(self) -> tuple[Tensor, Tensor, Tensor | None]:
-        """d pred / d standardised contact (n, C, D), d pred / d code (n, C, k) and d known / d code
-        (m, C, k) (None without labeled rows); one backward pass each, the first time only."""
-        if self._taken is None:
-            Jy, Jz = self._unlabeled()
-            Jk = None if self._labeled is None else self._labeled()[1]
-            self._taken = (Jy * self._std, Jz, Jk)
-        return self._taken
-
-
 @dataclass(frozen=True)
 class Labeled:
     """Labeled rows fitted beside the unlabeled ones: pressures X (m, C) Pa, contacts Y (m, D)
@@ -394,19 +374,26 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     c0 = (Y0 - mean) / std
     c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
 
-    def linearised(cc: Tensor, zz: Tensor) -> tuple[float, Linearised]:
+    def linearised(cc: Tensor, zz: Tensor) -> tuple[float, Point]:
         """The objective at (cc, zz) and what a step from there needs: the unlabeled and the labeled
-        rows' pressures, their Jacobians (one backward pass each) deferred until a step is taken
-        from there, so a refused trial costs its forward passes alone."""
+        rows' pressures, and a call for their Jacobians in the standardised contacts and the codes
+        (one backward pass each through the same forward passes, taken once, when a step starts
+        there: a refused trial costs its forward passes alone)."""
         pred, unlabeled = model.linearisation(cc * std + mean, zz)
         known, known_d = model.linearisation(labeled.Y, zz) if labeled is not None else (None, None)
+
+        @functools.cache
+        def derivatives() -> tuple[Tensor, Tensor, Tensor | None]:
+            Jy, Jz = unlabeled()
+            return Jy * std, Jz, None if known_d is None else known_d()[1]
+
         obj = objective_at(fit, X, c0, w, cc, zz, lam, pred, scale, labeled, known)
-        return obj, Linearised(pred, known, unlabeled, known_d, std)
+        return obj, (pred, known, derivatives)
 
     (obj, at), damping, trace = linearised(c, z), 1e-2, []
     for _ in range(iterations):
-        pred, known = at.pred, at.known
-        Jc, Jz, Jk = at.derivatives()
+        pred, known, derivatives = at
+        Jc, Jz, Jk = derivatives()
         r = X - pred
         Hcc = torch.einsum("ncd,nce,c->nde", Jc, Jc, Wc) + w * lam * torch.eye(D, device=X.device)
         gc = torch.einsum("ncd,nc,c->nd", Jc, r, Wc) - w * lam * (c - c0)
