@@ -1,0 +1,102 @@
+"""Research log entry 83's tables: the start network's draws at 60 and 240 epochs on other16's four
+folds (`e{EPOCHS}_d{DRAW}/other16_seed{K}`). Usage, from the repository root:
+
+    python reports/cross_sensor_response_gpu/entry83/analyse.py
+"""
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from anytip.report.cross_sensor import mean_interval, paired_text
+from anytip.rundir import read_json
+
+HERE = Path(__file__).parent
+ARMS, DRAWS, FOLDS = (60, 240), (0, 1, 2), (0, 1, 2, 3)
+METHODS = ("response+use@cover", "response@cover")
+KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
+
+
+def run(e: int, d: int, k: int) -> Path:
+    return HERE / f"e{e}_d{d}" / f"other16_seed{k}"
+
+
+def rmse(e: int, d: int, k: int, method: str, key: str) -> tuple[dict[str, float], dict[str, float]]:
+    """({unit: the method's RMSE}, {unit: its per-unit reference's RMSE}) of one rescoring."""
+    rows = read_json(run(e, d, k) / "metrics.json")["results"]
+    mine = {r["unit"]: r[key] for r in rows if r["method"] == method}
+    ref = {r["unit"]: r[key] for r in rows if r["method"] == "per_unit"}
+    return mine, ref
+
+
+def val_loss(e: int, d: int, k: int, method: str) -> float:
+    return read_json(run(e, d, k) / "provenance.json")["cross_sensor"][f"seed{k}"]["val_loss"][method]["120"]
+
+
+def start_loss(e: int, d: int, k: int) -> float:
+    text = (HERE / "logs" / f"e{e}_d{d}_seed{k}.txt").read_text()
+    return float(re.search(r"best val_loss ([0-9.eE+-]+)", text).group(1))
+
+
+def arm(e: int, method: str, key: str) -> dict[str, list[float]]:
+    """{unit: [ratio to its reference per draw]} over the four folds."""
+    out: dict[str, list[float]] = {}
+    for k in FOLDS:
+        for d in DRAWS:
+            mine, ref = rmse(e, d, k, method, key)
+            for u, v in mine.items():
+                out.setdefault(u, []).append(v / ref[u])
+    return out
+
+
+def spread(e: int, method: str) -> tuple[float, list[float], list[list[float]]]:
+    """(pooled within-fold deviation over draws of the fold's mean force ratio, the 16-unit mean of
+    each draw, [fold][draw] fold means)."""
+    folds = []
+    for k in FOLDS:
+        means = []
+        for d in DRAWS:
+            mine, ref = rmse(e, d, k, method, "force_rmse_n")
+            means.append(float(np.mean([mine[u] / ref[u] for u in mine])))
+        folds.append(means)
+    pooled = float(np.sqrt(np.mean([np.var(m, ddof=1) for m in folds])))
+    whole = [float(np.mean([folds[k][d] for k in FOLDS])) for d in DRAWS]  # 4 units a fold
+    return pooled, whole, folds
+
+
+def main() -> None:
+    for method in METHODS:
+        print(f"## {method}, 120 s")
+        dev = {}
+        for e in ARMS:
+            dev[e], whole, folds = spread(e, method)
+            vals = [np.mean([val_loss(e, d, k, method) for k in FOLDS]) for d in DRAWS]
+            print(f"{e} epochs: pooled deviation {dev[e]:.4f}; 16-unit mean per draw "
+                  + ", ".join(f"{w:.3f}" for w in whole)
+                  + "; validation loss per draw " + ", ".join(f"{v:.5f}" for v in vals)
+                  + f" (mean {np.mean(vals):.5f})")
+            for k in FOLDS:
+                print(f"  fold {k}: held-out mean per draw " + ", ".join(f"{m:.3f}" for m in folds[k])
+                      + "; start network's val loss " + ", ".join(f"{start_loss(e, d, k):.5f}" for d in DRAWS)
+                      + "; validation units' loss " + ", ".join(f"{val_loss(e, d, k, method):.5f}" for d in DRAWS))
+            for name, key in KEYS.items():
+                per = {u: float(np.mean(v)) for u, v in arm(e, method, key).items()}
+                m, lo, hi = mean_interval(list(per.values()))
+                print(f"  {name}: draw-averaged {m:.3f}x [{lo:.2f}, {hi:.2f}] over {len(per)} units")
+        print(f"deviation ratio 240/60: {dev[240] / dev[60]:.2f}")
+        for name, key in KEYS.items():
+            avg = {}
+            for e in ARMS:
+                acc: dict[str, list[float]] = {}
+                for k in FOLDS:
+                    for d in DRAWS:
+                        for u, v in rmse(e, d, k, method, key)[0].items():
+                            acc.setdefault(u, []).append(v)
+                avg[e] = {u: float(np.mean(v)) for u, v in acc.items()}
+            print(f"paired 240 over 60, {name}: x{paired_text([avg[240][u] / avg[60][u] for u in avg[60]])}")
+        print()
+
+
+if __name__ == "__main__":
+    main()
