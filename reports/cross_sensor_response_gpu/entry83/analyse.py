@@ -1,5 +1,6 @@
 """Research log entry 83's tables: the start network's draws at 60 and 240 epochs on other16's four
-folds (`e{EPOCHS}_d{DRAW}/other16_seed{K}`). Usage, from the repository root:
+folds (`e{EPOCHS}_d{DRAW}/other16_seed{K}`), and fleet88 fold 0's four draws (entry 81's control and
+entry 52's start network, `fleet88_d{1,2}`). Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry83/analyse.py
 """
@@ -9,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from anytip.report.cross_sensor import mean_interval, paired_text
+from anytip.report.cross_sensor import mean_interval, paired_text, summary
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
@@ -65,6 +66,28 @@ def spread(e: int, method: str) -> tuple[float, list[float], list[list[float]]]:
     return pooled, whole, folds
 
 
+ENTRY81 = HERE.parent / "entry81"
+FLEET88 = {"draw 0 (entry 81's control, 10 steps)": ENTRY81 / "fleet88_it10/fleet88_seed0",
+           "entry 52's start network (entry 81, 30 steps)": ENTRY81 / "fleet88_start52/fleet88_seed0",
+           "draw 1": HERE / "fleet88_d1/fleet88_seed0", "draw 2": HERE / "fleet88_d2/fleet88_seed0"}
+
+
+def fleet88() -> None:
+    """fleet88 fold 0's 44-unit mean per draw of the start network, their deviation and range."""
+    means: dict[str, list[tuple[float, float]]] = {m: [] for m in METHODS}
+    for name, path in FLEET88.items():
+        lines = {s["method"]: s for s in summary(read_json(path / "metrics.json")["results"])}
+        for m in METHODS:
+            force, angle = lines[m]["force_unit"], lines[m]["angle_unit"]
+            means[m].append((force[0], angle[0]))
+            print(f"fleet88 fold 0, {name}, {m}: {force[0]:.3f}x [{force[1]:.2f}, {force[2]:.2f}]"
+                  f" / {angle[0]:.3f}x")
+    for m, values in means.items():
+        f, a = np.array(values).T
+        print(f"{m}: force deviation {np.std(f, ddof=1):.4f}, range {f.min():.3f}-{f.max():.3f}; "
+              f"angle deviation {np.std(a, ddof=1):.4f}, range {a.min():.3f}-{a.max():.3f}")
+
+
 def main() -> None:
     for method in METHODS:
         print(f"## {method}, 120 s")
@@ -79,7 +102,8 @@ def main() -> None:
             for k in FOLDS:
                 print(f"  fold {k}: held-out mean per draw " + ", ".join(f"{m:.3f}" for m in folds[k])
                       + "; start network's val loss " + ", ".join(f"{start_loss(e, d, k):.5f}" for d in DRAWS)
-                      + "; validation units' loss " + ", ".join(f"{val_loss(e, d, k, method):.5f}" for d in DRAWS))
+                      + "; validation units' loss "
+                      + ", ".join(f"{val_loss(e, d, k, method):.5f}" for d in DRAWS))
             for name, key in KEYS.items():
                 per = {u: float(np.mean(v)) for u, v in arm(e, method, key).items()}
                 m, lo, hi = mean_interval(list(per.values()))
@@ -96,6 +120,8 @@ def main() -> None:
                 avg[e] = {u: float(np.mean(v)) for u, v in acc.items()}
             print(f"paired 240 over 60, {name}: x{paired_text([avg[240][u] / avg[60][u] for u in avg[60]])}")
         print()
+    if all((p / "metrics.json").is_file() for p in FLEET88.values()):
+        fleet88()
 
 
 if __name__ == "__main__":
