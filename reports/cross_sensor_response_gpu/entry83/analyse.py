@@ -1,6 +1,7 @@
 """Research log entry 83's tables: the start network's draws at 60 and 240 epochs on other16's four
-folds (`e{EPOCHS}_d{DRAW}/other16_seed{K}`), and fleet88 fold 0's four draws (entry 81's control and
-entry 52's start network, `fleet88_d{1,2}`). Usage, from the repository root:
+folds (`e{EPOCHS}_d{DRAW}/other16_seed{K}`), fleet88 fold 0's four draws (entry 81's control and
+entry 52's start network, `fleet88_d{1,2}`), and other16 with entry 80's severe model over three
+draws (`severe_d{DRAW}`). Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry83/analyse.py
 """
@@ -14,51 +15,52 @@ from anytip.report.cross_sensor import mean_interval, paired_text, summary
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
-ARMS, DRAWS, FOLDS = (60, 240), (0, 1, 2), (0, 1, 2, 3)
+ARMS, DRAWS, FOLDS = ("e60", "e240"), (0, 1, 2), (0, 1, 2, 3)
 METHODS = ("response+use@cover", "response@cover")
 KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
 
 
-def run(e: int, d: int, k: int) -> Path:
-    return HERE / f"e{e}_d{d}" / f"other16_seed{k}"
+def run(a: str, d: int, k: int) -> Path:
+    """Arm a's (`e60`, `e240`, `severe`) rescoring of fold k with draw d."""
+    return HERE / f"{a}_d{d}" / f"other16_seed{k}"
 
 
-def rmse(e: int, d: int, k: int, method: str, key: str) -> tuple[dict[str, float], dict[str, float]]:
+def rmse(a: str, d: int, k: int, method: str, key: str) -> tuple[dict[str, float], dict[str, float]]:
     """({unit: the method's RMSE}, {unit: its per-unit reference's RMSE}) of one rescoring."""
-    rows = read_json(run(e, d, k) / "metrics.json")["results"]
+    rows = read_json(run(a, d, k) / "metrics.json")["results"]
     mine = {r["unit"]: r[key] for r in rows if r["method"] == method}
     ref = {r["unit"]: r[key] for r in rows if r["method"] == "per_unit"}
     return mine, ref
 
 
-def val_loss(e: int, d: int, k: int, method: str) -> float:
-    return read_json(run(e, d, k) / "provenance.json")["cross_sensor"][f"seed{k}"]["val_loss"][method]["120"]
+def val_loss(a: str, d: int, k: int, method: str) -> float:
+    return read_json(run(a, d, k) / "provenance.json")["cross_sensor"][f"seed{k}"]["val_loss"][method]["120"]
 
 
-def start_loss(e: int, d: int, k: int) -> float:
-    text = (HERE / "logs" / f"e{e}_d{d}_seed{k}.txt").read_text()
+def start_loss(a: str, d: int, k: int) -> float:
+    text = (HERE / "logs" / f"{a}_d{d}_seed{k}.txt").read_text()
     return float(re.search(r"best val_loss ([0-9.eE+-]+)", text).group(1))
 
 
-def arm(e: int, method: str, key: str) -> dict[str, list[float]]:
+def arm(a: str, method: str, key: str) -> dict[str, list[float]]:
     """{unit: [ratio to its reference per draw]} over the four folds."""
     out: dict[str, list[float]] = {}
     for k in FOLDS:
         for d in DRAWS:
-            mine, ref = rmse(e, d, k, method, key)
+            mine, ref = rmse(a, d, k, method, key)
             for u, v in mine.items():
                 out.setdefault(u, []).append(v / ref[u])
     return out
 
 
-def spread(e: int, method: str) -> tuple[float, list[float], list[list[float]]]:
+def spread(a: str, method: str) -> tuple[float, list[float], list[list[float]]]:
     """(pooled within-fold deviation over draws of the fold's mean force ratio, the 16-unit mean of
     each draw, [fold][draw] fold means)."""
     folds = []
     for k in FOLDS:
         means = []
         for d in DRAWS:
-            mine, ref = rmse(e, d, k, method, "force_rmse_n")
+            mine, ref = rmse(a, d, k, method, "force_rmse_n")
             means.append(float(np.mean([mine[u] / ref[u] for u in mine])))
         folds.append(means)
     pooled = float(np.sqrt(np.mean([np.var(m, ddof=1) for m in folds])))
@@ -88,41 +90,48 @@ def fleet88() -> None:
               f"angle deviation {np.std(a, ddof=1):.4f}, range {a.min():.3f}-{a.max():.3f}")
 
 
+def arm_lines(a: str, method: str) -> float:
+    """Print arm a's spread, validation losses and draw-averaged figures; return its pooled deviation."""
+    dev, whole, folds = spread(a, method)
+    vals = [np.mean([val_loss(a, d, k, method) for k in FOLDS]) for d in DRAWS]
+    print(f"{a}: pooled deviation {dev:.4f}; 16-unit mean per draw " + ", ".join(f"{w:.3f}" for w in whole)
+          + "; validation loss per draw " + ", ".join(f"{v:.5f}" for v in vals)
+          + f" (mean {np.mean(vals):.5f})")
+    for k in FOLDS:
+        print(f"  fold {k}: held-out mean per draw " + ", ".join(f"{m:.3f}" for m in folds[k])
+              + "; start network's val loss " + ", ".join(f"{start_loss(a, d, k):.5f}" for d in DRAWS)
+              + "; validation units' loss " + ", ".join(f"{val_loss(a, d, k, method):.5f}" for d in DRAWS))
+    for name, key in KEYS.items():
+        per = {u: float(np.mean(v)) for u, v in arm(a, method, key).items()}
+        m, lo, hi = mean_interval(list(per.values()))
+        print(f"  {name}: draw-averaged {m:.3f}x [{lo:.2f}, {hi:.2f}] over {len(per)} units")
+    return dev
+
+
+def draw_averaged(a: str, method: str, key: str) -> dict[str, float]:
+    """{unit: its RMSE averaged over arm a's draws}."""
+    acc: dict[str, list[float]] = {}
+    for k in FOLDS:
+        for d in DRAWS:
+            for u, v in rmse(a, d, k, method, key)[0].items():
+                acc.setdefault(u, []).append(v)
+    return {u: float(np.mean(v)) for u, v in acc.items()}
+
+
 def main() -> None:
     for method in METHODS:
         print(f"## {method}, 120 s")
-        dev = {}
-        for e in ARMS:
-            dev[e], whole, folds = spread(e, method)
-            vals = [np.mean([val_loss(e, d, k, method) for k in FOLDS]) for d in DRAWS]
-            print(f"{e} epochs: pooled deviation {dev[e]:.4f}; 16-unit mean per draw "
-                  + ", ".join(f"{w:.3f}" for w in whole)
-                  + "; validation loss per draw " + ", ".join(f"{v:.5f}" for v in vals)
-                  + f" (mean {np.mean(vals):.5f})")
-            for k in FOLDS:
-                print(f"  fold {k}: held-out mean per draw " + ", ".join(f"{m:.3f}" for m in folds[k])
-                      + "; start network's val loss " + ", ".join(f"{start_loss(e, d, k):.5f}" for d in DRAWS)
-                      + "; validation units' loss "
-                      + ", ".join(f"{val_loss(e, d, k, method):.5f}" for d in DRAWS))
-            for name, key in KEYS.items():
-                per = {u: float(np.mean(v)) for u, v in arm(e, method, key).items()}
-                m, lo, hi = mean_interval(list(per.values()))
-                print(f"  {name}: draw-averaged {m:.3f}x [{lo:.2f}, {hi:.2f}] over {len(per)} units")
-        print(f"deviation ratio 240/60: {dev[240] / dev[60]:.2f}")
+        dev = {a: arm_lines(a, method) for a in ARMS}
+        print(f"deviation ratio 240/60: {dev['e240'] / dev['e60']:.2f}")
         for name, key in KEYS.items():
-            avg = {}
-            for e in ARMS:
-                acc: dict[str, list[float]] = {}
-                for k in FOLDS:
-                    for d in DRAWS:
-                        for u, v in rmse(e, d, k, method, key)[0].items():
-                            acc.setdefault(u, []).append(v)
-                avg[e] = {u: float(np.mean(v)) for u, v in acc.items()}
-            print(f"paired 240 over 60, {name}: x{paired_text([avg[240][u] / avg[60][u] for u in avg[60]])}")
+            avg = {a: draw_averaged(a, method, key) for a in ARMS}
+            ratios = [avg["e240"][u] / avg["e60"][u] for u in avg["e60"]]
+            print(f"paired 240 over 60, {name}: x{paired_text(ratios)}")
+        if all((run("severe", d, k) / "metrics.json").is_file() for d in DRAWS for k in FOLDS):
+            arm_lines("severe", method)
         print()
     if all((p / "metrics.json").is_file() for p in FLEET88.values()):
         fleet88()
-
 
 if __name__ == "__main__":
     main()
