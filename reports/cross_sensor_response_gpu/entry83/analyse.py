@@ -6,12 +6,14 @@ draws (`severe_d{DRAW}`). Usage, from the repository root:
     python reports/cross_sensor_response_gpu/entry83/analyse.py
 """
 
+import functools
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import mean_interval, paired_text, summary
+from anytip.report.cross_sensor import mean_interval, paired_text, summary, unit_ratios
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
@@ -25,16 +27,23 @@ def run(a: str, d: int, k: int) -> Path:
     return HERE / f"{a}_d{d}" / f"other16_seed{k}"
 
 
-def rmse(a: str, d: int, k: int, method: str, key: str) -> tuple[dict[str, float], dict[str, float]]:
-    """({unit: the method's RMSE}, {unit: its per-unit reference's RMSE}) of one rescoring."""
-    rows = read_json(run(a, d, k) / "metrics.json")["results"]
-    mine = {r["unit"]: r[key] for r in rows if r["method"] == method}
-    ref = {r["unit"]: r[key] for r in rows if r["method"] == "per_unit"}
-    return mine, ref
+BUDGET = 120.0  # robot seconds of every rescored row
+
+
+@functools.cache
+def rows(a: str, d: int, k: int) -> list[dict[str, Any]]:
+    """The rows of one rescoring."""
+    return read_json(run(a, d, k) / "metrics.json")["results"]
+
+
+@functools.cache
+def losses(a: str, d: int, k: int) -> dict[str, dict[str, float]]:
+    """{method: {budget: the validation units' loss}} of one rescoring."""
+    return read_json(run(a, d, k) / "provenance.json")["cross_sensor"][f"seed{k}"]["val_loss"]
 
 
 def val_loss(a: str, d: int, k: int, method: str) -> float:
-    return read_json(run(a, d, k) / "provenance.json")["cross_sensor"][f"seed{k}"]["val_loss"][method]["120"]
+    return losses(a, d, k)[method]["120"]
 
 
 def start_loss(a: str, d: int, k: int) -> float:
@@ -42,27 +51,21 @@ def start_loss(a: str, d: int, k: int) -> float:
     return float(re.search(r"best val_loss ([0-9.eE+-]+)", text).group(1))
 
 
-def arm(a: str, method: str, key: str) -> dict[str, list[float]]:
-    """{unit: [ratio to its reference per draw]} over the four folds."""
-    out: dict[str, list[float]] = {}
-    for k in FOLDS:
-        for d in DRAWS:
-            mine, ref = rmse(a, d, k, method, key)
-            for u, v in mine.items():
-                out.setdefault(u, []).append(v / ref[u])
-    return out
+def ratios(runs: list[tuple[str, int, int]], method: str, key: str) -> dict[str, float]:
+    """{held-out unit: its `key` averaged over the runs that score it, over its per-unit reference's}
+    (`unit_ratios`: the runs are draws of the same units, seeds and references)."""
+    return unit_ratios([r for run_ in runs for r in rows(*run_)], key)[(method, BUDGET)]
+
+
+def every_draw(a: str) -> list[tuple[str, int, int]]:
+    return [(a, d, k) for k in FOLDS for d in DRAWS]
 
 
 def spread(a: str, method: str) -> tuple[float, list[float], list[list[float]]]:
     """(pooled within-fold deviation over draws of the fold's mean force ratio, the 16-unit mean of
     each draw, [fold][draw] fold means)."""
-    folds = []
-    for k in FOLDS:
-        means = []
-        for d in DRAWS:
-            mine, ref = rmse(a, d, k, method, "force_rmse_n")
-            means.append(float(np.mean([mine[u] / ref[u] for u in mine])))
-        folds.append(means)
+    folds = [[float(np.mean(list(ratios([(a, d, k)], method, "force_rmse_n").values()))) for d in DRAWS]
+             for k in FOLDS]
     pooled = float(np.sqrt(np.mean([np.var(m, ddof=1) for m in folds])))
     whole = [float(np.mean([folds[k][d] for k in FOLDS])) for d in DRAWS]  # 4 units a fold
     return pooled, whole, folds
@@ -102,20 +105,10 @@ def arm_lines(a: str, method: str) -> float:
               + "; start network's val loss " + ", ".join(f"{start_loss(a, d, k):.5f}" for d in DRAWS)
               + "; validation units' loss " + ", ".join(f"{val_loss(a, d, k, method):.5f}" for d in DRAWS))
     for name, key in KEYS.items():
-        per = {u: float(np.mean(v)) for u, v in arm(a, method, key).items()}
+        per = ratios(every_draw(a), method, key)
         m, lo, hi = mean_interval(list(per.values()))
         print(f"  {name}: draw-averaged {m:.3f}x [{lo:.2f}, {hi:.2f}] over {len(per)} units")
     return dev
-
-
-def draw_averaged(a: str, method: str, key: str) -> dict[str, float]:
-    """{unit: its RMSE averaged over arm a's draws}."""
-    acc: dict[str, list[float]] = {}
-    for k in FOLDS:
-        for d in DRAWS:
-            for u, v in rmse(a, d, k, method, key)[0].items():
-                acc.setdefault(u, []).append(v)
-    return {u: float(np.mean(v)) for u, v in acc.items()}
 
 
 def main() -> None:
@@ -124,9 +117,9 @@ def main() -> None:
         dev = {a: arm_lines(a, method) for a in ARMS}
         print(f"deviation ratio 240/60: {dev['e240'] / dev['e60']:.2f}")
         for name, key in KEYS.items():
-            avg = {a: draw_averaged(a, method, key) for a in ARMS}
-            ratios = [avg["e240"][u] / avg["e60"][u] for u in avg["e60"]]
-            print(f"paired 240 over 60, {name}: x{paired_text(ratios)}")
+            per = {a: ratios(every_draw(a), method, key) for a in ARMS}  # the same references
+            paired = [per["e240"][u] / per["e60"][u] for u in per["e60"]]
+            print(f"paired 240 over 60, {name}: x{paired_text(paired)}")
         if all((run("severe", d, k) / "metrics.json").is_file() for d in DRAWS for k in FOLDS):
             arm_lines("severe", method)
         print()
