@@ -779,9 +779,9 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     saved = meta.get("recipe", {})
     try:
         recipe = ResponseRecipe.from_saved(saved if isinstance(saved, dict) else {})
+        fit = ResponseFit.from_loaded(loaded).with_code_prior(recipe.code_prior, units)
     except (TypeError, ValueError) as e:
         raise AnytipError(f"{path}: {e}") from None
-    fit = ResponseFit.from_loaded(loaded)
     seed = int(meta.get("seed", 0))
     training_arrays, training = _training_rows(registry, units, arrays.runs[0].sensor_model,
                                                calibration_protocol)

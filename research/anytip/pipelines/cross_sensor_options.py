@@ -212,6 +212,9 @@ class ResponseOptions(BaseModel):
     code_fit: Literal["gauss_newton", "adam"] = Field(
         default=ResponseRecipe.code_fit,
         description="how a new unit's codes are fitted (train/response.py fit_codes)")
+    code_prior: Literal["diagonal", "barometer", "registry"] = Field(
+        default=ResponseRecipe.code_prior,
+        description="the prior a new unit's codes are fitted under (train/code_prior.py)")
     code_iterations: int = Field(default=ResponseRecipe.code_iterations, ge=1, le=10_000)
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)

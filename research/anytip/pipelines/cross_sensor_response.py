@@ -90,6 +90,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     if fit is None:
         fit, digest = trained_response(ctx, sd, arrays, opts, seed)
     check_trained_on(fit.unit_ids, sd.train.unit_ids, [*sd.split.val, *sd.split.test, *sd.split.factor], seed)
+    fit = fit.with_code_prior(recipe.code_prior, sd.train.unit_ids[: sd.train.n_units - sd.n_extra])
     jobs = labeled_jobs(sd, [*sd.split.val, *sd.split.test], opts, seed)
     factor_jobs = labeled_jobs(sd, list(sd.split.factor), opts, seed) if opts.intervals is not None else []
     rows: list[dict[str, Any]] = []

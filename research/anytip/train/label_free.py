@@ -4,7 +4,7 @@
 Without labels each unlabeled row's contact is unknown too, so the codes z (C, k) and every
 row's standardised contact c_i (D,) are fitted together: the MAP of
 
-    sum_i w |x_i - G(c_i; z)|^2_W / 2 + w lam |c_i - c0_i|^2 / 2 + |z|^2_{1/code_var} / 2
+    sum_i w |x_i - G(c_i; z)|^2_W / 2 + w lam |c_i - c0_i|^2 / 2 + |z - z0|^2_P / 2
 
 (W the training units' residual precision per barometer, w = n_eff / n, c0_i a start network's
 contact, lam a weak pull towards it that keeps a contact no barometer feels determined) by
@@ -273,7 +273,7 @@ def fleet_code_encoder(fit: ResponseFit, sources: list[FleetArrays], protocol: s
     holds (the registry's training units, and its extra units where the model learnt them): each one's
     `stream_features` of its ordinary use (`ordinary_rows`) against its codes. None where fewer than
     three such units have ordinary use, or where the left-out units' codes are explained no better
-    than by the units' mean (loo_r2 <= 0): the search then starts from codes zero."""
+    than by the units' mean (loo_r2 <= 0): the search then starts from the code prior's mean."""
     feats, index = [], []
     for i, u in enumerate(fit.unit_ids):
         arrays = next((a for a in sources if u in a.units), None)
@@ -342,7 +342,7 @@ def objective_at(fit: ResponseFit, X: Tensor, c0: Tensor, w: float, c: Tensor, c
     data, pull = (r**2 * (w / fit.noise_var)).sum() / 2, w * lam * ((c - c0) ** 2).sum() / 2
     prior = 0.0 if scale is None else scale.penalty(Y)
     term = 0.0 if labeled is None else labeled.data_term(fit, known)  # known: given with labeled
-    return float(data + pull + (codes**2 * (1 / fit.code_var)).sum() / 2) + prior + term
+    return float(data + pull + fit.code_prior.penalty(codes).sum()) + prior + term
 
 
 def scale_residual(scale: ForceScale, c: Tensor, mean: Tensor, std: Tensor) -> tuple[float, Tensor]:
@@ -361,18 +361,21 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
     """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa, pulled towards contacts
     Y0 (n, D), by damped Gauss-Newton on the joint MAP (module docstring), with the force-scale prior
     `scale` and `labeled` rows (their contacts known, so they enter the codes' block alone) where
-    given; the objective after each step. The fit starts at codes zero and contacts Y0, or at `start`
-    (codes (C, k), contacts (n, D) physical). The response model's weights are frozen (left without
-    grad)."""
+    given; the objective after each step. The fit starts at the code prior's mean and contacts Y0,
+    or at `start` (codes (C, k), contacts (n, D) physical). The response model's weights are frozen
+    (left without grad)."""
     model = fit.model
     for p in model.parameters():
         p.requires_grad_(False)
     mean, std = model.label_mean, model.label_std
     (n, C), k, D = X.shape, fit.code_var.shape[0], Y0.shape[1]
     w = n_eff / n
-    Wc, inv_spread = w / fit.noise_var, 1 / fit.code_var
+    Wc, code_prior = w / fit.noise_var, fit.code_prior
     c0 = (Y0 - mean) / std
-    c, z = (c0.clone(), X.new_zeros(C, k)) if start is None else ((start[1] - mean) / std, start[0].clone())
+    if start is None:
+        c, z = c0.clone(), code_prior.mean.clone()
+    else:
+        c, z = (start[1] - mean) / std, start[0].clone()
 
     def linearised(cc: Tensor, zz: Tensor) -> tuple[float, Point]:
         """The objective at (cc, zz) and what a step from there needs: the unlabeled and the labeled
@@ -397,8 +400,8 @@ def joint_fit(fit: ResponseFit, X: Tensor, Y0: Tensor, n_eff: float, iterations:
         r = X - pred
         Hcc = torch.einsum("ncd,nce,c->nde", Jc, Jc, Wc) + w * lam * torch.eye(D, device=X.device)
         gc = torch.einsum("ncd,nc,c->nd", Jc, r, Wc) - w * lam * (c - c0)
-        Hzz = torch.einsum("nck,ncj,c->ckj", Jz, Jz, Wc) + torch.diag_embed(inv_spread.expand(C, k))
-        gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) - z * inv_spread
+        Hzz = torch.einsum("nck,ncj,c->ckj", Jz, Jz, Wc) + code_prior.precision
+        gz = torch.einsum("nck,nc,c->ck", Jz, r, Wc) + code_prior.pull(z)
         if labeled is not None and Jk is not None:
             Wk = labeled.n_eff / len(labeled.X) / fit.noise_var
             Hzz = Hzz + torch.einsum("nck,ncj,c->ckj", Jk, Jk, Wk)
@@ -465,13 +468,13 @@ def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: f
                    seed: int, rounds: int, scale: ForceScale | None = None, codes: Tensor | None = None
                    ) -> tuple[Tensor, Tensor]:
     """Codes (C, k) and contacts (n, D) of unlabeled pressures X (n, C) Pa without a start network:
-    from `codes` (default zero, the fleet's typical unit), `rounds` times each row's nearest
+    from `codes` (default the code prior's mean, the fleet's typical unit), `rounds` times each row's nearest
     candidate contact (`nearest_contacts`), then the codes' MAP given those contacts (`fit_codes`, as
     if they were labels). With `scale`, the contacts' forces are scaled to the prior's mean square
     each round before the codes are fitted (`ForceScale.match`), so the search cannot trade
     sensitivity for force (entry 40)."""
     if codes is None:
-        codes = X.new_zeros(fit.model.n_channels, fit.model.config.code_dim)
+        codes = fit.code_prior.mean.clone()
 
     def nearest() -> Tensor:
         found = nearest_contacts(fit, X, candidates, codes)
@@ -486,12 +489,12 @@ def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRe
                      n_eff: float, candidates: Tensor, seed: int, scale: ForceScale | None = None,
                      codes: Tensor | None = None) -> tuple[Tensor, Tensor, list[float]]:
     """A new unit's codes (C, k) from its unlabeled pressures X (n, C) Pa: the joint fit from the
-    searched start (its search from `codes`, default zero), pulled towards a start network's contacts
-    Y0 (n, D), with the force-scale prior `scale` where given; its contacts (n, D) and its objective
-    after each step. Without rows the codes stay zero (the fleet's typical unit), as `fit_codes`
-    leaves a job without rows."""
+    searched start (its search from `codes`, default the code prior's mean), pulled towards a start
+    network's contacts Y0 (n, D), with the force-scale prior `scale` where given; its contacts (n, D)
+    and its objective after each step. Without rows the codes stay at the prior's mean (the fleet's
+    typical unit), as `fit_codes` leaves a job without rows."""
     if not len(X):
-        return X.new_zeros(fit.model.n_channels, fit.model.config.code_dim), Y0, []
+        return fit.code_prior.mean.clone(), Y0, []
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds, scale, codes)
     return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
 

@@ -4,7 +4,7 @@ carried over to the new unit through a fleet response model (models/response.py)
 1. `train_response`: the response network and every training unit's codes, jointly, every
    unit's rows in every step (pressure MSE, a small decay on the codes).
 2. `fit_codes`: a new unit's codes from its calibration rows, the network frozen: the MAP
-   estimate under a Gaussian prior whose spread is the training units' codes', with the
+   estimate under a Gaussian prior learnt from the training units' codes (`train.code_prior`), with the
    training units' residual variance as the noise and the plan's effective sample count as
    the number of independent rows. Each barometer's pressure depends on its own code alone,
    so the estimate is C small least-squares problems of k numbers, solved by Gauss-Newton
@@ -42,6 +42,7 @@ from anytip.data.seeds import unit_seed
 from anytip.models.io import LoadedModels, LoadedResponse
 from anytip.models.mlp import MLPConfig
 from anytip.models.response import ResponseConfig, ResponseModel
+from anytip.train.code_prior import CODE_PRIORS, CodePrior, code_prior
 from anytip.train.data import FleetBatchData, UnitSampler, UnitTensors, pad_rows
 from anytip.train.fleet import FitResult, ProgressBar, joined_fits, train_fleet
 from anytip.train.recipe import FAST, TrainRecipe, lr_at, set_lr
@@ -66,7 +67,8 @@ class ResponseRecipe:
     model, or the registry's own training units), and how the new unit's network trains on them
     (`inverse_epochs` of the fast recipe in batches of `inverse_batch` rows at peak `inverse_lr`,
     from random weights, `inverse_start: scratch`, or from one network trained on the source rows
-    as they were measured, `pooled`: `start_network`)."""
+    as they were measured, `pooled`: `start_network`). `code_prior`: the prior a new unit's codes are
+    fitted under (`train.code_prior`; a model saved before the choice existed ran `diagonal`)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
@@ -74,6 +76,7 @@ class ResponseRecipe:
     warmup_frac: float = 0.1
     code_decay: float = 1e-3
     code_fit: str = "gauss_newton"
+    code_prior: str = "diagonal"
     code_iterations: int = 10
     code_steps: int = 300
     code_rows: int = 2048
@@ -101,6 +104,9 @@ class ResponseRecipe:
                                  f"{kind.__name__}")
         if recipe.code_fit not in CODE_FITS:
             raise ValueError(f"recipe.code_fit: {recipe.code_fit!r} is not one of {', '.join(CODE_FITS)}")
+        if recipe.code_prior not in CODE_PRIORS:
+            raise ValueError(f"recipe.code_prior: {recipe.code_prior!r} is not one of "
+                             f"{', '.join(CODE_PRIORS)}")
         if recipe.inverse_start not in INVERSE_STARTS:
             raise ValueError(f"recipe.inverse_start: {recipe.inverse_start!r} is not one of "
                              f"{', '.join(INVERSE_STARTS)}")
@@ -121,10 +127,26 @@ class ResponseFit:
     code_var: Tensor
     unit_ids: list[str]
     wall_s: float = 0.0
+    prior: CodePrior | None = None  # a new unit's code prior; None: the diagonal prior of code_var
 
     @property
     def device(self) -> torch.device:
         return self.model.codes.device
+
+    @property
+    def code_prior(self) -> CodePrior:
+        """The prior a new unit's codes are fitted under (`with_code_prior`), on the model's device."""
+        prior = self.prior or code_prior("diagonal", self.model.codes, self.code_var)
+        return prior.to(self.device)
+
+    def with_code_prior(self, kind: str, registry_units: Sequence[str] = ()) -> ResponseFit:
+        """This model with the code prior `kind` (`train.code_prior.CODE_PRIORS`) learnt from its
+        training units' codes; `registry_units`: the registry's own units among them (the
+        `registry` prior's)."""
+        mine = set(registry_units)
+        registry = [i for i, u in enumerate(self.unit_ids) if u in mine]
+        prior = code_prior(kind, self.model.codes.detach(), self.code_var, registry)
+        return replace(self, prior=prior)
 
     @classmethod
     def from_loaded(cls, loaded: LoadedResponse) -> ResponseFit:
@@ -202,13 +224,15 @@ def fit_codes(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: l
               recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0) -> Tensor:
     """(M, C, k) MAP codes of M jobs, each its calibration rows X (n_m, C) Pa, Y (n_m, D), worth
     n_effective[m] independent rows. The loss of job m is n_eff / 2 times the mean over rows of
-    sum_c (x_c - G_c)^2 / noise_var_c, plus sum (z^2 / code_var) / 2. A job without rows keeps
-    the zero code (the fleet's typical unit). `recipe.code_fit` picks the solver."""
+    sum_c (x_c - G_c)^2 / noise_var_c, plus the code prior's penalty (`fit.code_prior`; the
+    diagonal prior's is sum (z^2 / code_var) / 2). A job without rows keeps the prior's mean (the
+    fleet's typical unit). `recipe.code_fit` picks the solver."""
     if recipe.code_fit not in CODE_FITS:
         raise ValueError(f"code_fit {recipe.code_fit!r}: expected one of {', '.join(CODE_FITS)}")
-    M, C, k = len(X), fit.model.n_channels, fit.model.config.code_dim
+    M = len(X)
     has_rows = torch.tensor([len(x) > 0 for x in X], device=fit.device)
-    codes = torch.zeros(M, C, k, device=fit.device)
+    typical = fit.code_prior.mean.expand(M, -1, -1)
+    codes = typical.clone()
     if not bool(has_rows.any()):
         return codes
     for p in fit.model.parameters():
@@ -223,7 +247,7 @@ def fit_codes(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: l
     finally:
         for p in fit.model.parameters():
             p.requires_grad_(True)
-    return torch.where(has_rows[:, None, None], codes, torch.zeros_like(codes))
+    return torch.where(has_rows[:, None, None], codes, typical)
 
 
 def evenly_spaced(n: int, at_most: int) -> Tensor:
@@ -251,22 +275,22 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
     valid = (torch.arange(B, device=device)[None] < n[:, None]).float()  # (M, B)
     weight = torch.tensor(n_effective, dtype=torch.float32, device=device) / n.clamp_min(1)  # per row
     row_w = valid[..., None] * weight[:, None, None] / fit.noise_var.to(device)  # (M, B, C)
-    inv_spread = 1 / fit.code_var.to(device)  # (k,)
+    prior = fit.code_prior
 
     def loss_of(codes: Tensor) -> Tensor:
         with torch.no_grad():
             err = Xp - model(Yp, codes[:, None])
-            return (row_w * err**2).sum(1) / 2 + (codes**2 * inv_spread).sum(-1) / 2  # (M, C)
+            return (row_w * err**2).sum(1) / 2 + prior.penalty(codes)  # (M, C)
 
-    codes = torch.zeros(M, C, k, device=device)
+    codes = prior.mean.expand(M, C, k).clone()
     damping = torch.full((M, C), 1e-2, device=device)
     loss = loss_of(codes)
     for _ in range(recipe.code_iterations):
         pred, J = code_jacobian(model, Yp, codes[:, None])  # J (M, B, C, k)
         resid = Xp - pred
         JW = J * row_w[..., None]
-        H = torch.einsum("mbck,mbcj->mckj", JW, J) + torch.diag_embed(inv_spread.expand(M, C, k))
-        g = torch.einsum("mbck,mbc->mck", JW, resid) - codes * inv_spread
+        H = torch.einsum("mbck,mbcj->mckj", JW, J) + prior.precision
+        g = torch.einsum("mbck,mbc->mck", JW, resid) + prior.pull(codes)
         diag = torch.diagonal(H, dim1=-2, dim2=-1)
         damped = H + torch.diag_embed(damping[..., None] * diag)
         step = torch.linalg.solve(damped, g.unsqueeze(-1)).squeeze(-1)
@@ -291,7 +315,8 @@ def _codes_by_adam(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effecti
     """(M, C, k) MAP codes by `code_steps` Adam steps of `code_rows` random rows of each job."""
     device, model = fit.device, fit.model
     M, C, k = len(X), model.n_channels, model.config.code_dim
-    codes = torch.zeros(M, C, k, device=device, requires_grad=True)
+    prior = fit.code_prior
+    codes = prior.mean.expand(M, C, k).clone().requires_grad_(True)
     n = torch.tensor([len(x) for x in X], device=device)
     Xp, _ = pad_rows([x if len(x) else x.new_zeros(1, C) for x in X], device)
     Yp, _ = pad_rows([y if len(y) else y.new_zeros(1, Y[0].shape[-1]) for y in Y], device)
@@ -300,11 +325,11 @@ def _codes_by_adam(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effecti
     rows_of = torch.arange(M, device=device)[:, None]
     opt = torch.optim.Adam([codes], lr=recipe.code_lr)
     schedule = TrainRecipe(name="codes", lr=recipe.code_lr, schedule="cosine", final_lr_frac=0.05)
-    noise, spread = fit.noise_var.to(device), fit.code_var.to(device)
+    noise = fit.noise_var.to(device)
     for step, idx in sampler.steps(recipe.code_steps):
         set_lr(opt, lr_at(step, recipe.code_steps, schedule))
         err = (model(Yp[rows_of, idx], codes[:, None]) - Xp[rows_of, idx]).pow(2) / noise  # (M, B, C)
-        loss = (weight * err.mean(1).sum(-1)).sum() / 2 + (codes.pow(2) / spread).sum() / 2
+        loss = (weight * err.mean(1).sum(-1)).sum() / 2 + prior.penalty(codes).sum()
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()
