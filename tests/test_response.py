@@ -137,12 +137,43 @@ def test_gauss_newton_reaches_the_map_estimate_at_least_as_well_as_adam(made_up)
         assert map_loss(fit, X[m], Y[m], n_eff[m], newton[m]) <= map_loss(fit, X[m], Y[m], n_eff[m], adam[m])
 
 
+@pytest.mark.parametrize("solver", ["gauss_newton", "adam"])
+def test_codes_fitted_under_a_learnt_prior_reach_its_map_and_keep_its_mean_without_rows(made_up, solver):
+    """Under each barometer's own prior (mean away from zero, correlated dimensions) the fit reaches
+    that objective's minimum; with almost no weight on the rows it stays at the prior's mean, and a
+    job without rows keeps it."""
+    data, _, fit = made_up
+    registry = [str(u) for u in data.unit_ids[:6]]
+    learnt = fit.with_code_prior("registry", registry)
+    prior = learnt.code_prior
+    assert prior.mean.abs().max() > 0 and (prior.precision - torch.diag_embed(
+        torch.diagonal(prior.precision, dim1=-2, dim2=-1))).abs().max() > 0
+    new, _ = made_up_fleet(1, seed=97)
+    X, Y = [new.unit(0).X_train[:400]], [new.unit(0).Y_train[:400]]
+
+    def loss(codes: torch.Tensor, n_eff: float) -> float:
+        with torch.no_grad():
+            err = (X[0] - fit.model(Y[0], codes)).pow(2) / fit.noise_var
+        return float(n_eff / 2 * err.mean(0).sum() + prior.penalty(codes).sum())
+
+    recipe = replace(FAST_FIT, code_fit=solver, code_rows=400)
+    codes = fit_codes(learnt, X, Y, [40.0], recipe)[0]
+    longer = fit_codes(learnt, X, Y, [40.0], replace(recipe, code_fit="gauss_newton", code_iterations=40))[0]
+    assert loss(codes, 40.0) <= (1.001 if solver == "gauss_newton" else 1.05) * loss(longer, 40.0)
+    assert loss(longer, 40.0) < loss(fit_codes(fit, X, Y, [40.0], recipe)[0], 40.0)  # not the diagonal's MAP
+    held = fit_codes(learnt, X, Y, [1e-6], replace(recipe, code_fit="gauss_newton"))[0]
+    torch.testing.assert_close(held, prior.mean, atol=1e-3, rtol=0)
+    none = fit_codes(learnt, [X[0][:0]], [Y[0][:0]], [0.0], recipe)[0]
+    torch.testing.assert_close(none, prior.mean)
+
+
 def test_a_saved_recipe_reads_as_it_was_run_and_a_bad_value_is_named():
     old = ResponseRecipe.from_saved({"steps": 10, "code_steps": 300, "code_rows": 1024, "code_lr": 0.03,
                                      "somebody_elses_key": 1})
     assert (old.code_fit, old.inverse_batch, old.steps) == ("adam", 256, 10)  # before the choice existed
+    assert old.code_prior == "diagonal"
     assert ResponseRecipe.from_saved(asdict(ResponseRecipe())) == ResponseRecipe()
-    for key, value in [("code_fit", "newton"), ("inverse_batch", 0), ("lr", float("nan")), ("steps", "9"),
+    for key, value in [("code_fit", "newton"), ("code_prior", "wide"), ("inverse_batch", 0), ("lr", float("nan")), ("steps", "9"),
                        ("code_rows", True)]:
         with pytest.raises(ValueError, match=f"recipe.{key}"):
             ResponseRecipe.from_saved({key: value})

@@ -1,0 +1,83 @@
+"""Research log entry 86's tables: other16's four folds rescored with each code prior
+(`{PRIOR}/other16_seed{K}`) against entry 83's `e60_d0` (the control before the code change), and
+fleet88 fold 0 where it ran (`fleet88_{PRIOR}/fleet88_seed0`). Usage, from the repository root:
+
+    python reports/cross_sensor_response_gpu/entry86/analyse.py
+"""
+
+import functools
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from anytip.report.cross_sensor import mean_interval, paired_text, unit_ratios
+from anytip.rundir import read_json
+
+HERE = Path(__file__).parent
+CONTROL = HERE.parent / "entry83" / "e60_d0"
+PRIORS, FOLDS, BUDGET = ("diagonal", "barometer", "registry"), (0, 1, 2, 3), 120.0
+METHODS = ("response@cover", "response+use@cover")
+KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
+
+
+def fold_run(arm: str, k: int) -> Path:
+    """Arm `control` (entry 83's e60_d0) or a prior's rescoring of other16 fold k."""
+    return (CONTROL if arm == "control" else HERE / arm) / f"other16_seed{k}"
+
+
+@functools.cache
+def rows(path: Path) -> list[dict[str, Any]]:
+    return read_json(path / "metrics.json")["results"]
+
+
+def val_loss(path: Path, seed: int, method: str) -> float:
+    """The validation units' loss of `method` at 120 s in one run."""
+    return read_json(path / "provenance.json")["cross_sensor"][f"seed{seed}"]["val_loss"][method]["120"]
+
+
+def ratios(paths: list[Path], method: str, key: str) -> dict[str, float]:
+    """{held-out unit: its `key` over its per-unit reference's} at 120 s over the runs' units."""
+    return unit_ratios([r for p in paths for r in rows(p)], key)[(method, BUDGET)]
+
+
+def other16_table() -> None:
+    arms = ["control", *[p for p in PRIORS if all((fold_run(p, k) / "metrics.json").is_file() for k in FOLDS)]]
+    control = {m: {n: ratios([fold_run("control", k) for k in FOLDS], m, key) for n, key in KEYS.items()}
+               for m in METHODS}
+    for a in arms:
+        paths = [fold_run(a, k) for k in FOLDS]
+        for m in METHODS:
+            loss = np.mean([val_loss(p, k, m) for k, p in zip(FOLDS, paths, strict=True)])
+            base = np.mean([val_loss(fold_run("control", k), k, m) for k in FOLDS])
+            line = f"{a:9s} {m:20s} val {loss:.5f} ({100 * (loss / base - 1):+.1f}%)"
+            for n, key in KEYS.items():
+                per = ratios(paths, m, key)
+                mean, lo, hi = mean_interval(list(per.values()))
+                paired = [per[u] / control[m][n][u] for u in per]
+                line += f" | {n} {mean:.3f}x [{lo:.2f}, {hi:.2f}] paired x{paired_text(paired)}"
+                if a == "diagonal":
+                    line += f" max dev {max(abs(r - 1) for r in paired):.1e}"
+            print(line)
+
+
+def fleet88_table() -> None:
+    """fleet88 fold 0 against entry 81's 10-step arm (draw 0, the same model and recipe)."""
+    base = HERE.parent / "entry81" / "fleet88_it10" / "fleet88_seed0"
+    for p in PRIORS:
+        path = HERE / f"fleet88_{p}" / "fleet88_seed0"
+        if not (path / "metrics.json").is_file():
+            continue
+        for m in METHODS:
+            loss, before = val_loss(path, 0, m), val_loss(base, 0, m)
+            line = f"fleet88 {p:9s} {m:20s} val {loss:.5f} ({100 * (loss / before - 1):+.1f}%)"
+            for n, key in KEYS.items():
+                per, ref = ratios([path], m, key), ratios([base], m, key)
+                mean, lo, hi = mean_interval(list(per.values()))
+                line += f" | {n} {mean:.3f}x [{lo:.2f}, {hi:.2f}] paired x{paired_text([per[u] / ref[u] for u in per])}"
+            print(line)
+
+
+if __name__ == "__main__":
+    other16_table()
+    fleet88_table()
