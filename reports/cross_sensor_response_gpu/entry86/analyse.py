@@ -42,7 +42,8 @@ def ratios(paths: list[Path], method: str, key: str) -> dict[str, float]:
 
 
 def other16_table() -> None:
-    arms = ["control", *[p for p in PRIORS if all((fold_run(p, k) / "metrics.json").is_file() for k in FOLDS)]]
+    done = [p for p in PRIORS if all((fold_run(p, k) / "metrics.json").is_file() for k in FOLDS)]
+    arms = ["control", *done]
     control = {m: {n: ratios([fold_run("control", k) for k in FOLDS], m, key) for n, key in KEYS.items()}
                for m in METHODS}
     for a in arms:
@@ -74,10 +75,35 @@ def fleet88_table() -> None:
             for n, key in KEYS.items():
                 per, ref = ratios([path], m, key), ratios([base], m, key)
                 mean, lo, hi = mean_interval(list(per.values()))
-                line += f" | {n} {mean:.3f}x [{lo:.2f}, {hi:.2f}] paired x{paired_text([per[u] / ref[u] for u in per])}"
+                paired = paired_text([per[u] / ref[u] for u in per])
+                line += f" | {n} {mean:.3f}x [{lo:.2f}, {hi:.2f}] paired x{paired}"
+            print(line)
+
+
+DRAWS = (0, 1, 2)
+SEVERE = {"diagonal": HERE.parent / "entry83" / "severe_d{d}", "registry": HERE / "severe_registry_d{d}"}
+
+
+def severe_table() -> None:
+    """Rule 6: the severe model over three draws of the start network, per prior: mean validation
+    loss over draws and folds, and the draw-averaged ratios of the 16 held-out units."""
+    paths = {p: [Path(str(t).format(d=d)) / f"other16_seed{k}" for d in DRAWS for k in FOLDS]
+             for p, t in SEVERE.items()}
+    if not all((q / "metrics.json").is_file() for ps in paths.values() for q in ps):
+        return
+    for m in METHODS:
+        per = {p: {n: ratios(ps, m, key) for n, key in KEYS.items()} for p, ps in paths.items()}
+        for p, ps in paths.items():
+            loss = np.mean([val_loss(q, int(q.name[-1]), m) for q in ps])
+            line = f"severe {p:9s} {m:20s} val {loss:.5f}"
+            for n in KEYS:
+                mean, lo, hi = mean_interval(list(per[p][n].values()))
+                paired = paired_text([per[p][n][u] / per["diagonal"][n][u] for u in per[p][n]])
+                line += f" | {n} {mean:.3f}x [{lo:.2f}, {hi:.2f}] paired x{paired}"
             print(line)
 
 
 if __name__ == "__main__":
     other16_table()
     fleet88_table()
+    severe_table()
