@@ -10,6 +10,7 @@ import torch
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.train import label_free
 from anytip.train.code_encoder import ENCODER_QUANTILES, PA_FLOOR, CodeEncoder, stream_features
+from anytip.train.code_prior import CodePrior
 from anytip.train.label_free import (
     FleetUse,
     ForceScale,
@@ -110,6 +111,29 @@ def test_labeled_rows_enter_the_joint_fit_as_the_codes_map_takes_them():
     std_c = lambda t: (t - m.label_mean) / m.label_std  # noqa: E731
     at_end = joint_objective(fit, X, std_c(_contacts(100, 10)), 1.0, std_c(y), z, 1e-3, labeled=labeled)
     assert trace[-1] == pytest.approx(at_end, rel=1e-5)
+
+
+def test_the_joint_fit_and_the_codes_map_hold_the_same_learnt_prior():
+    """Under a prior with a mean away from zero and correlated dimensions (`train.code_prior`), the
+    joint fit whose unlabeled rows weigh almost nothing ends at `fit_codes`' MAP of the labeled rows,
+    and a unit without rows keeps the prior's mean."""
+    g = torch.Generator().manual_seed(11)
+    A = torch.randn(8, 4, 4, generator=g)
+    prior = CodePrior(0.1 * torch.randn(8, 4, generator=g), 10 * (A @ A.transpose(1, 2) / 4 + torch.eye(4)))
+    fit, truth_y = replace(_fit(), prior=prior), _contacts(200, 8)
+    codes = 0.2 * torch.randn(8, 4, generator=g)
+    with torch.no_grad():
+        X_l = fit.model(truth_y, codes)
+        X = fit.model(_contacts(100, 9), codes)
+    alone = fit_codes(fit, [X_l], [truth_y], [20.0], replace(ResponseRecipe(), code_iterations=40))[0]
+    plain = fit_codes(_fit(), [X_l], [truth_y], [20.0], replace(ResponseRecipe(), code_iterations=40))[0]
+    assert float((alone - plain).abs().max()) > 1e-2  # the prior moves the MAP
+    z, _, _ = joint_fit(fit, X, _contacts(100, 10), 1e-6, 40, 1e-3, labeled=Labeled(X_l, truth_y, 20.0))
+    torch.testing.assert_close(z, alone, atol=2e-3, rtol=1e-2)
+    none = torch.zeros(0, 8)
+    z, _, _ = label_free_codes(fit, ResponseRecipe(), LabelFreeRecipe(), none, torch.zeros(0, 5), 600.0,
+                               _contacts(50, 7), 0)
+    assert torch.equal(z, prior.mean)
 
 
 def test_a_unit_without_unlabeled_rows_keeps_the_fleets_typical_codes():

@@ -173,8 +173,8 @@ def test_a_saved_recipe_reads_as_it_was_run_and_a_bad_value_is_named():
     assert (old.code_fit, old.inverse_batch, old.steps) == ("adam", 256, 10)  # before the choice existed
     assert old.code_prior == "diagonal"
     assert ResponseRecipe.from_saved(asdict(ResponseRecipe())) == ResponseRecipe()
-    for key, value in [("code_fit", "newton"), ("code_prior", "wide"), ("inverse_batch", 0), ("lr", float("nan")), ("steps", "9"),
-                       ("code_rows", True)]:
+    for key, value in [("code_fit", "newton"), ("code_prior", "wide"), ("inverse_batch", 0),
+                       ("lr", float("nan")), ("steps", "9"), ("code_rows", True)]:
         with pytest.raises(ValueError, match=f"recipe.{key}"):
             ResponseRecipe.from_saved({key: value})
 
