@@ -68,13 +68,15 @@ def test_the_registry_prior_is_centred_and_scaled_on_the_registrys_units():
     assert ((ratio > 0.9) & (ratio < 1.1)).all(), ratio  # the registry is the fleet: nothing moves
 
 
-def test_a_prior_kind_or_registry_it_cannot_learn_from_is_named():
+def test_a_prior_kind_is_named_and_too_few_units_fall_back_to_what_they_can_learn():
     codes = correlated(10, np.zeros((C, K)), covariances(8), seed=9)
     code_var = codes.var(0).mean(0)
     with pytest.raises(ValueError, match="code_prior 'wide'"):
         code_prior("wide", codes, code_var)
     with pytest.raises(ValueError, match="at least two of the registry's units, got 1"):
-        code_prior("registry", codes, code_var, [3, 3])
+        registry_prior(codes, [3, 3])
+    lone = code_prior("registry", codes, code_var, [3])  # one registry unit: nothing to centre on
+    torch.testing.assert_close(lone.precision, barometer_prior(codes).precision)
     alone = code_prior("registry", codes[:1], code_var)  # one unit: no spread to learn
     torch.testing.assert_close(alone.precision, diagonal_prior(code_var, C).precision)
     assert isinstance(alone, CodePrior)

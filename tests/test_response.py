@@ -390,6 +390,35 @@ def _set_response_loss(run: Path, value: float) -> None:
     path.write_text(json.dumps(header))
 
 
+def test_calibrate_fits_the_codes_under_the_prior_the_model_records_and_names_a_bad_one(response_run, fleet,
+                                                                                       tmp_path):
+    """A response model that records `code_prior: registry` calibrates a unit under the prior centred on
+    the registry's units it records (`registry_unit_ids`): other codes than the diagonal prior's; a
+    prior it does not know, or unit ids that are not a list of ids, are named with the file."""
+    unit = _held_out(response_run)
+    run = tmp_path / "run"
+    shutil.copytree(response_run, run)
+    header_path = run / "models" / "response_seed0.json"
+    header = json.loads(header_path.read_text())
+    assert set(header["meta"]["registry_unit_ids"]) <= set(header["meta"]["unit_ids"])
+
+    def codes_with(prior: object, registry: object, out: str) -> list:
+        meta = header["meta"] | {"recipe": header["meta"]["recipe"] | {"code_prior": prior},
+                                 "registry_unit_ids": registry}
+        header_path.write_text(json.dumps(header | {"meta": meta}))
+        calibrate_unit(run, unit, fleet, tmp_path / out, budget_seconds=40, method="response")
+        return load_models(tmp_path / out).meta["codes"]
+
+    registry = header["meta"]["registry_unit_ids"]
+    diagonal = codes_with("diagonal", registry, "diagonal")
+    learnt = codes_with("registry", registry, "registry")
+    assert np.abs(np.array(diagonal) - np.array(learnt)).max() > 1e-4
+    with pytest.raises(AnytipError, match="recipe.code_prior: 'wide'"):
+        codes_with("wide", registry, "wide")
+    with pytest.raises(AnytipError, match="registry_unit_ids"):
+        codes_with("registry", "U0", "bad")
+
+
 def test_calibrate_takes_response_transfer_where_its_validation_loss_is_lower(response_run, fleet, tmp_path):
     run = tmp_path / "run"
     shutil.copytree(response_run, run)

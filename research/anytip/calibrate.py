@@ -757,6 +757,15 @@ def _source_rows(path: Path, fit: ResponseFit, training: FleetBatchData, per_uni
     return source
 
 
+def _registry_units(meta: dict[str, Any], sources: list[str]) -> list[str]:
+    """The registry's own units a response model learnt (`registry_unit_ids`; a model saved before
+    the record existed: the units whose rows it carries over)."""
+    recorded = meta.get("registry_unit_ids", sources)
+    if not isinstance(recorded, list) or not all(isinstance(u, str) for u in recorded):
+        raise ValueError(f"registry_unit_ids: {recorded!r} is not a list of unit ids")
+    return recorded
+
+
 def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArrays,
                                stream: CalibrationStream, plan: Plan, budget: float, out: Path,
                                notes: list[str], interval_level: float | None = 0.9,
@@ -779,7 +788,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     saved = meta.get("recipe", {})
     try:
         recipe = ResponseRecipe.from_saved(saved if isinstance(saved, dict) else {})
-        fit = ResponseFit.from_loaded(loaded).with_code_prior(recipe.code_prior, units)
+        fit = ResponseFit.from_loaded(loaded).with_code_prior(recipe.code_prior, _registry_units(meta, units))
     except (TypeError, ValueError) as e:
         raise AnytipError(f"{path}: {e}") from None
     seed = int(meta.get("seed", 0))

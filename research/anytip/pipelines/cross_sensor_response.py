@@ -90,7 +90,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     if fit is None:
         fit, digest = trained_response(ctx, sd, arrays, opts, seed)
     check_trained_on(fit.unit_ids, sd.train.unit_ids, [*sd.split.val, *sd.split.test, *sd.split.factor], seed)
-    fit = fit.with_code_prior(recipe.code_prior, sd.train.unit_ids[: sd.train.n_units - sd.n_extra])
+    fit = fit.with_code_prior(recipe.code_prior, registry_units(sd))
     jobs = labeled_jobs(sd, [*sd.split.val, *sd.split.test], opts, seed)
     factor_jobs = labeled_jobs(sd, list(sd.split.factor), opts, seed) if opts.intervals is not None else []
     rows: list[dict[str, Any]] = []
@@ -351,11 +351,18 @@ def saved_response(path: Path) -> LoadedResponse | None:
 def response_meta(ctx: Context, sd: SeedData, arrays: FleetArrays, recipe: ResponseRecipe, seed: int,
                   fit: ResponseFit, digest: str | None) -> dict[str, Any]:
     """What a response model file records of its training (`training_digest`: None for a model
-    trained elsewhere) and of the rows `anytip calibrate` transfers (`source_unit_ids`)."""
+    trained elsewhere), of the rows `anytip calibrate` transfers (`source_unit_ids`) and of the
+    registry's own training units (`registry_unit_ids`, what the `registry` code prior is centred on)."""
     return {"unit_ids": fit.unit_ids, "source_unit_ids": list(sd.train.unit_ids[:n_sources(sd, recipe)]),
+            "registry_unit_ids": registry_units(sd),
             "seed": seed, "output_names": list(arrays.output_names), "recipe": asdict(recipe),
             "wall_s": fit.wall_s, "shape": ctx.spec.model.model_dump(mode="json"),
             "training_digest": digest}
+
+
+def registry_units(sd: SeedData) -> list[str]:
+    """The registry's own training units of a split (`sd.train` less its `extra_units`)."""
+    return list(sd.train.unit_ids[: sd.train.n_units - sd.n_extra])
 
 
 def n_sources(sd: SeedData, recipe: ResponseRecipe) -> int:

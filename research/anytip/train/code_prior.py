@@ -100,12 +100,15 @@ def registry_prior(codes: Tensor, registry: Sequence[int]) -> CodePrior:
 def code_prior(kind: str, codes: Tensor, code_var: Tensor, registry: Sequence[int] = ()) -> CodePrior:
     """The prior `kind` (`CODE_PRIORS`) from the units' codes (U, C, k), their pooled variance
     code_var (k,) and the registry's own units among them (indices into U, for `registry`). With a
-    single unit every kind falls back to `diagonal` (there is no spread to learn)."""
+    single unit every kind falls back to `diagonal` (there is no spread to learn), and `registry`
+    with fewer than two of the registry's units to `barometer` (nothing to centre it on)."""
     if kind not in CODE_PRIORS:
         raise ValueError(f"code_prior {kind!r}: expected one of {', '.join(CODE_PRIORS)}")
     if kind == "diagonal" or codes.shape[0] < 2:
         return diagonal_prior(code_var, codes.shape[1])
-    return barometer_prior(codes) if kind == "barometer" else registry_prior(codes, registry)
+    if kind == "barometer" or len(set(registry)) < 2:
+        return barometer_prior(codes)
+    return registry_prior(codes, registry)
 
 
 def _as_array(codes: Tensor) -> np.ndarray:
