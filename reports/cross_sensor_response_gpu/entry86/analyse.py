@@ -103,7 +103,34 @@ def severe_table() -> None:
             print(line)
 
 
+BUDGETS = HERE.parent.parent / "cross_sensor_budgets"
+
+
+def both_folds_table(name: str, control: list[Path], registry: list[Path], methods: tuple[str, ...]) -> None:
+    """fleet88's two folds: validation loss per fold, the 88 units under each prior, paired per unit."""
+    if not all((p / "metrics.json").is_file() for p in registry):
+        return
+    for m in methods:
+        losses = [f"fold {k} {val_loss(r, k, m):.5f} against {val_loss(c, k, m):.5f}"
+                  for k, (c, r) in enumerate(zip(control, registry, strict=True))]
+        print(f"{name} {m}: validation " + ", ".join(losses))
+        for n, key in KEYS.items():
+            per, ref = ratios(registry, m, key), ratios(control, m, key)
+            a, alo, ahi = mean_interval(list(per.values()))
+            b, blo, bhi = mean_interval(list(ref.values()))
+            print(f"  {n}: registry {a:.3f}x [{alo:.2f}, {ahi:.2f}], "
+                  f"diagonal {b:.3f}x [{blo:.2f}, {bhi:.2f}], "
+                  f"paired x{paired_text([per[u] / ref[u] for u in ref])} over {len(ref)} units")
+
+
 if __name__ == "__main__":
     other16_table()
     fleet88_table()
     severe_table()
+    gpu = [HERE.parent / "entry81" / "fleet88_it10" / "fleet88_seed0",
+           HERE / "fleet88_diagonal" / "fleet88_seed1"]
+    mine = [HERE / "fleet88_registry" / f"fleet88_seed{k}" for k in (0, 1)]
+    both_folds_table("fleet88, 1,024-unit models", gpu, mine, METHODS)
+    cpu = [HERE / "fleet88_cpu_registry" / f"fleet88_seed{k}" for k in (0, 1)]
+    both_folds_table("fleet88, CPU models (128 simulated units)",
+                     [BUDGETS / f"fleet88_grouped_seed{k}" for k in (0, 1)], cpu, ("response@cover",))
