@@ -66,13 +66,8 @@ def diagonal_prior(code_var: Tensor, n_channels: int) -> CodePrior:
 def barometer_prior(codes: Tensor) -> CodePrior:
     """Each barometer's mean and Ledoit-Wolf covariance (standardised per dimension, so shrunk
     towards the diagonal) over the units' codes (U, C, k), U >= 2."""
-    Z = _as_array(codes)
-    means, precisions = [], []
-    for c in range(Z.shape[1]):
-        mean, cov = _shrunk_covariance(Z[:, c])
-        means.append(mean)
-        precisions.append(np.linalg.inv(cov))
-    return _prior(means, precisions, codes)
+    means, precisions = zip(*_barometer_moments(_as_array(codes)), strict=True)
+    return _prior(list(means), list(precisions), codes)
 
 
 def registry_prior(codes: Tensor, registry: Sequence[int]) -> CodePrior:
@@ -86,9 +81,7 @@ def registry_prior(codes: Tensor, registry: Sequence[int]) -> CodePrior:
     R = Z[sorted(set(registry))]
     n, k = R.shape[0], Z.shape[2]
     means, precisions = [], []
-    for c in range(Z.shape[1]):
-        _, cov = _shrunk_covariance(Z[:, c])
-        precision = np.linalg.inv(cov)
+    for c, (_, precision) in enumerate(_barometer_moments(Z)):
         mean = R[:, c].mean(0)
         d = R[:, c] - mean
         scale = np.einsum("ui,ij,uj->", d, precision, d) / (n - 1) / k
@@ -115,6 +108,16 @@ def _as_array(codes: Tensor) -> np.ndarray:
     if codes.ndim != 3 or codes.shape[0] < 2:
         raise ValueError(f"codes of shape {tuple(codes.shape)}: expected (units >= 2, C, k)")
     return codes.detach().double().cpu().numpy()
+
+
+def _barometer_moments(Z: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per barometer of codes Z (U, C, k): its mean (k,) and the precision (k, k) of its shrunk
+    covariance (`_shrunk_covariance`), in float64."""
+    moments = []
+    for c in range(Z.shape[1]):
+        mean, cov = _shrunk_covariance(Z[:, c])
+        moments.append((mean, np.linalg.inv(cov)))
+    return moments
 
 
 def _shrunk_covariance(Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
