@@ -721,13 +721,13 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     no in_contact, temperature or protocol record, its own targets): the response method finds
     the presses, trains on the training units only and calibrates held-out units better than the
     pooled model that ignores how units differ, its networks started from random weights or from
-    the pooled start network."""
+    the pooled start network (there with the recipe spec's registry code prior)."""
     import numpy as np
 
     reg = _lab_registry(tmp_path)
     over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
-    free = "" if start == "scratch" else (", label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, "
-                                           "iterations: 2, with_plans: true}")
+    free = "" if start == "scratch" else (", code_prior: registry, label_free: {seconds: 20, rows: 64, "
+                                           "candidates: 256, rounds: 1, iterations: 2, with_plans: true}")
     over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 1500, source_rows: 2000, "
              f"inverse_epochs: 10, inverse_start: {start}{free}}}", "data.protocol=null",
              "options.calibration_protocol=null", "options.budgets=[0,20]",
@@ -740,6 +740,8 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     assert set(mine) == set(prov["test"]) and all(r["presses"] >= 2 for r in mine.values())
     meta = load_response(run / "models" / "response_seed0.safetensors").meta
     assert meta["unit_ids"] == prov["train"] and meta["recipe"]["inverse_start"] == start
+    assert meta["recipe"]["code_prior"] == ("diagonal" if start == "scratch" else "registry")
+    assert meta["registry_unit_ids"] == prov["train"]  # the recipe spec's prior, centred on the lab's units
     assert (run / "models" / "response_seed0_start.safetensors").is_file() == (start == "pooled")
     for key in ("u_rmse", "v_rmse", "fz_rmse"):  # the place is where units differ most
         assert np.mean([mine[u][key] for u in mine]) < np.mean([pooled[u][key] for u in mine]), key
