@@ -8,7 +8,15 @@ import pytest
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.catalog import RunRecord
-from anytip.data.plans import Budget, RigTiming, find_presses, ordinary_use, plan_for, select_presses
+from anytip.data.plans import (
+    Budget,
+    CodeInformation,
+    RigTiming,
+    find_presses,
+    ordinary_use,
+    plan_for,
+    select_presses,
+)
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_into
 from anytip.errors import AnytipError
@@ -61,12 +69,21 @@ def test_presses_are_the_contiguous_contact_segments_of_each_run():
     assert presses.duration_s == pytest.approx(np.full(len(presses), PRESS_ROWS / RATE))
 
 
-@pytest.mark.parametrize("strategy", ["spread", "cover", "random", "first"])
+def made_up_information(n_presses: int, criterion: str = "d", seed: int = 0, C: int = 2,
+                        k: int = 3) -> CodeInformation:
+    """Random positive semi-definite information (rank 2) per press and barometer, unit prior."""
+    J = np.random.default_rng(seed).normal(size=(n_presses, C, k, 2))
+    unit = np.tile(np.eye(k), (C, 1, 1))
+    return CodeInformation(J @ J.swapaxes(-1, -2), unit, unit, criterion)
+
+
+@pytest.mark.parametrize("strategy", ["spread", "cover", "random", "first", "informative"])
 @pytest.mark.parametrize("budget", [3.0, 12.0, 40.0, 90.0])
 def test_a_plan_is_whole_presses_within_its_robot_time(strategy, budget):
     arrays, rig = fleet(), RigTiming(move_s=2.0, remount_s=30.0)
     presses = find_presses(arrays, "U1")
-    plan = select_presses(presses, budget, rig, strategy, seed=1)
+    information = made_up_information(len(presses))
+    plan = select_presses(presses, budget, rig, strategy, seed=1, information=information)
     assert plan.calib_seconds <= budget + 1e-9
     assert plan.rows.size == plan.presses * PRESS_ROWS  # whole presses, each once
     whole = [set(presses.rows_of(k)) for k in range(len(presses))]
@@ -289,3 +306,50 @@ def test_press_folds_hold_out_every_press_exactly_once():
     assert np.array_equal(plan.split_presses(3)[1], checks[0])  # fold 0 is the own check's split
     fit, check = plan.split_presses(plan.presses + 1, plan.presses)  # a fold past the last press
     assert len(check) == 0 and np.array_equal(fit, plan.rows)
+
+
+def axis_information(axes: list[int], strength: list[float], region: tuple[float, float],
+                     criterion: str) -> CodeInformation:
+    """One barometer, a code of 2: press p tells code dimension axes[p] with strength[p]."""
+    per_press = np.zeros((len(axes), 1, 2, 2))
+    for p, (a, s) in enumerate(zip(axes, strength, strict=True)):
+        per_press[p, 0, a, a] = s
+    return CodeInformation(per_press, np.eye(2)[None] * 0.1, np.diag(region)[None], criterion)
+
+
+def test_informative_plans_pick_presses_for_the_code_directions_left_open():
+    arrays = fleet(orientations=(0.0,))
+    presses = find_presses(arrays, "U1")
+    cost = PRESS_ROWS / RATE + RigTiming().move_s  # one press and its move
+    axes = [0] * 6 + [1] * 6  # the first six tell dimension 0 a little better than the rest tell 1
+    strength = [10.0] * 6 + [8.0] * 6
+    for crit, region, expected in (("d", (1.0, 1.0), {0, 1}), ("v", (1.0, 1.0), {0, 1}),
+                                   ("v", (0.0, 1.0), {1})):
+        info = axis_information(axes, strength, region, crit)
+        plan = select_presses(presses, 2 * cost, strategy="informative", information=info)
+        chosen = [k for k in range(len(presses)) if presses.rows_of(k)[0] in set(plan.rows)]
+        assert plan.presses == 2 and {axes[k] for k in chosen} == expected, (crit, region)
+
+
+def test_informative_plans_pay_a_remount_only_for_information_worth_it():
+    arrays, rig = fleet(), RigTiming(remount_s=5.0)  # 20 s: 9 presses of one orientation, or 6 of two
+    presses = find_presses(arrays, "U1")
+    other = presses.orientation_deg != presses.orientation_deg[0]
+    axes = list(other.astype(int))  # the second orientation alone tells code dimension 1
+    info = axis_information(axes, [5.0] * len(presses), (1.0, 1.0), "d")
+    plan = select_presses(presses, 20.0, rig, "informative", information=info)
+    assert len(plan.orientations) == 2 and plan.presses == 6 and plan.calib_seconds <= 20.0
+    same = axis_information([0] * len(presses), [5.0] * len(presses), (1.0, 1.0), "d")
+    plan = select_presses(presses, 20.0, rig, "informative", information=same)
+    assert len(plan.orientations) == 1 and plan.presses == 9
+
+
+def test_informative_plans_name_what_they_lack():
+    presses = find_presses(fleet(), "U1")
+    with pytest.raises(AnytipError, match="response method"):
+        select_presses(presses, 40.0, strategy="informative")
+    with pytest.raises(AnytipError, match="information for 3 presses"):
+        select_presses(presses, 40.0, strategy="informative", information=made_up_information(3))
+    with pytest.raises(AnytipError, match="criterion 'x'"):
+        select_presses(presses, 40.0, strategy="informative",
+                       information=made_up_information(len(presses), "x"))

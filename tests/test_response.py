@@ -14,6 +14,7 @@ import torch
 
 from anytip.calibrate import calibrate_unit
 from anytip.cli import main
+from anytip.data.plans import find_presses
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_flat_into
 from anytip.errors import AnytipError
@@ -29,6 +30,7 @@ from anytip.train.response import (
     ResponseRecipe,
     calibrate_by_response,
     fit_codes,
+    press_information,
     residual_rms,
     source_rows,
     train_response,
@@ -36,6 +38,7 @@ from anytip.train.response import (
 )
 from anytip.uncertainty.fleet_margin import Learner, pooled_factor
 from test_cross_sensor import REPO, SECONDS, SPEC
+from test_plans import fleet as press_fleet
 
 C, D = 4, 5  # barometers; labels: a 3-component force, then two place coordinates
 SMALL = ResponseConfig(code_dim=2, channel_dim=3, hidden=32, layers=2)
@@ -117,6 +120,32 @@ def test_a_new_units_codes_from_its_rows_predict_its_other_rows(made_up, solver)
     none = fit_codes(fit, [X[0][:0]], [Y[0][:0]], [0.0], recipe)
     assert none.abs().max() == 0  # no calibration: the fleet's typical unit
     assert all(p.requires_grad for p in fit.model.parameters())  # the network is frozen only while fitting
+
+
+def test_a_press_tells_the_codes_what_the_gauss_newton_step_weighs_from_its_labels_alone(made_up):
+    _, _, fit = made_up
+    arrays = press_fleet()  # 5 label columns (a force, two angles) as the made-up fleet's
+    presses = find_presses(arrays, "U1")
+    info = press_information(fit, arrays, presses, effective_hz=10.0)
+    arrays.pressure[:] = np.nan  # the rig's labels say what a press tells; its pressures are never read
+    again = press_information(fit, arrays, presses, effective_hz=10.0)
+    assert np.array_equal(again.per_press, info.per_press)
+    C, k = fit.model.n_channels, fit.model.config.code_dim
+    assert info.per_press.shape == (len(presses), C, k, k) and info.criterion == "d"
+    assert np.allclose(info.prior, fit.code_prior.precision.numpy())
+    for p in (0, len(presses) - 1):
+        rows = presses.rows_of(p)[np.linspace(0, len(presses.rows_of(p)) - 1, 8).round().astype(int)]
+        y = torch.from_numpy(arrays.targets[rows])
+        outer = torch.zeros(C, k, k)
+        for row in y:
+            for c in range(C):
+                def pressure(z, c=c, row=row):
+                    return fit.model(row, z)[c]
+                J = torch.autograd.functional.jacobian(pressure, fit.code_prior.mean)[c]
+                outer[c] += torch.outer(J, J) / fit.noise_var[c]
+        n_eff = min(len(presses.rows_of(p)), presses.duration_s[p] * 10.0)
+        assert np.allclose(info.per_press[p], (outer / len(y) * n_eff).numpy(), rtol=1e-4, atol=1e-9)
+    assert np.all(np.linalg.eigvalsh(info.region) >= -1e-9)  # a mean of outer products
 
 
 def test_gauss_newton_reaches_the_map_estimate_at_least_as_well_as_adam(made_up):

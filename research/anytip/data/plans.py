@@ -15,6 +15,9 @@ Robot time (`calib_seconds`) counts all rig time the calibration uses:
 - a re-mount for each change of orientation (`RigTiming.remount_s`, 30 s by default).
 Presses run grouped by orientation, so a plan with k orientations pays k - 1 re-mounts.
 
+`informative` plans choose presses for what they tell a new unit's codes under a fleet's response
+model (`CodeInformation`, computed by train/response.py `press_information`; research log entry 90).
+
 Labels of a press are autocorrelated at the rig's sample rate: 1000 rows of one press say
 far less than 1000 rows of 100 presses. A plan's effective sample count is its contact
 time times `RigTiming.effective_hz` (one independent label per 0.1 s by default, the
@@ -41,7 +44,9 @@ from anytip.sensor.protocols import design_protocol, is_designed, is_test_sessio
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
-Strategy = Literal["spread", "cover", "random", "first", "designed"]
+Strategy = Literal["spread", "cover", "random", "first", "designed", "informative"]
+Criterion = Literal["d", "v"]  # what an `informative` plan maximises (CodeInformation)
+CRITERIA: tuple[Criterion, ...] = ("d", "v")
 MAX_COVER_ORIENTATIONS = 8  # `cover` tries every subset of up to this many orientations (255 plans)
 BudgetUnit = Literal["samples", "seconds"]
 
@@ -93,6 +98,36 @@ class Presses:
         rows, start = _stack([self.rows_of(k) for k in idx])
         return Presses(rows, start, self.run[idx], self.orientation_deg[idx], self.duration_s[idx],
                        self.summary[idx], self.protocol[idx])
+
+
+@dataclass(frozen=True)
+class CodeInformation:
+    """What each candidate press tells a new unit's codes, linearised at the code prior's mean.
+
+    per_press (P, C, k, k): press p's information about barometer c's code (its effective row
+    count over the noise variance times the mean of J J^T over its rows, J the derivative of the
+    pressure in the code); prior (C, k, k): the code prior's precision; region (C, k, k): the mean
+    of J J^T / noise variance over every candidate row (what the criterion `v` weighs the codes'
+    uncertainty by). `criterion`: `d` maximises sum_c log det(posterior precision_c); `v` minimises
+    sum_c tr(region_c posterior covariance_c), the linearised pressure variance (in noise
+    variances) the codes leave over the region the presses reach.
+    """
+
+    per_press: np.ndarray
+    prior: np.ndarray
+    region: np.ndarray
+    criterion: str = "d"
+
+    def value(self, precision: np.ndarray) -> float:
+        """The criterion at posterior precision (C, k, k), higher is better."""
+        return float(self.values(precision[None])[0])
+
+    def values(self, precision: np.ndarray) -> np.ndarray:
+        """(n,) the criterion at n posterior precisions (n, C, k, k), higher is better."""
+        if self.criterion == "d":
+            return np.linalg.slogdet(precision)[1].sum(-1)
+        covariance = np.linalg.inv(precision)
+        return -np.einsum("ckj,ncjk->n", self.region, covariance)
 
 
 @dataclass(frozen=True)
@@ -182,7 +217,8 @@ def _summaries(arrays: FleetArrays, rows: np.ndarray, start: np.ndarray) -> np.n
 
 
 def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming(),
-                   strategy: Strategy = "spread", seed: int = 0) -> Plan:
+                   strategy: Strategy = "spread", seed: int = 0,
+                   information: CodeInformation | None = None) -> Plan:
     """Whole presses up to `budget_s` robot seconds (see the module docstring for the cost).
 
     `spread`: farthest-point order in the press summaries, starting from the press nearest
@@ -192,8 +228,11 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
     press to the plan's nearest press; fewer orientations on a tie): a re-mount is paid only
     where its orientation reaches targets the others leave far away. `random`: presses in a
     seeded random order. `first`: presses in recorded order (what a budget cut from the start
-    of a recorded stream gives, in whole presses). Each strategy adds presses while the budget
-    allows and skips those it cannot afford.
+    of a recorded stream gives, in whole presses). `informative`: within each subset of the
+    orientations (its re-mounts paid first), the press of the largest gain in the criterion of
+    `information` per robot second, again and again; the subset of the best final criterion is
+    kept (fewer orientations on a tie). Each strategy adds presses while the budget allows and
+    skips those it cannot afford.
     """
     if not np.isfinite(budget_s) or budget_s < 0:
         raise AnytipError(f"a calibration budget must be a finite number of seconds >= 0, got {budget_s}")
@@ -204,12 +243,15 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
         chosen = _spread(presses, cost, budget_s, rig.remount_s, seed)
     elif strategy == "cover":
         chosen = _cover(presses, cost, budget_s, rig.remount_s, seed)
+    elif strategy == "informative":
+        chosen = _informative(presses, cost, budget_s, rig.remount_s, _checked(information, len(presses)))
     elif strategy in ("random", "first", "designed"):
         order = (np.random.default_rng(seed).permutation(len(presses)) if strategy == "random"
                  else np.arange(len(presses)))
         chosen = _in_order(presses, cost, order, budget_s, rig.remount_s)
     else:
-        raise AnytipError(f"unknown plan strategy {strategy!r}; use spread, cover, random or first")
+        raise AnytipError(f"unknown plan strategy {strategy!r}; "
+                          "use spread, cover, random, first or informative")
     return _plan(presses, chosen, rig)
 
 
@@ -275,6 +317,56 @@ def _cover(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float
     return best[1]
 
 
+def _checked(information: CodeInformation | None, n_presses: int) -> CodeInformation:
+    if information is None:
+        raise AnytipError("plan strategy informative chooses presses for what they tell a response model's "
+                          "codes: it needs the response method (options.methods: [response])")
+    if len(information.per_press) != n_presses:
+        raise AnytipError(f"code information for {len(information.per_press)} presses, "
+                          f"the unit has {n_presses}")
+    if information.criterion not in CRITERIA:
+        raise AnytipError(f"unknown plan criterion {information.criterion!r}; use d or v")
+    return information
+
+
+def _informative(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float,
+                 information: CodeInformation) -> list[int]:
+    orientations = np.unique(presses.orientation_deg)
+    if len(orientations) > MAX_COVER_ORIENTATIONS:
+        raise AnytipError(f"plan strategy informative tries every subset of at most {MAX_COVER_ORIENTATIONS} "
+                          f"orientations; this unit's runs have {len(orientations)}")
+    best: tuple[float, list[int]] = (-np.inf, [])
+    for size in range(1, len(orientations) + 1):
+        for subset in itertools.combinations(orientations, size):
+            idx = np.flatnonzero(np.isin(presses.orientation_deg, subset))
+            chosen, value = _greedy_information(information, idx, cost, budget_s - remount_s * (size - 1))
+            if chosen and (not best[1] or value > best[0] + 1e-9 * max(1.0, abs(best[0]))):
+                best = (value, chosen)
+    return best[1]
+
+
+def _greedy_information(information: CodeInformation, candidates: np.ndarray, cost: np.ndarray,
+                        budget_s: float) -> tuple[list[int], float]:
+    """Presses of `candidates` added by the largest gain in the criterion per second of `cost` while
+    `budget_s` allows: (the presses, the criterion of the plan)."""
+    precision = information.prior.astype(np.float64).copy()
+    value = information.value(precision)
+    chosen: list[int] = []
+    left, spent = candidates, 0.0
+    while True:
+        left = left[spent + cost[left] <= budget_s + 1e-9]
+        if not len(left):
+            return chosen, value
+        gain = information.values(precision + information.per_press[left]) - value
+        k = int(np.argmax(gain / cost[left]))
+        pick = int(left[k])
+        chosen.append(pick)
+        spent += float(cost[pick])
+        precision = precision + information.per_press[pick]
+        value = float(value + gain[k])
+        left = np.delete(left, k)
+
+
 def _in_order(presses: Presses, cost: np.ndarray, order: np.ndarray, budget_s: float,
               remount_s: float) -> list[int]:
     chosen: list[int] = []
@@ -329,7 +421,7 @@ def stream_plan(stream: CalibrationStream, n: int) -> Plan:
 
 
 def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: RigTiming = RigTiming(),
-             seed: int = 0) -> Plan:
+             seed: int = 0, information: CodeInformation | None = None) -> Plan:
     """The labeled rows a budget grants one unit: a stream prefix or a selection of presses.
     Strategy `designed` takes, in recorded order, the presses of the unit's runs of the designed
     protocol of that budget (`plan<seconds>`, sensor.protocols.design_protocol), as a lab that
@@ -339,7 +431,7 @@ def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: R
     if budget.strategy == "designed":
         mine = presses.subset(presses.protocol == designed_name(budget.amount))
         return select_presses(mine, budget.amount, rig, "first", seed)
-    return select_presses(presses, budget.amount, rig, budget.strategy, seed)
+    return select_presses(presses, budget.amount, rig, budget.strategy, seed, information)
 
 
 def _rows_of_runs(arrays: FleetArrays, protocol_is: Callable[[str | None], bool]) -> np.ndarray:

@@ -48,6 +48,7 @@ from anytip.pipelines.cross_sensor_options import (
     Training,
     budget_list,
     parse_options,
+    plan_strategies,
     training_tag,
 )
 from anytip.pipelines.cross_sensor_response import response_rows
@@ -586,12 +587,14 @@ def calibrate_strategy(opts: Options, val_loss: dict[Budget, float] | None = Non
     """The press selection `anytip calibrate` uses for a budget in seconds: where the spec
     compared several and `val_loss` (budget -> validation units' loss at the chosen prior) has
     them all at the same labeled budgets, the one with the lowest mean loss over those budgets;
-    else spread where the spec compared it, else the spec's first."""
+    else spread where the spec compared it, else the spec's first (`informative` plans are the
+    response method's alone; a spec of them alone gives its adapters `cover`)."""
+    mine = plan_strategies(opts) or ["cover"]
     losses = {s: [v for b, v in (val_loss or {}).items() if b.unit == "seconds" and b.amount > 0
-                  and b.strategy == s] for s in opts.plan_strategies}
+                  and b.strategy == s] for s in mine}
     if len(losses) > 1 and all(losses.values()) and len({len(v) for v in losses.values()}) == 1:
-        return min(opts.plan_strategies, key=lambda s: float(np.mean(losses[s])))
-    return "spread" if "spread" in opts.plan_strategies else opts.plan_strategies[0]
+        return min(mine, key=lambda s: float(np.mean(losses[s])))
+    return "spread" if "spread" in mine else mine[0]
 
 
 def by_budget(values: dict[Budget, Any], strategy: Strategy) -> dict[str, Any]:

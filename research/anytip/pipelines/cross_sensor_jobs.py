@@ -11,7 +11,7 @@ import numpy as np
 from scipy.stats import gmean
 
 from anytip.data.arrays import FleetArrays
-from anytip.data.plans import Budget, Plan, plan_for
+from anytip.data.plans import Budget, CodeInformation, Plan, plan_for
 from anytip.models.scaler import Scaler
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.report.cross_sensor import COVERAGE_BAND
@@ -40,10 +40,12 @@ def needed_key(output: str, coverage: float) -> str:
     return f"{output}_needed{round(100 * coverage)}_halfwidth"
 
 
-def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int) -> Plan:
-    """The labeled rows `budget` grants `unit` (a stream prefix or whole presses)."""
+def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int,
+            information: CodeInformation | None = None) -> Plan:
+    """The labeled rows `budget` grants `unit` (a stream prefix or whole presses); `information`:
+    what its presses tell a response model's codes (`informative` plans)."""
     ev = sd.evals[unit]
-    return plan_for(budget, ev.stream, ev.presses_for(budget.strategy), opts.rig.timing(), seed)
+    return plan_for(budget, ev.stream, ev.presses_for(budget.strategy), opts.rig.timing(), seed, information)
 
 
 def budget_fields(budget: Budget, plan: Plan) -> dict[str, Any]:

@@ -8,7 +8,7 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from anytip.config import DataConfig
-from anytip.data.plans import Budget, BudgetUnit, RigTiming, Strategy
+from anytip.data.plans import Budget, BudgetUnit, Criterion, RigTiming, Strategy
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.mlp import MLPConfig
@@ -215,6 +215,10 @@ class ResponseOptions(BaseModel):
     code_prior: Literal["diagonal", "barometer", "registry"] = Field(
         default=ResponseRecipe.code_prior,
         description="the prior a new unit's codes are fitted under (train/code_prior.py)")
+    plan_criterion: Criterion = Field(
+        default="d", description="what `informative` plans maximise: d, the log det of each "
+        "barometer's code precision; v, minus the pressure variance the codes leave "
+        "(data/plans.py CodeInformation)")
     code_iterations: int = Field(default=ResponseRecipe.code_iterations, ge=1, le=10_000)
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)
@@ -372,11 +376,19 @@ def training_tag(training: Training) -> str:
     return "" if training == "joint" else f"~{training}"
 
 
-def budget_list(opts: Options, amounts: list[float] | None = None) -> list[Budget]:
+def budget_list(opts: Options, amounts: list[float] | None = None, response: bool = False) -> list[Budget]:
     """The spec's budgets (or `amounts`): one per amount, or in seconds one per amount and press
-    selection strategy (the label-free budget 0 once)."""
+    selection strategy (the label-free budget 0 once). `informative` plans choose presses with a
+    response model, so only the response method (`response`) gets them."""
     amounts = opts.budgets if amounts is None else amounts
     if opts.budget_unit == "samples":
         return [Budget(int(b)) for b in amounts]
+    labeled = plan_strategies(opts, response)
     return [Budget(float(b), "seconds", s) for b in amounts
-            for s in (opts.plan_strategies if b > 0 else opts.plan_strategies[:1])]
+            for s in (labeled if b > 0 else opts.plan_strategies[:1])]
+
+
+def plan_strategies(opts: Options, response: bool = False) -> list[Strategy]:
+    """The spec's press selections a method compares: all of them for the response method
+    (`response`), all but `informative` for the others."""
+    return [s for s in opts.plan_strategies if response or s != "informative"]

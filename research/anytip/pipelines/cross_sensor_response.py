@@ -52,6 +52,7 @@ from anytip.train.response import (
     SourceRows,
     calibrate_by_response,
     plan_residual,
+    press_information,
     source_rows,
     start_network,
     start_network_path,
@@ -91,8 +92,9 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         fit, digest = trained_response(ctx, sd, arrays, opts, seed)
     check_trained_on(fit.unit_ids, sd.train.unit_ids, [*sd.split.val, *sd.split.test, *sd.split.factor], seed)
     fit = fit.with_code_prior(recipe.code_prior, registry_units(sd))
-    jobs = labeled_jobs(sd, [*sd.split.val, *sd.split.test], opts, seed)
-    factor_jobs = labeled_jobs(sd, list(sd.split.factor), opts, seed) if opts.intervals is not None else []
+    jobs = labeled_jobs(sd, [*sd.split.val, *sd.split.test], opts, seed, fit, arrays)
+    factor_jobs = (labeled_jobs(sd, list(sd.split.factor), opts, seed, fit, arrays)
+                   if opts.intervals is not None else [])
     rows: list[dict[str, Any]] = []
     val_loss: dict[Budget, float] = {}
     residual: dict[Budget, list[float]] = {}
@@ -196,9 +198,19 @@ def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     return rows, budget_losses(mine.preds, jobs, sd, arrays), bands
 
 
-def labeled_jobs(sd: SeedData, units: list[str], opts: Options, seed: int) -> list[tuple[str, Budget, Plan]]:
-    """(unit, budget, plan) of `units` at every labeled budget whose plan holds rows."""
-    jobs = [(u, b, plan_of(sd, u, b, opts, seed)) for u in units for b in budget_list(opts) if b.amount > 0]
+def labeled_jobs(sd: SeedData, units: list[str], opts: Options, seed: int, fit: ResponseFit,
+                 arrays: FleetArrays) -> list[tuple[str, Budget, Plan]]:
+    """(unit, budget, plan) of `units` at every labeled budget whose plan holds rows; `informative`
+    plans choose presses for what they tell `fit`'s codes."""
+    assert opts.response is not None
+    budgets = [b for b in budget_list(opts, response=True) if b.amount > 0]
+    jobs = []
+    for u in units:
+        information = None
+        if any(b.strategy == "informative" for b in budgets):
+            information = press_information(fit, arrays, sd.evals[u].presses, opts.rig.effective_hz,
+                                            opts.response.recipe().plan_criterion)
+        jobs += [(u, b, plan_of(sd, u, b, opts, seed, information)) for b in budgets]
     return [j for j in jobs if len(j[2].rows)]
 
 

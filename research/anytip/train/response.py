@@ -37,7 +37,8 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from anytip.data.arrays import OUTPUT_NAMES
+from anytip.data.arrays import OUTPUT_NAMES, FleetArrays
+from anytip.data.plans import CRITERIA, CodeInformation, Presses
 from anytip.data.seeds import unit_seed
 from anytip.models.io import LoadedModels, LoadedResponse
 from anytip.models.mlp import MLPConfig
@@ -68,7 +69,8 @@ class ResponseRecipe:
     (`inverse_epochs` of the fast recipe in batches of `inverse_batch` rows at peak `inverse_lr`,
     from random weights, `inverse_start: scratch`, or from one network trained on the source rows
     as they were measured, `pooled`: `start_network`). `code_prior`: the prior a new unit's codes are
-    fitted under (`train.code_prior`; a model saved before the choice existed ran `diagonal`)."""
+    fitted under (`train.code_prior`; a model saved before the choice existed ran `diagonal`).
+    `plan_criterion`: what an `informative` plan maximises (`data.plans.CodeInformation`)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
@@ -77,6 +79,7 @@ class ResponseRecipe:
     code_decay: float = 1e-3
     code_fit: str = "gauss_newton"
     code_prior: str = "diagonal"
+    plan_criterion: str = "d"
     code_iterations: int = 10
     code_steps: int = 300
     code_rows: int = 2048
@@ -107,6 +110,9 @@ class ResponseRecipe:
         if recipe.code_prior not in CODE_PRIORS:
             raise ValueError(f"recipe.code_prior: {recipe.code_prior!r} is not one of "
                              f"{', '.join(CODE_PRIORS)}")
+        if recipe.plan_criterion not in CRITERIA:
+            raise ValueError(f"recipe.plan_criterion: {recipe.plan_criterion!r} is not one of "
+                             f"{', '.join(CRITERIA)}")
         if recipe.inverse_start not in INVERSE_STARTS:
             raise ValueError(f"recipe.inverse_start: {recipe.inverse_start!r} is not one of "
                              f"{', '.join(INVERSE_STARTS)}")
@@ -511,3 +517,37 @@ def plan_residual(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor) -> floa
     """Pa: RMS over rows and barometers of a unit's pressures X (n, C) about its response with
     `codes` (C, k); the calibration's own check and the benchmark rows' `response_residual_pa`."""
     return float((residual_rms(fit, X, Y, codes) ** 2).mean() ** 0.5)
+
+
+INFORMATION_ROWS = 8  # rows of a press whose Jacobians stand for it in `press_information`
+INFORMATION_CHUNK = 8192  # rows per Jacobian pass (bounds memory)
+
+
+def press_information(fit: ResponseFit, arrays: FleetArrays, presses: Presses, effective_hz: float,
+                      criterion: str = "d") -> CodeInformation:
+    """What each of a unit's candidate presses tells its codes under `fit` (an `informative` plan's
+    information, `data.plans.CodeInformation`), linearised at the code prior's mean: from the
+    press's labels alone (what the rig commands), never its pressures. A press stands by at most
+    INFORMATION_ROWS evenly spaced rows and is worth min(rows, contact seconds x `effective_hz`)
+    independent rows, as a plan's rows are in `fit_codes`."""
+    model, device = fit.model, fit.device
+    prior = fit.code_prior
+    C, k = model.n_channels, model.config.code_dim
+    counts = np.diff(presses.start)
+    take = [evenly_spaced(int(n), INFORMATION_ROWS).numpy() for n in counts]
+    taken = np.array([len(t) for t in take], np.int64)
+    rows = (presses.rows[np.concatenate([presses.start[p] + t for p, t in enumerate(take)])]
+            if len(presses) else np.zeros(0, np.int64))
+    press_of = torch.from_numpy(np.repeat(np.arange(len(presses)), taken))
+    labels = torch.from_numpy(arrays.targets[rows]).to(device)
+    noise = fit.noise_var.to(device)
+    total = torch.zeros(len(presses), C, k, k, dtype=torch.float64)
+    for a in range(0, len(rows), INFORMATION_CHUNK):
+        _, J = code_jacobian(model, labels[a:a + INFORMATION_CHUNK], prior.mean)
+        outer = torch.einsum("rck,rcj->rckj", J, J) / noise[:, None, None]
+        total.index_add_(0, press_of[a:a + INFORMATION_CHUNK], outer.double().cpu())
+    mean = total.numpy() / np.maximum(taken, 1)[:, None, None, None]
+    n_eff = np.minimum(counts, presses.duration_s * effective_hz)
+    region = (mean * counts[:, None, None, None]).sum(0) / max(int(counts.sum()), 1)
+    return CodeInformation(mean * n_eff[:, None, None, None], prior.precision.double().cpu().numpy(), region,
+                           criterion)
