@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import calibration_stream
@@ -77,7 +78,8 @@ def made_up_information(n_presses: int, criterion: str = "d", seed: int = 0, C: 
     return CodeInformation(J @ J.swapaxes(-1, -2), unit, unit, criterion)
 
 
-@pytest.mark.parametrize("strategy", ["spread", "cover", "random", "first", "informative"])
+@pytest.mark.parametrize("strategy", ["spread", "cover", "random", "first", "informative",
+                                      "cover_informative"])
 @pytest.mark.parametrize("budget", [3.0, 12.0, 40.0, 90.0])
 def test_a_plan_is_whole_presses_within_its_robot_time(strategy, budget):
     arrays, rig = fleet(), RigTiming(move_s=2.0, remount_s=30.0)
@@ -342,6 +344,26 @@ def test_informative_plans_pay_a_remount_only_for_information_worth_it():
     same = axis_information([0] * len(presses), [5.0] * len(presses), (1.0, 1.0), "d")
     plan = select_presses(presses, 20.0, rig, "informative", information=same)
     assert len(plan.orientations) == 1 and plan.presses == 9
+
+
+def test_cover_informative_keeps_covers_cells_and_takes_each_cells_most_informative_press():
+    arrays, rig = fleet(), RigTiming(remount_s=30.0)
+    presses = find_presses(arrays, "U1")
+    information = made_up_information(len(presses), "v", seed=3)
+    cover = select_presses(presses, 40.0, rig, "cover")
+    mixed = select_presses(presses, 40.0, rig, "cover_informative", information=information)
+    assert mixed.presses == cover.presses and mixed.orientations == cover.orientations
+    assert mixed.calib_seconds <= 40.0
+
+    def chosen(plan):
+        return [k for k in range(len(presses)) if presses.rows_of(k)[0] in set(plan.rows)]
+
+    def value(plan):
+        return information.value(information.prior + information.per_press[chosen(plan)].sum(0))
+
+    assert value(mixed) > value(cover)  # it exchanged presses, and only for the better
+    cells = cKDTree(presses.summary[chosen(cover)]).query(presses.summary[chosen(mixed)])[1]
+    assert sorted(cells) == list(range(cover.presses))  # one press in each of cover's cells
 
 
 def test_informative_plans_name_what_they_lack():

@@ -44,7 +44,8 @@ from anytip.sensor.protocols import design_protocol, is_designed, is_test_sessio
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
-Strategy = Literal["spread", "cover", "random", "first", "designed", "informative"]
+Strategy = Literal["spread", "cover", "random", "first", "designed", "informative", "cover_informative"]
+INFORMED: tuple[Strategy, ...] = ("informative", "cover_informative")  # strategies that need CodeInformation
 Criterion = Literal["d", "v"]  # what an `informative` plan maximises (CodeInformation)
 CRITERIA: tuple[Criterion, ...] = ("d", "v")
 MAX_COVER_ORIENTATIONS = 8  # `cover` tries every subset of up to this many orientations (255 plans)
@@ -231,8 +232,11 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
     of a recorded stream gives, in whole presses). `informative`: within each subset of the
     orientations (its re-mounts paid first), the press of the largest gain in the criterion of
     `information` per robot second, again and again; the subset of the best final criterion is
-    kept (fewer orientations on a tie). Each strategy adds presses while the budget allows and
-    skips those it cannot afford.
+    kept (fewer orientations on a tie). `cover_informative`: `cover`'s plan, then each of its presses
+    exchanged for the press of its cell (the candidates of its orientations nearest it in the press
+    summaries) that most improves the criterion within the budget, over the cells in turn until no
+    exchange improves it: `cover`'s spread over forces and places, each place's most informative
+    press. Each strategy adds presses while the budget allows and skips those it cannot afford.
     """
     if not np.isfinite(budget_s) or budget_s < 0:
         raise AnytipError(f"a calibration budget must be a finite number of seconds >= 0, got {budget_s}")
@@ -245,6 +249,10 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
         chosen = _cover(presses, cost, budget_s, rig.remount_s, seed)
     elif strategy == "informative":
         chosen = _informative(presses, cost, budget_s, rig.remount_s, _checked(information, len(presses)))
+    elif strategy == "cover_informative":
+        information = _checked(information, len(presses))
+        start = _cover(presses, cost, budget_s, rig.remount_s, seed)
+        chosen = _exchanged(presses, cost, budget_s, rig.remount_s, start, information)
     elif strategy in ("random", "first", "designed"):
         order = (np.random.default_rng(seed).permutation(len(presses)) if strategy == "random"
                  else np.arange(len(presses)))
@@ -365,6 +373,40 @@ def _greedy_information(information: CodeInformation, candidates: np.ndarray, co
         precision = precision + information.per_press[pick]
         value = float(value + gain[k])
         left = np.delete(left, k)
+
+
+EXCHANGE_PASSES = 3  # `cover_informative`'s passes over the cells at most
+
+
+def _exchanged(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, chosen: list[int],
+               information: CodeInformation) -> list[int]:
+    """`chosen`, each press exchanged in turn for the press of its cell (`select_presses`) that most
+    improves the criterion, while the plan's cost stays within `budget_s`."""
+    if not chosen:
+        return chosen
+    chosen = list(chosen)
+    own = np.isin(presses.orientation_deg, presses.orientation_deg[chosen])
+    cell = cKDTree(presses.summary[chosen]).query(presses.summary)[1]
+    fixed = remount_s * (len(set(presses.orientation_deg[chosen])) - 1)
+    precision = information.prior + information.per_press[chosen].sum(0)
+    value = information.value(precision)
+    for _ in range(EXCHANGE_PASSES):
+        moved = False
+        for j in range(len(chosen)):
+            spare = budget_s - fixed - (cost[chosen].sum() - cost[chosen[j]])
+            free = np.ones(len(cell), bool)
+            free[chosen] = False
+            mates = np.flatnonzero(own & free & (cell == j) & (cost <= spare + 1e-9))
+            if not len(mates):
+                continue
+            trial = precision - information.per_press[chosen[j]] + information.per_press[mates]
+            values = information.values(trial)
+            k = int(np.argmax(values))
+            if values[k] > value + 1e-9 * max(1.0, abs(value)):
+                precision, value, chosen[j], moved = trial[k], float(values[k]), int(mates[k]), True
+        if not moved:
+            break
+    return chosen
 
 
 def _in_order(presses: Presses, cost: np.ndarray, order: np.ndarray, budget_s: float,

@@ -587,8 +587,8 @@ def calibrate_strategy(opts: Options, val_loss: dict[Budget, float] | None = Non
     """The press selection `anytip calibrate` uses for a budget in seconds: where the spec
     compared several and `val_loss` (budget -> validation units' loss at the chosen prior) has
     them all at the same labeled budgets, the one with the lowest mean loss over those budgets;
-    else spread where the spec compared it, else the spec's first (`informative` plans are the
-    response method's alone; a spec of them alone gives its adapters `cover`)."""
+    else spread where the spec compared it, else the spec's first (plans chosen with a response
+    model are the response method's alone; a spec of them alone gives its adapters `cover`)."""
     mine = plan_strategies(opts) or ["cover"]
     losses = {s: [v for b, v in (val_loss or {}).items() if b.unit == "seconds" and b.amount > 0
                   and b.strategy == s] for s in mine}

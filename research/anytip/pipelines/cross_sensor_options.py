@@ -8,7 +8,7 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from anytip.config import DataConfig
-from anytip.data.plans import Budget, BudgetUnit, Criterion, RigTiming, Strategy
+from anytip.data.plans import INFORMED, Budget, BudgetUnit, Criterion, RigTiming, Strategy
 from anytip.errors import AnytipError
 from anytip.models.adapted import parse_kind
 from anytip.models.mlp import MLPConfig
@@ -378,8 +378,8 @@ def training_tag(training: Training) -> str:
 
 def budget_list(opts: Options, amounts: list[float] | None = None, response: bool = False) -> list[Budget]:
     """The spec's budgets (or `amounts`): one per amount, or in seconds one per amount and press
-    selection strategy (the label-free budget 0 once). `informative` plans choose presses with a
-    response model, so only the response method (`response`) gets them."""
+    selection strategy (the label-free budget 0 once). `informative` and `cover_informative` plans
+    choose presses with a response model, so only the response method (`response`) gets them."""
     amounts = opts.budgets if amounts is None else amounts
     if opts.budget_unit == "samples":
         return [Budget(int(b)) for b in amounts]
@@ -390,5 +390,5 @@ def budget_list(opts: Options, amounts: list[float] | None = None, response: boo
 
 def plan_strategies(opts: Options, response: bool = False) -> list[Strategy]:
     """The spec's press selections a method compares: all of them for the response method
-    (`response`), all but `informative` for the others."""
-    return [s for s in opts.plan_strategies if response or s != "informative"]
+    (`response`), all but those chosen with its model (`informative`, `cover_informative`) for the others."""
+    return [s for s in opts.plan_strategies if response or s not in INFORMED]

@@ -15,7 +15,7 @@ import torch
 from torch import Tensor
 
 from anytip.data.arrays import FleetArrays
-from anytip.data.plans import Budget, Plan
+from anytip.data.plans import INFORMED, Budget, Plan
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedResponse, ModelFileError, load_response, save_response
 from anytip.pipelines.common import Context
@@ -201,13 +201,13 @@ def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
 def labeled_jobs(sd: SeedData, units: list[str], opts: Options, seed: int, fit: ResponseFit,
                  arrays: FleetArrays) -> list[tuple[str, Budget, Plan]]:
     """(unit, budget, plan) of `units` at every labeled budget whose plan holds rows; `informative`
-    plans choose presses for what they tell `fit`'s codes."""
+    and `cover_informative` plans choose presses for what they tell `fit`'s codes."""
     assert opts.response is not None
     budgets = [b for b in budget_list(opts, response=True) if b.amount > 0]
     jobs = []
     for u in units:
         information = None
-        if any(b.strategy == "informative" for b in budgets):
+        if any(b.strategy in INFORMED for b in budgets):
             information = press_information(fit, arrays, sd.evals[u].presses, opts.rig.effective_hz,
                                             opts.response.recipe().plan_criterion)
         jobs += [(u, b, plan_of(sd, u, b, opts, seed, information)) for b in budgets]
