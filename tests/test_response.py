@@ -12,9 +12,11 @@ import numpy as np
 import pytest
 import torch
 
-from anytip.calibrate import calibrate_unit
+from anytip.calibrate import calibrate_unit, response_strategy
 from anytip.cli import main
-from anytip.data.plans import find_presses
+from anytip.data.arrays import load_arrays
+from anytip.data.calibration import calibration_stream
+from anytip.data.plans import RigTiming, find_presses, select_presses
 from anytip.data.registry import Registry
 from anytip.data.simulated import simulate_flat_into
 from anytip.errors import AnytipError
@@ -415,7 +417,8 @@ def test_calibrate_carries_over_only_the_rows_the_benchmark_trained_on(response_
 def _set_response_loss(run: Path, value: float) -> None:
     path = run / "models" / "response_seed0.json"
     header = json.loads(path.read_text())
-    header["meta"]["val_loss_by_strategy"]["spread"] = {"8": value, "40": value}
+    for strategy in header["meta"]["val_loss_by_strategy"]:  # every plan the response model was scored on
+        header["meta"]["val_loss_by_strategy"][strategy] = {"8": value, "40": value}
     path.write_text(json.dumps(header))
 
 
@@ -665,6 +668,52 @@ def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_
     got = calibrate_unit(run, _held_out(run), fleet, tmp_path / "cal", budget_seconds=40, method="response")
     assert got.response_check["validation_units_pa"] == meta["residual_by_strategy"]["first"]["40"]
     assert got.intervals["fleet_factor"] == meta["intervals"]["fleet_factor_by_strategy"]["first"]["40"]
+
+
+def test_response_transfer_calibrates_by_the_plans_its_validation_units_scored_best():
+    record = {"val_loss_by_strategy": {"spread": {"40": 0.2, "120": 0.1}, "first": {"40": 0.01},
+                                       "cover_informative": {"40": 0.1, "120": 0.3}},
+              "use_val_loss_by_strategy": {"spread": {"40": 0.05}, "cover_informative": {"40": 0.06}}}
+    assert response_strategy(record, "spread", 40) == "cover_informative"
+    assert response_strategy(record, "spread", 200) == "spread"  # at 120 s the shared model's is lower
+    assert response_strategy(record, "spread", 40, with_use=True) == "spread"
+    assert response_strategy(record, "spread", 10) == "spread"  # nothing recorded at or below 10 s
+    assert response_strategy(record, "first", 40) == "first"  # lower than every informed selection
+    assert response_strategy({}, "first", 40) == "first"
+    # an adapter's selection is never swapped for another adapter's, however the response scored it
+    assert response_strategy({"val_loss_by_strategy": {"spread": {"40": 0.2}, "first": {"40": 0.1}}},
+                             "spread", 40) == "spread"
+
+
+def test_calibrate_makes_the_plan_the_response_model_chose_with_it(response_run, fleet, tmp_path):
+    run = tmp_path / "run"
+    shutil.copytree(response_run, run)
+    path = run / "models" / "response_seed0.json"
+    header = json.loads(path.read_text())
+    meta = header["meta"]
+    meta["val_loss_by_strategy"]["cover_informative"] = {"8": 1e-9, "40": 1e-9}
+    meta["residual_by_strategy"]["cover_informative"] = meta["residual_by_strategy"]["spread"]
+    meta["recipe"]["plan_criterion"] = "v"
+    path.write_text(json.dumps(header))
+    unit = _held_out(run)
+    got = calibrate_unit(run, unit, fleet, tmp_path / "cal", budget_seconds=40, method="response")
+    assert any(n.startswith("plan: cover_informative") for n in got.notes)
+    # the presses select_presses takes with the response model's information under its criterion
+    shared = json.loads(next((run / "models").glob("shared_*seed0.json")).read_text())["meta"]
+    arrays = load_arrays(fleet, fleet.list_runs(unit=unit))
+    stream = calibration_stream(arrays, unit, shared.get("calibration_protocol"))
+    presses = find_presses(arrays, unit, stream.outside(arrays))
+    rig = RigTiming(**shared["rig"])
+    fit = ResponseFit.from_loaded(load_response(run / "models" / "response_seed0.safetensors"))
+    information = press_information(fit, arrays, presses, rig.effective_hz, "v")
+    plan = select_presses(presses, 40, rig, "cover_informative", int(shared.get("seed", 0)), information)
+    assert got.calib_samples == len(plan.rows) and got.calib_seconds == pytest.approx(plan.calib_seconds)
+    assert got.calib_seconds <= 40
+    assert got.response_check["validation_units_pa"] == meta["residual_by_strategy"]["spread"]["40"]
+    meta["recipe"]["plan_criterion"] = "x"
+    path.write_text(json.dumps(header))
+    with pytest.raises(AnytipError, match="plan_criterion: 'x'"):
+        calibrate_unit(run, unit, fleet, tmp_path / "bad", budget_seconds=40, method="response")
 
 
 def _write_lab_run(path: Path, serial: str, k: int, rng) -> None:
@@ -1281,9 +1330,7 @@ def test_the_force_scale_prior_reads_the_training_units_ordinary_use(fleet):
     """fleet_force_scale: over the given units' ordinary use (whole presses of their calibration
     streams, labels read), the mean and spread of the rows' mean square force; a sensor model
     without a force target has none, and one unit gives no spread."""
-    from anytip.data.arrays import load_arrays
-    from anytip.data.calibration import calibration_stream
-    from anytip.data.plans import find_presses, ordinary_use, ordinary_use_seed
+    from anytip.data.plans import ordinary_use, ordinary_use_seed
     from anytip.train.label_free import LabelFreeRecipe, fleet_force_scale
 
     arrays = load_arrays(fleet, [r for r in fleet.list_runs() if r.protocol == "short"])

@@ -25,7 +25,15 @@ from torch import Tensor
 
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
-from anytip.data.plans import Plan, RigTiming, find_presses, select_presses, stream_ordinary_use, stream_plan
+from anytip.data.plans import (
+    INFORMED,
+    Plan,
+    RigTiming,
+    find_presses,
+    select_presses,
+    stream_ordinary_use,
+    stream_plan,
+)
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import (
@@ -72,6 +80,7 @@ from anytip.train.response import (
     draw_source_rows,
     own_response,
     plan_residual,
+    press_information,
     source_digest,
     source_response_path,
     start_network_path,
@@ -301,6 +310,27 @@ def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationSt
     return stream_plan(stream, n), float(n), note
 
 
+@dataclass(frozen=True)
+class PlanRequest:
+    """A plan response transfer makes once its model is loaded: `seconds` of robot time of
+    `strategy` over the unit's presses, priced by the shared model's rig (`meta`); strategies that
+    choose presses for what they tell the codes (`INFORMED`) read the response model."""
+
+    meta: dict[str, Any]
+    arrays: FleetArrays
+    stream: CalibrationStream
+    seconds: float
+    strategy: str
+
+    def plan(self, fit: ResponseFit, criterion: str) -> Plan:
+        presses = find_presses(self.arrays, self.stream.unit, self.stream.outside(self.arrays))
+        rig = RigTiming(**{k: float(v) for k, v in self.meta.get("rig", {}).items()})
+        information = (press_information(fit, self.arrays, presses, rig.effective_hz, criterion)
+                       if self.strategy in INFORMED else None)
+        return select_presses(presses, self.seconds, rig, self.strategy,  # type: ignore[arg-type]
+                              int(self.meta.get("seed", 0)), information)
+
+
 Fit = Callable[[np.ndarray, float], tuple[BatchedMLP, Scaler]]
 
 
@@ -480,9 +510,11 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
             use = UseRequest(use_seconds, meta.get("calibration_protocol"),
                              bool(meta.get("calibration_interleave", False)), rig.effective_hz)
         pooled = interval_records(factor_from, response)
-        return calibrate_by_response_unit(response, registry, arrays, stream, plan, budget, Path(out), notes,
-                                          interval_level, str(meta.get("plan_strategy", "spread")), use,
-                                          pooled, meta.get("calibration_protocol"))
+        strategy, planned = _response_plan(response, meta, (arrays, stream), plan, budget, use is not None,
+                                           notes)
+        return calibrate_by_response_unit(response, registry, arrays, stream, planned, budget, Path(out),
+                                          notes, interval_level, strategy, use, pooled,
+                                          meta.get("calibration_protocol"))
     if factor_from:
         raise AnytipError("--factor-from is read by response transfer alone: the adapter's intervals have "
                           "their own fleet factor")
@@ -579,15 +611,54 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
         return path, "calibration by response transfer, as asked"
     if adapter is not None:
         return None, ""
-    recorded = read_header(model_paths(path)[1], RESPONSE_FORMAT).get("meta", {})
-    table = _strategy_table(recorded if isinstance(recorded, dict) else {}, "val_loss",
-                            str(meta.get("plan_strategy", "spread")))
+    recorded = response_record(path)
+    strategy = response_strategy(recorded, str(meta.get("plan_strategy", "spread")), budget)
+    table = _strategy_table(recorded, "val_loss", strategy)
     theirs = _at_budget({b: float(v) for b, v in table.items() if isinstance(v, (int, float))}, budget)
     ours = _val_loss_table(meta, budget)
     if theirs is None or ours is None or theirs >= ours:
         return None, ""
     return path, (f"calibration by response transfer: its validation-unit loss {theirs:.3g} is below the "
                   f"shared model's {ours:.3g} at this budget")
+
+
+def _response_plan(path: Path, meta: dict[str, Any], unit: tuple[FleetArrays, CalibrationStream], plan: Plan,
+                   budget: float, with_use: bool, notes: list[str]) -> tuple[str, Plan | PlanRequest]:
+    """(strategy, plan) of a calibration by the response model `path`: the shared model's plan
+    `plan`, or a `PlanRequest` where the response model scored another strategy best
+    (`response_strategy`; budgets in robot seconds)."""
+    shared = str(meta.get("plan_strategy", "spread"))
+    if meta.get("budget_unit") != "seconds" or not len(plan.rows):
+        return shared, plan
+    strategy = response_strategy(response_record(path), shared, budget, with_use)
+    if strategy == shared:
+        return shared, plan
+    notes.append(f"plan: {strategy}, the response model's best on its validation units at this budget")
+    return strategy, PlanRequest(meta, *unit, budget, strategy)
+
+
+def response_record(path: Path) -> dict[str, Any]:
+    """The metadata a response model file's header records (empty where it records none)."""
+    recorded = read_header(model_paths(path)[1], RESPONSE_FORMAT).get("meta", {})
+    return recorded if isinstance(recorded, dict) else {}
+
+
+def response_strategy(recorded: dict[str, Any], shared: str, budget: float, with_use: bool = False) -> str:
+    """The press selection response transfer calibrates by: the shared model's (`shared`, what its
+    adapters chose on their validation units), unless a selection made with the response model
+    (`INFORMED`, which adapters never use) has a lower validation-unit loss at `budget` in the
+    response model's record (`val_loss_by_strategy`; with ordinary use, `use_val_loss_by_strategy`
+    where it holds one); then the lowest of those."""
+    for key in (["use_val_loss"] if with_use else []) + ["val_loss"]:
+        losses = {}
+        for strategy in [shared, *INFORMED]:
+            v = _at_budget(_strategy_table(recorded, key, strategy), budget)
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v):
+                losses[strategy] = float(v)
+        if any(s in INFORMED for s in losses):
+            best = min(losses, key=losses.__getitem__)
+            return shared if losses.get(shared, math.inf) <= losses[best] else best
+    return shared
 
 
 def _response_for_use(model: Path, seed: int | None, meta: dict[str, Any], budget: float, method: str,
@@ -767,7 +838,7 @@ def _registry_units(meta: dict[str, Any], sources: list[str]) -> list[str]:
 
 
 def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArrays,
-                               stream: CalibrationStream, plan: Plan, budget: float, out: Path,
+                               stream: CalibrationStream, plan: Plan | PlanRequest, budget: float, out: Path,
                                notes: list[str], interval_level: float | None = 0.9,
                                strategy: str = "spread", use: UseRequest | None = None,
                                pooled: list[tuple[Path, dict[str, Any]]] | None = None,
@@ -775,8 +846,9 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     """A new unit's own network by response transfer (train/response.py) on its plan, saved in the
     per-unit format; its own check is the RMS of the plan's pressures about its fitted response
     beside the benchmark's validation units' (alarm above OWN_CHECK_ALARM times the worst).
-    `strategy`: how the plan was chosen (the shared model's `plan_strategy`), the key of what the
-    response model recorded for such plans. `use`: the codes also (or, for an empty plan, only)
+    `strategy`: how the plan was chosen (`response_strategy`), the key of what the response model
+    recorded for such plans; `plan` is a `PlanRequest` where it is chosen with the response model,
+    its choice counted in the calibration's time. `use`: the codes also (or, for an empty plan, only)
     from the unit's ordinary use (`unit_codes_with_use`). `pooled`: other response models'
     intervals records (`interval_records`), whose learners join the model's own (`pooled_learners`).
     `calibration_protocol`: the benchmark's (the shared model's), whose runs of the training units
@@ -792,6 +864,10 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     except (TypeError, ValueError) as e:
         raise AnytipError(f"{path}: {e}") from None
     seed = int(meta.get("seed", 0))
+    tick = time.perf_counter()
+    if isinstance(plan, PlanRequest):  # chosen with the response model: part of the calibration's time
+        plan = plan.plan(fit, recipe.plan_criterion)
+    plan_s = time.perf_counter() - tick
     training_arrays, training = _training_rows(registry, units, arrays.runs[0].sensor_model,
                                                calibration_protocol)
     X, Y = torch.from_numpy(arrays.pressure[plan.rows]), torch.from_numpy(arrays.targets[plan.rows])
@@ -814,7 +890,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
                                         extra=[distilled])
-    wall_s = time.perf_counter() - tick
+    wall_s = time.perf_counter() - tick + plan_s
     own = _response_own_check(loaded, fit, plan, (X, Y, codes[0]), _at_budget(
         _strategy_table(meta, "residual", strategy), budget), notes)
     check, on_other = _check_on_other_runs((nets.model, nets.in_scaler, nets.out_scaler), arrays, stream)

@@ -1,7 +1,8 @@
-"""Research log entry 90's tables: other16's plans chosen for what they tell the codes
-(`{d,v}/other16_seed{K}`, `response@informative`) against entry 83's `e60_d0` (`response@cover`): the
-validation units' loss per fold, and the 16 held-out units paired per unit, plan alone and with
-ordinary use. Usage, from the repository root:
+"""Research log entries 90-91's tables: plans chosen for what they tell the codes (`informative`,
+`cover_informative`) against `cover`: the validation units' loss per fold and the held-out units
+paired per unit, plan alone and with ordinary use; other16 (entry 83's `e60_d0` the control), other16's
+severe model (`severe_d0`) and fleet88's CPU models (entry 86's `fleet88_cpu_registry`); and the
+diagnostic's residuals of each plan's codes per |F| band. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry90/analyse.py
 """
@@ -14,45 +15,88 @@ from anytip.report.cross_sensor import mean_interval, paired_text, unit_ratios
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
-CONTROL = HERE.parent / "entry83" / "e60_d0"
-FOLDS, BUDGET = (0, 1, 2, 3), 120.0
+GPU = HERE.parent
+BUDGET = 120.0
 KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
-ARMS = {"cover (control)": (CONTROL, "cover"), "informative, d": (HERE / "d", "informative"),
-        "informative, v": (HERE / "v", "informative")}
+# (name, runs, fold prefix, folds, arms: {arm: (root, strategy)}), the first arm the control
+SETS = (
+    ("other16", "other16_seed", (0, 1, 2, 3), {
+        "cover (control)": (GPU / "entry83" / "e60_d0", "cover"),
+        "informative, d": (HERE / "d", "informative"), "informative, v": (HERE / "v", "informative"),
+        "cover_informative, d": (HERE / "cover_informative_d", "cover_informative"),
+        "cover_informative, v": (HERE / "cover_informative_v", "cover_informative")}),
+    ("other16, severe model", "other16_seed", (0, 1, 2, 3), {
+        "cover (control)": (GPU / "entry83" / "severe_d0", "cover"),
+        "informative, v": (HERE / "severe_v_d0", "informative")}),
+    ("fleet88, CPU models", "fleet88_seed", (0, 1), {
+        "cover (control)": (GPU / "entry86" / "fleet88_cpu_registry", "cover"),
+        "informative, v": (HERE / "fleet88_cpu_v", "informative")}),
+)
+BANDS = ("0-3", "3-7", "7-13", "13-19", "19+")
 
 
-def done(root: Path) -> bool:
-    return all((root / f"other16_seed{k}" / "metrics.json").is_file() for k in FOLDS)
+def done(root: Path, prefix: str, folds: tuple[int, ...]) -> bool:
+    return all((root / f"{prefix}{k}" / "metrics.json").is_file() for k in folds)
 
 
-def val_losses(root: Path, method: str) -> list[float]:
-    """The validation units' loss of `method` at 120 s, fold by fold."""
-    return [read_json(root / f"other16_seed{k}" / "provenance.json")["cross_sensor"][f"seed{k}"]["val_loss"]
-            [method]["120"] for k in FOLDS]
+def val_losses(root: Path, prefix: str, folds: tuple[int, ...], method: str) -> list[float] | None:
+    """The validation units' loss of `method` at 120 s, fold by fold (None: not run)."""
+    got = [read_json(root / f"{prefix}{k}" / "provenance.json")["cross_sensor"][f"seed{k}"]["val_loss"]
+           .get(method, {}).get("120") for k in folds]
+    return None if None in got else got
 
 
-def per_unit(root: Path, method: str, key: str) -> dict[str, float]:
-    """{held-out unit: ratio to its reference} of `method` at 120 s over the four folds under root."""
-    rows = [r for k in FOLDS for r in read_json(root / f"other16_seed{k}" / "metrics.json")["results"]]
-    return unit_ratios(rows, key)[(method, BUDGET)]
+def per_unit(root: Path, prefix: str, folds: tuple[int, ...], method: str, key: str) -> dict[str, float]:
+    """{held-out unit: ratio to its reference} of `method` at 120 s over the folds under root."""
+    rows = [r for k in folds for r in read_json(root / f"{prefix}{k}" / "metrics.json")["results"]]
+    return unit_ratios(rows, key).get((method, BUDGET), {})
+
+
+def show(name: str, prefix: str, folds: tuple[int, ...], arms: dict[str, tuple[Path, str]]) -> None:
+    arms = {a: arm for a, arm in arms.items() if done(arm[0], prefix, folds)}
+    control_root, control = next(iter(arms.values()))
+    print(f"\n{name}: validation units' loss at 120 s per fold, mean (alone | with use)")
+    for arm, (root, strategy) in arms.items():
+        parts = []
+        for kind in ("", "+use"):
+            got = val_losses(root, prefix, folds, f"response{kind}@{strategy}")
+            text = "-" if got is None else f"{' '.join(f'{v:.5f}' for v in got)} mean {np.mean(got):.5f}"
+            parts.append(text)
+        print(f"  {arm:22s} {parts[0]} | {parts[1]}")
+    for kind in ("", "+use"):
+        for label, key in KEYS.items():
+            base = per_unit(control_root, prefix, folds, f"response{kind}@{control}", key)
+            for arm, (root, strategy) in arms.items():
+                per = per_unit(root, prefix, folds, f"response{kind}@{strategy}", key)
+                if not per:
+                    continue
+                m, lo, hi = mean_interval(list(per.values()))
+                ratios = [per[u] / base[u] for u in base]
+                paired = "" if root == control_root else f" paired x{paired_text(ratios)}"
+                print(f"  response{kind} {label} {arm:22s} {m:.3f}x [{lo:.2f}, {hi:.2f}]{paired}")
+
+
+def residual_table() -> None:
+    """The diagnostic: RMS residual (Pa) of each plan's codes per |F| band, averaged over units and folds."""
+    for arm in ("d", "v", "cover_informative_v"):
+        files = sorted((HERE / "code_residuals" / arm).glob("other16_seed*/code_residuals.json"))
+        if not files:
+            continue
+        got = [read_json(f) for f in files]
+        print(f"\ncodes' residual, {arm}, {len(files)} folds; |F| bands {', '.join(BANDS)} "
+              "N; share of presses under 7 N")
+        for plan in [p for p in got[0]["rms_pa"] if p != "oracle"] + ["oracle"]:
+            rms = [v for g in got for v in g["rms_pa"][plan].values()]
+            forces = [f for g in got for f in g.get("press_mean_force_n", {}).get(plan, {}).values()]
+            low = [np.mean(np.array(f) < 7) for f in forces]
+            share = f"{np.mean(low):.0%}" if low else "-"
+            print(f"  {plan:12s} " + " ".join(f"{v:6.0f}" for v in np.nanmean(rms, 0)) + f"   {share}")
 
 
 def main() -> None:
-    arms = {name: arm for name, arm in ARMS.items() if done(arm[0])}
-    print("validation units' loss at 120 s, folds 0-3 and mean (alone | with use):")
-    for name, (root, strategy) in arms.items():
-        alone, use = val_losses(root, f"response@{strategy}"), val_losses(root, f"response+use@{strategy}")
-        print(f"  {name:16s} {' '.join(f'{v:.5f}' for v in alone)} mean {np.mean(alone):.5f} | "
-              f"{' '.join(f'{v:.5f}' for v in use)} mean {np.mean(use):.5f}")
-    for kind in ("", "+use"):
-        for label, key in KEYS.items():
-            base = per_unit(CONTROL, f"response{kind}@cover", key)
-            for name, (root, strategy) in arms.items():
-                per = per_unit(root, f"response{kind}@{strategy}", key)
-                m, lo, hi = mean_interval(list(per.values()))
-                ratios = [per[u] / base[u] for u in base]
-                paired = "" if root == CONTROL else f" paired x{paired_text(ratios)}"
-                print(f"response{kind} {label} {name:16s} {m:.3f}x [{lo:.2f}, {hi:.2f}]{paired}")
+    for name, prefix, folds, arms in SETS:
+        show(name, prefix, folds, arms)
+    residual_table()
 
 
 if __name__ == "__main__":
