@@ -133,7 +133,7 @@ def test_a_press_tells_the_codes_what_the_gauss_newton_step_weighs_from_its_labe
     again = press_information(fit, arrays, presses, effective_hz=10.0)
     assert np.array_equal(again.per_press, info.per_press)
     C, k = fit.model.n_channels, fit.model.config.code_dim
-    assert info.per_press.shape == (len(presses), C, k, k) and info.criterion == "d"
+    assert info.per_press.shape == (len(presses), C, k, k) and info.criterion == "v"
     assert np.allclose(info.prior, fit.code_prior.precision.numpy())
     for p in (0, len(presses) - 1):
         rows = presses.rows_of(p)[np.linspace(0, len(presses.rows_of(p)) - 1, 8).round().astype(int)]

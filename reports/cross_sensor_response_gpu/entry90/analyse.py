@@ -27,10 +27,12 @@ SETS = (
         "cover_informative, v": (HERE / "cover_informative_v", "cover_informative")}),
     ("other16, severe model", "other16_seed", (0, 1, 2, 3), {
         "cover (control)": (GPU / "entry83" / "severe_d0", "cover"),
-        "informative, v": (HERE / "severe_v_d0", "informative")}),
+        "informative, v": (HERE / "severe_v_d0", "informative"),
+        "cover_informative, v": (HERE / "severe_cover_informative_v_d0", "cover_informative")}),
     ("fleet88, CPU models", "fleet88_seed", (0, 1), {
         "cover (control)": (GPU / "entry86" / "fleet88_cpu_registry", "cover"),
-        "informative, v": (HERE / "fleet88_cpu_v", "informative")}),
+        "informative, v": (HERE / "fleet88_cpu_v", "informative"),
+        "cover_informative, v": (HERE / "fleet88_cpu_cover_informative_v", "cover_informative")}),
 )
 BANDS = ("0-3", "3-7", "7-13", "13-19", "19+")
 
@@ -93,9 +95,42 @@ def residual_table() -> None:
             print(f"  {plan:12s} " + " ".join(f"{v:6.0f}" for v in np.nanmean(rms, 0)) + f"   {share}")
 
 
+DRAWS = (0, 1, 2)
+SEVERE = {"cover (control)": (GPU / "entry83" / "severe_d{d}", "cover"),
+          "cover_informative, v": (HERE / "severe_cover_informative_v_d{d}", "cover_informative")}
+
+
+def three_draws() -> None:
+    """other16's severe model over three draws of the start network, as entry 83 reported its headline:
+    each held-out unit's RMSE averaged over the draws (`unit_ratios` pools them as seeds), then paired."""
+    roots = {arm: [Path(str(root).format(d=d)) for d in DRAWS] for arm, (root, _) in SEVERE.items()}
+    if not all(done(r, "other16_seed", (0, 1, 2, 3)) for rs in roots.values() for r in rs):
+        return
+    print("\nother16, severe model, three draws of the start network: validation loss (mean over draws and "
+          "folds, alone | with use), held-out units")
+    for arm, (_, strategy) in SEVERE.items():
+        alone, use = ([v for r in roots[arm] for v in val_losses(r, "other16_seed", (0, 1, 2, 3),
+                                                                 f"response{kind}@{strategy}")]
+                      for kind in ("", "+use"))
+        print(f"  {arm:22s} {np.mean(alone):.5f} | {np.mean(use):.5f}")
+    for kind in ("", "+use"):
+        for label, key in KEYS.items():
+            per = {}
+            for arm, (_, strategy) in SEVERE.items():
+                rows = [x for r in roots[arm] for k in (0, 1, 2, 3)
+                        for x in read_json(r / f"other16_seed{k}" / "metrics.json")["results"]]
+                per[arm] = unit_ratios(rows, key)[(f"response{kind}@{strategy}", BUDGET)]
+            base, mine = per["cover (control)"], per["cover_informative, v"]
+            for arm, got in per.items():
+                m, lo, hi = mean_interval(list(got.values()))
+                paired = "" if got is base else f" paired x{paired_text([mine[u] / base[u] for u in base])}"
+                print(f"  response{kind} {label} {arm:22s} {m:.3f}x [{lo:.2f}, {hi:.2f}]{paired}")
+
+
 def main() -> None:
     for name, prefix, folds, arms in SETS:
         show(name, prefix, folds, arms)
+    three_draws()
     residual_table()
 
 

@@ -117,7 +117,7 @@ class CodeInformation:
     per_press: np.ndarray
     prior: np.ndarray
     region: np.ndarray
-    criterion: str = "d"
+    criterion: str = "v"
 
     def value(self, precision: np.ndarray) -> float:
         """The criterion at posterior precision (C, k, k), higher is better."""

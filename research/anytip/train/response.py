@@ -79,7 +79,7 @@ class ResponseRecipe:
     code_decay: float = 1e-3
     code_fit: str = "gauss_newton"
     code_prior: str = "diagonal"
-    plan_criterion: str = "d"
+    plan_criterion: str = "v"
     code_iterations: int = 10
     code_steps: int = 300
     code_rows: int = 2048
@@ -524,7 +524,7 @@ INFORMATION_CHUNK = 8192  # rows per Jacobian pass (bounds memory)
 
 
 def press_information(fit: ResponseFit, arrays: FleetArrays, presses: Presses, effective_hz: float,
-                      criterion: str = "d") -> CodeInformation:
+                      criterion: str = "v") -> CodeInformation:
     """What each of a unit's candidate presses tells its codes under `fit` (an `informative` plan's
     information, `data.plans.CodeInformation`), linearised at the code prior's mean: from the
     press's labels alone (what the rig commands), never its pressures. A press stands by at most
