@@ -11,6 +11,6 @@ for r in $(seq $rounds); do
     rm -rf $out
     OMP_NUM_THREADS=1 taskset -c 0 anytip calibrate --model $run --unit SIM23-000 --registry data/other16 \
       --budget-seconds 120 --method response --out $out > $out.log 2>&1 || { cat $out.log; exit 1; }
-    python -c "import json,sys; c=json.load(open('$out/calibration.json')); print('$run', 'round $r', 'wall_s %.2f' % c['wall_s'], 'presses', c['calib_samples'], [n for n in c['notes'] if n.startswith('plan')])"
+    python -c "import json,sys; c=json.load(open('$out/calibration.json')); print('$run', 'round $r', 'wall_s %.2f' % c['wall_s'], 'rows', c['calib_samples'], 'robot-s %.1f' % c['calib_seconds'], [n for n in c['notes'] if n.startswith('plan')])"
   done
 done
