@@ -806,10 +806,12 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
     free = "" if start == "scratch" else (", code_prior: registry, label_free: {seconds: 20, rows: 64, "
                                            "candidates: 256, rounds: 1, iterations: 2, with_plans: true}")
+    # with the pooled start, plans chosen with the response model too (adapters never take them)
+    strategies = "[spread]" if start == "scratch" else "[spread, cover_informative]"
     over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 1500, source_rows: 2000, "
              f"inverse_epochs: 10, inverse_start: {start}{free}}}", "data.protocol=null",
              "options.calibration_protocol=null", "options.budgets=[0,20]",
-             "options.plan_strategies=[spread]"]
+             f"options.plan_strategies={strategies}"]
     run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
     prov = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
@@ -828,6 +830,14 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
             got = {r["unit"]: r for r in rows if r["method"] == method}
             assert set(got) == set(prov["test"]), method
             assert all(0 < r["unlabeled_seconds"] <= 20 and np.isfinite(r["u_rmse"]) for r in got.values())
+        informed = {r["unit"]: r for r in rows if r["method"] == "response@cover_informative"}
+        assert set(informed) == set(prov["test"])
+        assert all(0 < r["calib_seconds"] <= 20 and np.isfinite(r["u_rmse"]) for r in informed.values())
+        assert not any(r["method"].endswith("@cover_informative") and not r["method"].startswith("response")
+                       for r in rows)  # the adapters compare the other plans only
+        got = calibrate_unit(run, prov["test"][0], reg, tmp_path / "cal", budget_seconds=20,
+                             method="response")
+        assert 0 < got.calib_seconds <= 20 and got.response_check is not None
         for budget, method in ((20, "response+use"), (0, "response:label_free")):  # and calibrate does
             cal = calibrate_unit(run, prov["test"][0], reg, tmp_path / f"cal{budget}", budget_seconds=budget,
                                  use_seconds=15)
