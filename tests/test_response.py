@@ -147,7 +147,24 @@ def test_a_press_tells_the_codes_what_the_gauss_newton_step_weighs_from_its_labe
                 outer[c] += torch.outer(J, J) / fit.noise_var[c]
         n_eff = min(len(presses.rows_of(p)), presses.duration_s[p] * 10.0)
         assert np.allclose(info.per_press[p], (outer / len(y) * n_eff).numpy(), rtol=1e-4, atol=1e-9)
-    assert np.all(np.linalg.eigvalsh(info.region) >= -1e-9)  # a mean of outer products
+    bound = k * np.finfo(np.float32).eps * np.abs(info.region).max()  # float32 outer products, averaged
+    assert np.linalg.eigvalsh(info.region).min() >= -bound
+
+
+def test_a_press_tells_the_codes_of_a_response_without_a_force_target():
+    """A sensor model whose targets hold no force (the response's plain output): each press's
+    information is finite and positive semi-definite, and an informative plan is made from it."""
+    arrays = press_fleet()
+    presses = find_presses(arrays, "U1")
+    model = ResponseModel(3, 4, arrays.targets.shape[1], [], SMALL, seed=1)
+    fit = ResponseFit(model, torch.ones(4), torch.ones(SMALL.code_dim), ["A", "B", "C"])
+    info = press_information(fit, arrays, presses, effective_hz=10.0)
+    assert np.isfinite(info.per_press).all() and info.per_press.any()
+    # sums of float32 outer products: PSD up to float32 rounding of each of the k x k entries
+    bound = SMALL.code_dim * np.finfo(np.float32).eps * np.abs(info.per_press).max()
+    assert np.linalg.eigvalsh(info.per_press).min() >= -bound
+    plan = select_presses(presses, 40.0, strategy="cover_informative", information=info)
+    assert 0 < plan.calib_seconds <= 40.0
 
 
 def test_gauss_newton_reaches_the_map_estimate_at_least_as_well_as_adam(made_up):
