@@ -378,6 +378,13 @@ def _greedy_information(information: CodeInformation, candidates: np.ndarray, co
 EXCHANGE_PASSES = 3  # `cover_informative`'s passes over the cells at most
 
 
+def _cells(presses: Presses, chosen: list[int]) -> np.ndarray:
+    """(P,) the cell of every candidate press: the index in `chosen` of the press nearest it in the
+    summaries, among candidates of `chosen`'s orientations (-1 for the others)."""
+    cell = cKDTree(presses.summary[chosen]).query(presses.summary)[1]
+    return np.where(np.isin(presses.orientation_deg, presses.orientation_deg[chosen]), cell, -1)
+
+
 def _exchanged(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, chosen: list[int],
                information: CodeInformation) -> list[int]:
     """`chosen`, each press exchanged in turn for the press of its cell (`select_presses`) that most
@@ -385,8 +392,7 @@ def _exchanged(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: f
     if not chosen:
         return chosen
     chosen = list(chosen)
-    own = np.isin(presses.orientation_deg, presses.orientation_deg[chosen])
-    cell = cKDTree(presses.summary[chosen]).query(presses.summary)[1]
+    cell = _cells(presses, chosen)
     fixed = remount_s * (len(set(presses.orientation_deg[chosen])) - 1)
     precision = information.prior + information.per_press[chosen].sum(0)
     value = information.value(precision)
@@ -396,7 +402,7 @@ def _exchanged(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: f
             spare = budget_s - fixed - (cost[chosen].sum() - cost[chosen[j]])
             free = np.ones(len(cell), bool)
             free[chosen] = False
-            mates = np.flatnonzero(own & free & (cell == j) & (cost <= spare + 1e-9))
+            mates = np.flatnonzero(free & (cell == j) & (cost <= spare + 1e-9))
             if not len(mates):
                 continue
             trial = precision - information.per_press[chosen[j]] + information.per_press[mates]
