@@ -24,7 +24,8 @@ SETS = (
         "cover (control)": (GPU / "entry83" / "e60_d0", "cover"),
         "informative, d": (HERE / "d", "informative"), "informative, v": (HERE / "v", "informative"),
         "cover_informative, d": (HERE / "cover_informative_d", "cover_informative"),
-        "cover_informative, v": (HERE / "cover_informative_v", "cover_informative")}),
+        "cover_informative, v": (HERE / "cover_informative_v", "cover_informative"),
+        "one force level, v": (HERE / "force_cells_v", "cover_informative")}),
     ("other16, severe model", "other16_seed", (0, 1, 2, 3), {
         "cover (control)": (GPU / "entry83" / "severe_d0", "cover"),
         "informative, v": (HERE / "severe_v_d0", "informative"),
@@ -127,9 +128,23 @@ def three_draws() -> None:
                 print(f"  response{kind} {label} {arm:22s} {m:.3f}x [{lo:.2f}, {hi:.2f}]{paired}")
 
 
+def force_levels() -> None:
+    """Entry 92: exchanges within one force level, paired against entry 91's cells."""
+    folds, mine, theirs = (0, 1, 2, 3), HERE / "force_cells_v", HERE / "cover_informative_v"
+    if not done(mine, "other16_seed", folds):
+        return
+    print("\nentry 92: one force level against entry 91's cells, paired per held-out unit")
+    for kind in ("", "+use"):
+        for label, key in KEYS.items():
+            a = per_unit(mine, "other16_seed", folds, f"response{kind}@cover_informative", key)
+            b = per_unit(theirs, "other16_seed", folds, f"response{kind}@cover_informative", key)
+            print(f"  response{kind} {label} x{paired_text([a[u] / b[u] for u in b])}")
+
+
 def main() -> None:
     for name, prefix, folds, arms in SETS:
         show(name, prefix, folds, arms)
+    force_levels()
     three_draws()
     residual_table()
 
