@@ -25,7 +25,8 @@ SETS = (
         "informative, d": (HERE / "d", "informative"), "informative, v": (HERE / "v", "informative"),
         "cover_informative, d": (HERE / "cover_informative_d", "cover_informative"),
         "cover_informative, v": (HERE / "cover_informative_v", "cover_informative"),
-        "one force level, v": (HERE / "force_cells_v", "cover_informative")}),
+        "one force level, v": (HERE / "force_cells_v", "cover_informative"),
+        "low forces kept, v": (HERE / "keep_low_v", "cover_informative")}),
     ("other16, severe model", "other16_seed", (0, 1, 2, 3), {
         "cover (control)": (GPU / "entry83" / "severe_d0", "cover"),
         "informative, v": (HERE / "severe_v_d0", "informative"),
@@ -98,18 +99,21 @@ def residual_table() -> None:
 
 DRAWS = (0, 1, 2)
 SEVERE = {"cover (control)": (GPU / "entry83" / "severe_d{d}", "cover"),
-          "cover_informative, v": (HERE / "severe_cover_informative_v_d{d}", "cover_informative")}
+          "cover_informative, v": (HERE / "severe_cover_informative_v_d{d}", "cover_informative"),
+          "low forces kept, v": (HERE / "severe_keep_low_v_d{d}", "cover_informative")}
 
 
 def three_draws() -> None:
     """other16's severe model over three draws of the start network, as entry 83 reported its headline:
     each held-out unit's RMSE averaged over the draws (`unit_ratios` pools them as seeds), then paired."""
     roots = {arm: [Path(str(root).format(d=d)) for d in DRAWS] for arm, (root, _) in SEVERE.items()}
-    if not all(done(r, "other16_seed", (0, 1, 2, 3)) for rs in roots.values() for r in rs):
+    roots = {arm: rs for arm, rs in roots.items() if all(done(r, "other16_seed", (0, 1, 2, 3)) for r in rs)}
+    if len(roots) < 2:
         return
     print("\nother16, severe model, three draws of the start network: validation loss (mean over draws and "
           "folds, alone | with use), held-out units")
-    for arm, (_, strategy) in SEVERE.items():
+    for arm in roots:
+        strategy = SEVERE[arm][1]
         alone, use = ([v for r in roots[arm] for v in val_losses(r, "other16_seed", (0, 1, 2, 3),
                                                                  f"response{kind}@{strategy}")]
                       for kind in ("", "+use"))
@@ -117,34 +121,37 @@ def three_draws() -> None:
     for kind in ("", "+use"):
         for label, key in KEYS.items():
             per = {}
-            for arm, (_, strategy) in SEVERE.items():
+            for arm in roots:
+                strategy = SEVERE[arm][1]
                 rows = [x for r in roots[arm] for k in (0, 1, 2, 3)
                         for x in read_json(r / f"other16_seed{k}" / "metrics.json")["results"]]
                 per[arm] = unit_ratios(rows, key)[(f"response{kind}@{strategy}", BUDGET)]
-            base, mine = per["cover (control)"], per["cover_informative, v"]
+            base = per["cover (control)"]
             for arm, got in per.items():
                 m, lo, hi = mean_interval(list(got.values()))
-                paired = "" if got is base else f" paired x{paired_text([mine[u] / base[u] for u in base])}"
+                paired = "" if got is base else f" paired x{paired_text([got[u] / base[u] for u in base])}"
                 print(f"  response{kind} {label} {arm:22s} {m:.3f}x [{lo:.2f}, {hi:.2f}]{paired}")
 
 
-def force_levels() -> None:
-    """Entry 92: exchanges within one force level, paired against entry 91's cells."""
-    folds, mine, theirs = (0, 1, 2, 3), HERE / "force_cells_v", HERE / "cover_informative_v"
-    if not done(mine, "other16_seed", folds):
-        return
-    print("\nentry 92: one force level against entry 91's cells, paired per held-out unit")
-    for kind in ("", "+use"):
-        for label, key in KEYS.items():
-            a = per_unit(mine, "other16_seed", folds, f"response{kind}@cover_informative", key)
-            b = per_unit(theirs, "other16_seed", folds, f"response{kind}@cover_informative", key)
-            print(f"  response{kind} {label} x{paired_text([a[u] / b[u] for u in b])}")
+def against_cells() -> None:
+    """Entries 92-93: each variant of the exchanges paired per held-out unit against entry 91's cells."""
+    folds, theirs = (0, 1, 2, 3), HERE / "cover_informative_v"
+    for entry, name in (("92", "force_cells_v"), ("93", "keep_low_v")):
+        mine = HERE / name
+        if not done(mine, "other16_seed", folds):
+            continue
+        print(f"\nentry {entry} ({name}) against entry 91's cells, paired per held-out unit")
+        for kind in ("", "+use"):
+            for label, key in KEYS.items():
+                a = per_unit(mine, "other16_seed", folds, f"response{kind}@cover_informative", key)
+                b = per_unit(theirs, "other16_seed", folds, f"response{kind}@cover_informative", key)
+                print(f"  response{kind} {label} x{paired_text([a[u] / b[u] for u in b])}")
 
 
 def main() -> None:
     for name, prefix, folds, arms in SETS:
         show(name, prefix, folds, arms)
-    force_levels()
+    against_cells()
     three_draws()
     residual_table()
 
