@@ -35,6 +35,9 @@ SETS = (
         "cover (control)": (GPU / "entry86" / "fleet88_cpu_registry", "cover"),
         "informative, v": (HERE / "fleet88_cpu_v", "informative"),
         "cover_informative, v": (HERE / "fleet88_cpu_cover_informative_v", "cover_informative")}),
+    ("fleet88, 1,024-unit models", "fleet88_seed", (0, 1), {
+        "cover (control)": (GPU / "entry86" / "fleet88_registry", "cover"),
+        "cover_informative, v": (HERE / "fleet88_gpu_cover_informative_v", "cover_informative")}),
 )
 BANDS = ("0-3", "3-7", "7-13", "13-19", "19+")
 
