@@ -286,6 +286,11 @@ def benchmarked_in(model: str | Path) -> str:
     return unit
 
 
+def _rig_of(meta: dict[str, Any]) -> RigTiming:
+    """The rig timing a shared model's benchmark priced its plans with (`rig` in its metadata)."""
+    return RigTiming(**{k: float(v) for k, v in meta.get("rig", {}).items()})
+
+
 def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationStream,
                 budget_samples: int | None, budget_seconds: float | None) -> tuple[Plan, float, str]:
     """The labeled rows of a new unit's calibration, the budget they were chosen for (the key
@@ -298,7 +303,7 @@ def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationSt
         if not math.isfinite(seconds) or seconds < 0:
             raise AnytipError(f"--budget-seconds must be a finite number >= 0, got {seconds}")
         presses = find_presses(arrays, stream.unit, stream.outside(arrays))
-        rig = RigTiming(**{k: float(v) for k, v in meta.get("rig", {}).items()})
+        rig = _rig_of(meta)
         plan = select_presses(presses, seconds, rig, meta.get("plan_strategy", "spread"),
                               int(meta.get("seed", 0)))
         total = float(presses.duration_s.sum() + rig.move_s * len(presses))
@@ -324,7 +329,7 @@ class PlanRequest:
 
     def plan(self, fit: ResponseFit, criterion: str) -> Plan:
         presses = find_presses(self.arrays, self.stream.unit, self.stream.outside(self.arrays))
-        rig = RigTiming(**{k: float(v) for k, v in self.meta.get("rig", {}).items()})
+        rig = _rig_of(self.meta)
         information = (press_information(fit, self.arrays, presses, rig.effective_hz, criterion)
                        if self.strategy in INFORMED else None)
         return select_presses(presses, self.seconds, rig, self.strategy,  # type: ignore[arg-type]
@@ -506,7 +511,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     if response is not None:
         use = None
         if use_seconds > 0:
-            rig = RigTiming(**{k: float(v) for k, v in meta.get("rig", {}).items()})
+            rig = _rig_of(meta)
             use = UseRequest(use_seconds, meta.get("calibration_protocol"),
                              bool(meta.get("calibration_interleave", False)), rig.effective_hz)
         pooled = interval_records(factor_from, response)

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import itertools
 import zlib
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Literal
 
@@ -259,7 +259,7 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
         chosen = _in_order(presses, cost, order, budget_s, rig.remount_s)
     else:
         raise AnytipError(f"unknown plan strategy {strategy!r}; "
-                          "use spread, cover, random, first or informative")
+                          "use spread, cover, random, first, designed, informative or cover_informative")
     return _plan(presses, chosen, rig)
 
 
@@ -305,30 +305,39 @@ def _spread(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: floa
         score = nearest if len(chosen) == 1 else np.minimum(score, nearest)
 
 
-def _cover(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:
+def _orientation_subsets(presses: Presses, strategy: str,
+                         instead: str = "") -> Iterator[tuple[int, np.ndarray]]:
+    """(size, idx) of every subset of the presses' orientations, smallest first: the subset's
+    orientation count and the indices (P',) of its presses. More than MAX_COVER_ORIENTATIONS
+    orientations are refused naming `strategy` (and what to use `instead`)."""
     orientations = np.unique(presses.orientation_deg)
     if len(orientations) > MAX_COVER_ORIENTATIONS:
-        raise AnytipError(f"plan strategy cover tries every subset of at most {MAX_COVER_ORIENTATIONS} "
-                          f"orientations; this unit's runs have {len(orientations)}: use spread")
-    z = presses.summary
-    best: tuple[float, list[int]] = (np.inf, [])
+        raise AnytipError(f"plan strategy {strategy} tries every subset of at most {MAX_COVER_ORIENTATIONS} "
+                          f"orientations; this unit's runs have {len(orientations)}{instead}")
     for size in range(1, len(orientations) + 1):
         for subset in itertools.combinations(orientations, size):
-            idx = np.flatnonzero(np.isin(presses.orientation_deg, subset))
-            chosen = [int(idx[k]) for k in _spread(presses.subset(np.isin(presses.orientation_deg, subset)),
-                                                   cost[idx], budget_s, remount_s, seed)]
-            if not chosen:
-                continue
-            gap = float(cKDTree(z[chosen]).query(z)[0].max())
-            if gap < best[0] - 1e-12:
-                best = (gap, chosen)
+            yield size, np.flatnonzero(np.isin(presses.orientation_deg, subset))
+
+
+def _cover(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:
+    z = presses.summary
+    best: tuple[float, list[int]] = (np.inf, [])
+    for _, idx in _orientation_subsets(presses, "cover", ": use spread"):
+        keep = np.zeros(len(presses), bool)
+        keep[idx] = True
+        chosen = [int(idx[k]) for k in _spread(presses.subset(keep), cost[idx], budget_s, remount_s, seed)]
+        if not chosen:
+            continue
+        gap = float(cKDTree(z[chosen]).query(z)[0].max())
+        if gap < best[0] - 1e-12:
+            best = (gap, chosen)
     return best[1]
 
 
 def _checked(information: CodeInformation | None, n_presses: int) -> CodeInformation:
     if information is None:
-        raise AnytipError("plan strategy informative chooses presses for what they tell a response model's "
-                          "codes: it needs the response method (options.methods: [response])")
+        raise AnytipError("plan strategies informative and cover_informative choose presses for what they "
+                          "tell a response model's codes: they need the response method (options.response)")
     if len(information.per_press) != n_presses:
         raise AnytipError(f"code information for {len(information.per_press)} presses, "
                           f"the unit has {n_presses}")
@@ -339,17 +348,11 @@ def _checked(information: CodeInformation | None, n_presses: int) -> CodeInforma
 
 def _informative(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float,
                  information: CodeInformation) -> list[int]:
-    orientations = np.unique(presses.orientation_deg)
-    if len(orientations) > MAX_COVER_ORIENTATIONS:
-        raise AnytipError(f"plan strategy informative tries every subset of at most {MAX_COVER_ORIENTATIONS} "
-                          f"orientations; this unit's runs have {len(orientations)}")
     best: tuple[float, list[int]] = (-np.inf, [])
-    for size in range(1, len(orientations) + 1):
-        for subset in itertools.combinations(orientations, size):
-            idx = np.flatnonzero(np.isin(presses.orientation_deg, subset))
-            chosen, value = _greedy_information(information, idx, cost, budget_s - remount_s * (size - 1))
-            if chosen and (not best[1] or value > best[0] + 1e-9 * max(1.0, abs(best[0]))):
-                best = (value, chosen)
+    for size, idx in _orientation_subsets(presses, "informative"):
+        chosen, value = _greedy_information(information, idx, cost, budget_s - remount_s * (size - 1))
+        if chosen and (not best[1] or value > best[0] + 1e-9 * max(1.0, abs(best[0]))):
+            best = (value, chosen)
     return best[1]
 
 

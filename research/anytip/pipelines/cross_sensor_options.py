@@ -216,9 +216,10 @@ class ResponseOptions(BaseModel):
         default=ResponseRecipe.code_prior,
         description="the prior a new unit's codes are fitted under (train/code_prior.py)")
     plan_criterion: Criterion = Field(
-        default="v", description="what `informative` and `cover_informative` plans maximise: v, minus the "
-        "pressure variance the codes leave; d, the log det of each barometer's code precision "
-        "(data/plans.py CodeInformation; research log entries 90-91)")
+        default=ResponseRecipe.plan_criterion,
+        description="what `informative` and `cover_informative` plans maximise: v, minus the pressure "
+        "variance the codes leave; d, the log det of each barometer's code precision (data/plans.py "
+        "CodeInformation; research log entries 90-91)")
     code_iterations: int = Field(default=ResponseRecipe.code_iterations, ge=1, le=10_000)
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)
