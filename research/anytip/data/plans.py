@@ -15,8 +15,9 @@ Robot time (`calib_seconds`) counts all rig time the calibration uses:
 - a re-mount for each change of orientation (`RigTiming.remount_s`, 30 s by default).
 Presses run grouped by orientation, so a plan with k orientations pays k - 1 re-mounts.
 
-`informative` plans choose presses for what they tell a new unit's codes under a fleet's response
-model (`CodeInformation`, computed by train/response.py `press_information`; research log entry 90).
+`informative` and `cover_informative` plans choose presses for what they tell a new unit's codes
+under a fleet's response model (`CodeInformation`, computed by train/response.py
+`press_information`; research log entries 90-91).
 
 Labels of a press are autocorrelated at the rig's sample rate: 1000 rows of one press say
 far less than 1000 rows of 100 presses. A plan's effective sample count is its contact
