@@ -220,6 +220,11 @@ class ResponseOptions(BaseModel):
         description="what `informative` and `cover_informative` plans maximise: v, minus the pressure "
         "variance the codes leave; d, the log det of each barometer's code precision (data/plans.py "
         "CodeInformation; research log entries 90-91)")
+    code_draw_scale: float = Field(
+        default=ResponseRecipe.code_draw_scale, ge=0, le=1e6,
+        description="where a unit's codes are fitted on its plan alone, each transferred row's codes are "
+        "drawn from their Laplace posterior with its covariance times this (0: the MAP codes; research "
+        "log entry 94)")
     code_iterations: int = Field(default=ResponseRecipe.code_iterations, ge=1, le=10_000)
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)

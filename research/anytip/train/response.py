@@ -31,7 +31,7 @@ import time
 from collections.abc import Hashable, Iterable, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import torch
@@ -70,7 +70,10 @@ class ResponseRecipe:
     from random weights, `inverse_start: scratch`, or from one network trained on the source rows
     as they were measured, `pooled`: `start_network`). `code_prior`: the prior a new unit's codes are
     fitted under (`train.code_prior`; a model saved before the choice existed ran `diagonal`).
-    `plan_criterion`: what an `informative` plan maximises (`data.plans.CodeInformation`)."""
+    `plan_criterion`: what an `informative` plan maximises (`data.plans.CodeInformation`).
+    `code_draw_scale`: where a unit's codes are fitted on its plan alone, each transferred row's codes
+    are drawn from their Laplace posterior with its covariance times this (`code_covariance`,
+    `drawn_codes`; 0, the default: every row the MAP codes; research log entry 94)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
@@ -80,6 +83,7 @@ class ResponseRecipe:
     code_fit: str = "gauss_newton"
     code_prior: str = "diagonal"
     plan_criterion: str = "v"
+    code_draw_scale: float = 0.0
     code_iterations: int = 10
     code_steps: int = 300
     code_rows: int = 2048
@@ -263,6 +267,46 @@ def evenly_spaced(n: int, at_most: int) -> Tensor:
     return torch.linspace(0, n - 1, at_most).round().long()
 
 
+class _PlanProblem(NamedTuple):
+    """M jobs' code-fit problem on at most `code_rows` evenly spaced rows each: pressures Xp
+    (M, B, C) Pa, labels Yp (M, B, D), each row's weight per barometer row_w (M, B, C) 1/Pa^2 (zero
+    on padding)."""
+
+    Xp: Tensor
+    Yp: Tensor
+    row_w: Tensor
+
+    def loss(self, fit: ResponseFit, codes: Tensor) -> Tensor:
+        """(M, C): each (job, barometer) problem's loss at codes (M, C, k)."""
+        with torch.no_grad():
+            err = self.Xp - fit.model(self.Yp, codes[:, None])
+            return (self.row_w * err**2).sum(1) / 2 + fit.code_prior.penalty(codes)
+
+    def system(self, fit: ResponseFit, codes: Tensor) -> tuple[Tensor, Tensor]:
+        """The Gauss-Newton Hessian (M, C, k, k) of the loss at codes (M, C, k), and minus its
+        gradient (M, C, k)."""
+        pred, J = code_jacobian(fit.model, self.Yp, codes[:, None])  # J (M, B, C, k)
+        JW = J * self.row_w[..., None]
+        H = torch.einsum("mbck,mbcj->mckj", JW, J) + fit.code_prior.precision
+        g = torch.einsum("mbck,mbc->mck", JW, self.Xp - pred) + fit.code_prior.pull(codes)
+        return H, g
+
+
+def _plan_problem(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
+                  recipe: ResponseRecipe) -> _PlanProblem:
+    """The code-fit problem of jobs X[m] (n_m, C) Pa, Y[m] (n_m, D), worth n_effective[m] rows:
+    n_eff / n of each taken row's squared error over the barometer's noise variance."""
+    model, device = fit.model, fit.device
+    take = [evenly_spaced(len(x), recipe.code_rows) for x in X]
+    Xp, n = pad_rows([x[t] if len(x) else x.new_zeros(1, model.n_channels)
+                      for x, t in zip(X, take, strict=True)], device)
+    Yp, _ = pad_rows([y[t] if len(y) else y.new_zeros(1, Y[0].shape[-1])
+                      for y, t in zip(Y, take, strict=True)], device)
+    valid = (torch.arange(Xp.shape[1], device=device)[None] < n[:, None]).float()  # (M, B)
+    weight = torch.tensor(n_effective, dtype=torch.float32, device=device) / n.clamp_min(1)  # per row
+    return _PlanProblem(Xp, Yp, valid[..., None] * weight[:, None, None] / fit.noise_var.to(device))
+
+
 def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
                            recipe: ResponseRecipe) -> Tensor:
     """(M, C, k) MAP codes by damped Gauss-Newton on `code_rows` evenly spaced rows of each job.
@@ -271,41 +315,54 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
     backward pass (`code_jacobian`); each
     (job, barometer) then takes a Levenberg-Marquardt step of k numbers, kept where it lowers
     that problem's loss (the damping shrinks after a kept step and grows after a refused one)."""
-    model, device = fit.model, fit.device
-    take = [evenly_spaced(len(x), recipe.code_rows) for x in X]
-    Xp, n = pad_rows([x[t] if len(x) else x.new_zeros(1, model.n_channels)
-                      for x, t in zip(X, take, strict=True)], device)
-    Yp, _ = pad_rows([y[t] if len(y) else y.new_zeros(1, Y[0].shape[-1])
-                      for y, t in zip(Y, take, strict=True)], device)
-    M, B, C, k = Xp.shape[0], Xp.shape[1], model.n_channels, model.config.code_dim
-    valid = (torch.arange(B, device=device)[None] < n[:, None]).float()  # (M, B)
-    weight = torch.tensor(n_effective, dtype=torch.float32, device=device) / n.clamp_min(1)  # per row
-    row_w = valid[..., None] * weight[:, None, None] / fit.noise_var.to(device)  # (M, B, C)
-    prior = fit.code_prior
-
-    def loss_of(codes: Tensor) -> Tensor:
-        with torch.no_grad():
-            err = Xp - model(Yp, codes[:, None])
-            return (row_w * err**2).sum(1) / 2 + prior.penalty(codes)  # (M, C)
-
-    codes = prior.mean.expand(M, C, k).clone()
-    damping = torch.full((M, C), 1e-2, device=device)
-    loss = loss_of(codes)
+    problem = _plan_problem(fit, X, Y, n_effective, recipe)
+    M, C, k = len(X), fit.model.n_channels, fit.model.config.code_dim
+    codes = fit.code_prior.mean.expand(M, C, k).clone()
+    damping = torch.full((M, C), 1e-2, device=fit.device)
+    loss = problem.loss(fit, codes)
     for _ in range(recipe.code_iterations):
-        pred, J = code_jacobian(model, Yp, codes[:, None])  # J (M, B, C, k)
-        resid = Xp - pred
-        JW = J * row_w[..., None]
-        H = torch.einsum("mbck,mbcj->mckj", JW, J) + prior.precision
-        g = torch.einsum("mbck,mbc->mck", JW, resid) + prior.pull(codes)
+        H, g = problem.system(fit, codes)
         diag = torch.diagonal(H, dim1=-2, dim2=-1)
         damped = H + torch.diag_embed(damping[..., None] * diag)
         step = torch.linalg.solve(damped, g.unsqueeze(-1)).squeeze(-1)
-        trial = loss_of(codes + step)
+        trial = problem.loss(fit, codes + step)
         kept = trial < loss
         codes = torch.where(kept[..., None], codes + step, codes)
         loss = torch.where(kept, trial, loss)
         damping = torch.where(kept, damping / 3, damping * 4).clamp(1e-6, 1e6)
     return codes
+
+
+def code_covariance(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
+                    codes: Tensor, recipe: ResponseRecipe = ResponseRecipe()) -> Tensor:
+    """(M, C, k, k): the Laplace covariance of M jobs' codes (M, C, k) fitted on their plans (X[m]
+    (n_m, C) Pa, Y[m] (n_m, D), worth n_effective[m] rows; `fit_codes`): the inverse of the
+    Gauss-Newton Hessian of that fit's loss at the codes, on the same rows. A job without rows gets
+    the prior's covariance."""
+    M = len(X)
+    out = torch.linalg.inv(fit.code_prior.precision).expand(M, -1, -1, -1).clone()
+    for p in fit.model.parameters():
+        p.requires_grad_(False)
+    try:
+        for a in range(0, M, CODE_JOBS_PER_PASS):
+            part = slice(a, a + CODE_JOBS_PER_PASS)
+            H, _ = _plan_problem(fit, X[part], Y[part], n_effective[part], recipe).system(
+                fit, codes[part].to(fit.device))
+            has = torch.tensor([len(x) > 0 for x in X[part]], device=fit.device)
+            out[part] = torch.where(has[:, None, None, None], torch.linalg.inv(H), out[part])
+    finally:
+        for p in fit.model.parameters():
+            p.requires_grad_(True)
+    return out
+
+
+def drawn_codes(codes: Tensor, covariance: Tensor, scale: float, n: int, seed: int) -> Tensor:
+    """(n, C, k): n draws of one job's codes from N(codes (C, k), scale * covariance (C, k, k)), one
+    per transferred row (`ResponseRecipe.code_draw_scale`)."""
+    g = torch.Generator(device=codes.device).manual_seed(seed)
+    L = torch.linalg.cholesky(covariance * scale)
+    eps = torch.randn((n, *codes.shape), generator=g, device=codes.device, dtype=codes.dtype)
+    return codes + torch.einsum("ckj,ncj->nck", L, eps)
 
 
 def code_jacobian(model: ResponseModel, labels: Tensor, codes: Tensor) -> tuple[Tensor, Tensor]:
@@ -419,7 +476,8 @@ def respond(model: ResponseModel, labels: Tensor, codes: Tensor, chunk: int = 25
 
 
 def transfer(fit: ResponseFit, source: SourceRows, codes: Tensor) -> Tensor:
-    """(S, C) Pa: the source rows as the unit of `codes` (C, k) would have read them."""
+    """(S, C) Pa: the source rows as the unit of `codes` (C, k), or each row's codes (S, C, k), would
+    have read them."""
     return source.X + respond(fit.model, source.Y, codes.to(fit.device)) - source.fitted
 
 
@@ -434,7 +492,9 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
     """M new units' plain networks of `shape` and their codes (M, C, k).
 
     Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
-    n_effective[m] rows (or given as `codes`); its network trained on the transferred source rows,
+    n_effective[m] rows (or given as `codes`); its network trained on the transferred source rows
+    (each row's codes drawn from their posterior where `recipe.code_draw_scale` > 0 and they are
+    fitted here),
     its own calibration rows and its `extra[m]` rows (pressures (e, C) Pa, contacts (e, D)) where
     given (`unit_networks`), from `start` (`start_network`) where the recipe's `inverse_start` is
     `pooled`. The jobs of one key of `groups` (one per job; None: one group) train as one batched
@@ -445,12 +505,21 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
     if (start is None) != (recipe.inverse_start == "scratch"):
         raise ValueError(f"inverse_start {recipe.inverse_start!r} with{'out' if start is None else ''} "
                          "a start network")
+    covariance = None
     if codes is None:
         codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
+        if recipe.code_draw_scale > 0:
+            covariance = code_covariance(fit, X, Y, n_effective, codes, recipe)
     more = list(extra) if extra is not None else [None] * len(X)
 
+    def job_codes(m: int) -> Tensor:
+        if covariance is None:
+            return codes[m]
+        return drawn_codes(codes[m].to(fit.device), covariance[m].to(fit.device), recipe.code_draw_scale,
+                           len(source.Y), unit_seed(seed, m, "response code draws"))
+
     def job_rows(m: int) -> tuple[Tensor, Tensor]:
-        xs, ys = [transfer(fit, source, codes[m]), X[m].to(fit.device)], [source.Y, Y[m].to(fit.device)]
+        xs, ys = [transfer(fit, source, job_codes(m)), X[m].to(fit.device)], [source.Y, Y[m].to(fit.device)]
         if more[m] is not None:
             xs.append(more[m][0].to(fit.device))
             ys.append(more[m][1].to(fit.device))
