@@ -31,6 +31,8 @@ from anytip.train.response import (
     ResponseFit,
     ResponseRecipe,
     calibrate_by_response,
+    code_covariance,
+    drawn_codes,
     fit_codes,
     press_information,
     residual_rms,
@@ -213,6 +215,60 @@ def test_codes_fitted_under_a_learnt_prior_reach_its_map_and_keep_its_mean_witho
     torch.testing.assert_close(held, prior.mean, atol=1e-3, rtol=0)
     none = fit_codes(learnt, [X[0][:0]], [Y[0][:0]], [0.0], recipe)[0]
     torch.testing.assert_close(none, prior.mean)
+
+
+def test_the_codes_covariance_is_the_inverse_gauss_newton_hessian_and_shrinks_with_rows(made_up):
+    """`code_covariance`: per barometer, the inverse of the prior's precision plus the plan's rows'
+    J J^T at their weight (J by autograd, row by row); more rows leave less; no rows, the prior's."""
+    _, _, fit = made_up
+    new, _ = made_up_fleet(1, seed=96)
+    X, Y = new.unit(0).X_train[:60], new.unit(0).Y_train[:60]
+    recipe = replace(FAST_FIT, code_rows=60)
+    codes = fit_codes(fit, [X, X[:6], X[:0]], [Y, Y[:6], Y[:0]], [30.0, 3.0, 0.0], recipe)
+    cov = code_covariance(fit, [X, X[:6], X[:0]], [Y, Y[:6], Y[:0]], [30.0, 3.0, 0.0], codes, recipe)
+    C, k = fit.model.n_channels, fit.model.config.code_dim
+    for c in range(C):
+        def pressure_c(z: torch.Tensor, y: torch.Tensor, c: int = c) -> torch.Tensor:
+            full = codes[0].clone()
+            full[c] = z
+            return fit.model(y[None], full)[0, c]
+
+        H = fit.code_prior.precision[c].clone()
+        for y in Y:
+            J = torch.autograd.functional.jacobian(lambda z, y=y: pressure_c(z, y), codes[0, c])
+            H = H + 30.0 / 60 / fit.noise_var[c] * torch.outer(J, J)
+        torch.testing.assert_close(cov[0, c], torch.linalg.inv(H), rtol=1e-3, atol=1e-7)
+    assert (torch.linalg.det(cov[0]) < torch.linalg.det(cov[1])).all()
+    torch.testing.assert_close(cov[2], torch.linalg.inv(fit.code_prior.precision).expand(C, k, k))
+
+
+def test_codes_drawn_for_the_transferred_rows_follow_their_posterior_and_only_where_fitted(made_up):
+    """`drawn_codes`: draws of the given mean and covariance (within 5 standard errors of 20,000 draws),
+    the same for the same seed. In `calibrate_by_response` a positive `code_draw_scale` changes the
+    network where the codes are fitted on the plan, and nothing where they are given."""
+    codes = torch.tensor([[0.5, -1.0], [2.0, 0.0]])
+    cov = torch.tensor([[[1.0, 0.6], [0.6, 2.0]], [[0.1, 0.0], [0.0, 0.3]]])
+    z = drawn_codes(codes, cov, 4.0, 20_000, seed=3)
+    assert z.shape == (20_000, 2, 2) and torch.equal(z, drawn_codes(codes, cov, 4.0, 20_000, seed=3))
+    d = z - codes
+    assert ((d.mean(0) - 0).abs() < 5 * (4 * torch.diagonal(cov, dim1=-2, dim2=-1) / 20_000).sqrt()).all()
+    sample_cov = torch.einsum("nci,ncj->cij", d, d) / len(d)
+    torch.testing.assert_close(sample_cov, 4.0 * cov, rtol=5 * (2 / 20_000) ** 0.5 * 2, atol=0.05)
+
+    _, _, fit = made_up
+    new, _ = made_up_fleet(1, seed=95)
+    X, Y = [new.unit(0).X_train[:40]], [new.unit(0).Y_train[:40]]
+    source = source_rows(fit, made_up[0], 50, seed=0)
+    probe = new.unit(0).X_val[:30][None]
+
+    def predicted(scale: float, codes: torch.Tensor | None = None) -> torch.Tensor:
+        nets, _ = calibrate_by_response(fit, source, X, Y, [4.0], MLPConfig(sizes=(C, 16, 5)),
+                                        replace(FAST_FIT, code_draw_scale=scale), codes=codes)
+        return predict(nets.model, nets.in_scaler, nets.out_scaler, probe)[0]
+
+    assert not torch.equal(predicted(1.0), predicted(0.0))
+    given = fit_codes(fit, X, Y, [4.0], FAST_FIT)
+    assert torch.equal(predicted(1.0, given), predicted(0.0, given))
 
 
 def test_a_saved_recipe_reads_as_it_was_run_and_a_bad_value_is_named():

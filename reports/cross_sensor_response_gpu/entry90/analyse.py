@@ -106,17 +106,18 @@ SEVERE = {"cover (control)": (GPU / "entry83" / "severe_d{d}", "cover"),
           "low forces kept, v": (HERE / "severe_keep_low_v_d{d}", "cover_informative")}
 
 
-def three_draws() -> None:
+def three_draws(arms: dict[str, tuple[Path, str]] = SEVERE) -> None:
     """other16's severe model over three draws of the start network, as entry 83 reported its headline:
-    each held-out unit's RMSE averaged over the draws (`unit_ratios` pools them as seeds), then paired."""
-    roots = {arm: [Path(str(root).format(d=d)) for d in DRAWS] for arm, (root, _) in SEVERE.items()}
+    each held-out unit's RMSE averaged over the draws (`unit_ratios` pools them as seeds), then paired
+    against `arms`' first, the control (roots with `{d}` for the draw)."""
+    roots = {arm: [Path(str(root).format(d=d)) for d in DRAWS] for arm, (root, _) in arms.items()}
     roots = {arm: rs for arm, rs in roots.items() if all(done(r, "other16_seed", (0, 1, 2, 3)) for r in rs)}
     if len(roots) < 2:
         return
     print("\nother16, severe model, three draws of the start network: validation loss (mean over draws and "
           "folds, alone | with use), held-out units")
     for arm in roots:
-        strategy = SEVERE[arm][1]
+        strategy = arms[arm][1]
         alone, use = ([v for r in roots[arm] for v in val_losses(r, "other16_seed", (0, 1, 2, 3),
                                                                  f"response{kind}@{strategy}")]
                       for kind in ("", "+use"))
@@ -125,11 +126,11 @@ def three_draws() -> None:
         for label, key in KEYS.items():
             per = {}
             for arm in roots:
-                strategy = SEVERE[arm][1]
+                strategy = arms[arm][1]
                 rows = [x for r in roots[arm] for k in (0, 1, 2, 3)
                         for x in read_json(r / f"other16_seed{k}" / "metrics.json")["results"]]
                 per[arm] = unit_ratios(rows, key)[(f"response{kind}@{strategy}", BUDGET)]
-            base = per["cover (control)"]
+            base = per[next(iter(roots))]
             for arm, got in per.items():
                 m, lo, hi = mean_interval(list(got.values()))
                 paired = "" if got is base else f" paired x{paired_text([got[u] / base[u] for u in base])}"
