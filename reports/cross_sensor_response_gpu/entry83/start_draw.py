@@ -8,6 +8,7 @@ repository root:
         --registry REG --out OUT [rescore_response.py's options]
 """
 
+import os
 import runpy
 import sys
 from dataclasses import replace
@@ -30,5 +31,7 @@ def drawn(source, shape, recipe, seed, *rest, **kwargs):
 
 
 pipe.start_network = drawn
-sys.argv[0] = "scripts/rescore_response.py"
-runpy.run_path("scripts/rescore_response.py", run_name="__main__")
+# another wrapper of rescore_response.py may run in its place (RESCORE_SCRIPT; research log entry 95)
+script = os.environ.get("RESCORE_SCRIPT", "scripts/rescore_response.py")
+sys.argv[0] = script
+runpy.run_path(script, run_name="__main__")

@@ -12,7 +12,7 @@ if [ -z "$d" ]; then
 else
   # the start network's draw and the press offsets both wrap rescore_response.py: the draw's wrapper runs
   # the offsets' script in its place
-  ANYTIP_RESCORE=reports/cross_sensor_response_gpu/entry94/press_offsets.py other16_rescore $k \
+  RESCORE_SCRIPT=reports/cross_sensor_response_gpu/entry94/press_offsets.py other16_rescore $k \
     "$TWICE_THE_SPREAD" 60 reports/cross_sensor_response_gpu/entry94/severe_offsets_d$d/other16_seed$k \
     reports/cross_sensor_response_gpu/entry83/start_draw.py $d 60 "${plans[@]}"
 fi
