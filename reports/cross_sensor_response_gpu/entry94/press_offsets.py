@@ -18,7 +18,7 @@ import torch
 
 import anytip.pipelines.cross_sensor_response as pipe
 from anytip.data.plans import find_presses
-from anytip.train.response import code_jacobian, evenly_spaced, fit_codes, respond
+from anytip.train.response import code_jacobian, evenly_spaced, fit_codes, frozen, respond
 
 PRESSES_PER_UNIT = 200  # of a training unit's presses, evenly spaced, where tau is learnt
 ROWS_PER_PRESS = 32
@@ -108,12 +108,9 @@ def with_offsets(ctx, arrays, sd, fit, carry, recipe, jobs, seed, codes=None, ex
         Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
         n_eff = [p.n_effective for _, _, p in jobs]
         start = fit_codes(fit, X, Y, n_eff, recipe, seed)
-        for p in fit.model.parameters():
-            p.requires_grad_(False)
-        codes = torch.stack([gls_codes(fit, X[m], Y[m], jobs[m][2].bounds, n_eff[m], tau2, start[m], recipe)
-                             for m in range(len(jobs))])
-        for p in fit.model.parameters():
-            p.requires_grad_(True)
+        with frozen(fit.model):
+            codes = torch.stack([gls_codes(fit, X[m], Y[m], jobs[m][2].bounds, n_eff[m], tau2, start[m],
+                                           recipe) for m in range(len(jobs))])
         ratio = " ".join(f"{v:.2f}" for v in (tau2 / fit.noise_var).tolist())
         print(f"press offsets: tau^2 / noise {ratio}; "
               f"codes moved {float((codes - start).norm() / start.norm()):.3f} of their norm", flush=True)

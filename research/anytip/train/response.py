@@ -28,7 +28,8 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Hashable, Iterable, Sequence
+from collections.abc import Hashable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -227,6 +228,19 @@ def train_response(data: FleetBatchData, force_cols: list[int], config: Response
     return ResponseFit(model, noise_var, code_var, list(data.unit_ids), time.perf_counter() - start)
 
 
+@contextmanager
+def frozen(model: torch.nn.Module) -> Iterator[None]:
+    """The model's weights without grad while the block runs (only its inputs' derivatives are
+    taken, as a code fit needs), given it back after."""
+    for p in model.parameters():
+        p.requires_grad_(False)
+    try:
+        yield
+    finally:
+        for p in model.parameters():
+            p.requires_grad_(True)
+
+
 CODE_JOBS_PER_PASS = 16  # new units whose Gauss-Newton step runs in one pass (bounds memory)
 
 
@@ -245,18 +259,13 @@ def fit_codes(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: l
     codes = typical.clone()
     if not bool(has_rows.any()):
         return codes
-    for p in fit.model.parameters():
-        p.requires_grad_(False)
-    try:
+    with frozen(fit.model):
         if recipe.code_fit == "adam":
             codes = _codes_by_adam(fit, X, Y, n_effective, recipe, seed)
         else:
             for a in range(0, M, CODE_JOBS_PER_PASS):
                 part = slice(a, a + CODE_JOBS_PER_PASS)
                 codes[part] = _codes_by_gauss_newton(fit, X[part], Y[part], n_effective[part], recipe)
-    finally:
-        for p in fit.model.parameters():
-            p.requires_grad_(True)
     return torch.where(has_rows[:, None, None], codes, typical)
 
 
@@ -341,18 +350,13 @@ def code_covariance(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effect
     the prior's covariance."""
     M = len(X)
     out = torch.linalg.inv(fit.code_prior.precision).expand(M, -1, -1, -1).clone()
-    for p in fit.model.parameters():
-        p.requires_grad_(False)
-    try:
+    with frozen(fit.model):
         for a in range(0, M, CODE_JOBS_PER_PASS):
             part = slice(a, a + CODE_JOBS_PER_PASS)
             H, _ = _plan_problem(fit, X[part], Y[part], n_effective[part], recipe).system(
                 fit, codes[part].to(fit.device))
             has = torch.tensor([len(x) > 0 for x in X[part]], device=fit.device)
             out[part] = torch.where(has[:, None, None, None], torch.linalg.inv(H), out[part])
-    finally:
-        for p in fit.model.parameters():
-            p.requires_grad_(True)
     return out
 
 
