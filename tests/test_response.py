@@ -872,13 +872,16 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     no in_contact, temperature or protocol record, its own targets): the response method finds
     the presses, trains on the training units only and calibrates held-out units better than the
     pooled model that ignores how units differ, its networks started from random weights or from
-    the pooled start network (there with the recipe spec's registry code prior)."""
+    the pooled start network (there with the recipe spec's registry code prior; from random weights with
+    each transferred row's codes drawn from their posterior)."""
     import numpy as np
 
     reg = _lab_registry(tmp_path)
     over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
-    free = "" if start == "scratch" else (", code_prior: registry, label_free: {seconds: 20, rows: 64, "
-                                           "candidates: 256, rounds: 1, iterations: 2, with_plans: true}")
+    # from random weights, each transferred row's codes drawn from their posterior (entry 94's option)
+    free = ", code_draw_scale: 1" if start == "scratch" else (
+        ", code_prior: registry, label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, "
+        "iterations: 2, with_plans: true}")
     # with the pooled start, plans chosen with the response model too (adapters never take them)
     strategies = "[spread]" if start == "scratch" else "[spread, cover_informative]"
     over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 1500, source_rows: 2000, "
@@ -894,6 +897,7 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     meta = load_response(run / "models" / "response_seed0.safetensors").meta
     assert meta["unit_ids"] == prov["train"] and meta["recipe"]["inverse_start"] == start
     assert meta["recipe"]["code_prior"] == ("diagonal" if start == "scratch" else "registry")
+    assert meta["recipe"]["code_draw_scale"] == (1.0 if start == "scratch" else 0.0)
     assert meta["registry_unit_ids"] == prov["train"]  # the recipe spec's prior, centred on the lab's units
     assert (run / "models" / "response_seed0_start.safetensors").is_file() == (start == "pooled")
     for key in ("u_rmse", "v_rmse", "fz_rmse"):  # the place is where units differ most
