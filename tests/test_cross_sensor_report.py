@@ -7,7 +7,14 @@ import numpy as np
 import pytest
 
 from anytip.errors import AnytipError
-from anytip.report.cross_sensor import chosen_methods, mean_interval, summary, targets, unit_ratios
+from anytip.report.cross_sensor import (
+    choice_margins,
+    chosen_methods,
+    mean_interval,
+    summary,
+    targets,
+    unit_ratios,
+)
 
 
 def row(method, unit, seed, force, angle=0.1, budget=100):
@@ -64,3 +71,37 @@ def test_targets_are_judged_per_plan_strategy():
     assert labels[:3] == ["zero-shot (no labels)", "<= 120 s of robot time, `designed`",
                           "<= 120 s of robot time, `spread`"]
     assert table[0][-1] == "**not met**" and table[1][-1] == "met" and table[2][-1] == "**not met**"
+
+
+def _val(losses: dict[str, list[float]]) -> dict[str, dict[str, dict[str, float]]]:
+    """{seed: {method: {"120": loss}}} from each method's loss per seed."""
+    n = len(next(iter(losses.values())))
+    return {f"seed{k}": {m: {"120": v[k]} for m, v in losses.items()} for k in range(n)}
+
+
+def test_a_choice_every_seed_agrees_on_is_resolved():
+    val = _val({"a@cover": [1.0, 2.0, 1.5, 1.2], "b@informative": [1.2, 2.3, 1.8, 1.4],
+                "c@cover": [3.0, 3.0, 3.0, 3.0]})
+    m = choice_margins(val)[(120.0, "")]  # every plan strategy competes
+    assert (m.method, m.runner_up) == ("a@cover", "b@informative")
+    assert m.margin == pytest.approx(6.7 / 5.7 - 1)
+    assert m.per_seed == pytest.approx([0.2, 0.15, 0.2, 1.4 / 1.2 - 1])
+    assert 0 < m.lower < m.margin < m.upper and m.verdict == "resolved"
+
+
+def test_a_choice_the_seeds_split_on_is_not_resolved():
+    # the chosen method's mean is lower, but two of four seeds prefer the runner-up
+    val = _val({"a@cover": [1.0, 1.0, 1.3, 1.3], "b@cover": [1.5, 1.5, 1.0, 1.0]})
+    m = choice_margins(val)[(120.0, "")]
+    assert m.method == "a@cover" and m.margin > 0
+    assert m.lower < 0 < m.upper and m.verdict == "not resolved"
+
+
+def test_only_methods_given_the_same_data_compete():
+    val = _val({"a@cover": [1.0, 1.0], "b@cover": [2.0, 2.0], "a+use@cover": [0.5, 0.5]})
+    margins = choice_margins(val, lambda method: "use" if "+use" in method else "plan")
+    assert set(margins) == {(120.0, "plan")}  # the with-use method has no rival
+    m = margins[(120.0, "plan")]
+    assert (m.method, m.runner_up) == ("a@cover", "b@cover")
+    assert np.isnan(m.lower) and m.verdict == "2 seeds: no interval"
+    assert choice_margins(val)[(120.0, "")].runner_up == "a@cover"  # without families, with use beats all

@@ -63,6 +63,7 @@ from anytip.train.adapt import (
 from anytip.train.adapter_prior import AdapterPrior, PriorFamily, make_prior
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import train_fleet
+from anytip.train.label_free import data_family
 from anytip.train.metrics import scores
 from anytip.train.shared_split import (
     OWN_CHECK_FOLDS,
@@ -136,7 +137,7 @@ def run(ctx: Context) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     for k, seed in enumerate(ctx.spec.all_seeds):
         rows += run_seed(ctx, arrays, opts, seed, sweep=k < opts.sweep_seeds, extra=extra)
-    write_report(ctx, rows, opts, report_metrics(unit_of(ctx.provenance["targets"])))
+    write_report(ctx, rows, opts, report_metrics(unit_of(ctx.provenance["targets"])), data_family)
     return rows
 
 
@@ -148,7 +149,7 @@ def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
     for key, losses in recorded_val_losses(ctx).items():
         ctx.provenance["cross_sensor"][key]["val_loss"] = losses
     targets = ctx.provenance.get("targets")
-    write_report(ctx, rows, opts, report_metrics(unit_of(targets)) if targets else METRICS)
+    write_report(ctx, rows, opts, report_metrics(unit_of(targets)) if targets else METRICS, data_family)
 
 
 def recorded_val_losses(ctx: Context) -> dict[str, dict[str, dict[str, float]]]:

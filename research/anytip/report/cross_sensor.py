@@ -4,10 +4,11 @@ to their per-unit models, and against the number of training units."""
 from __future__ import annotations
 
 from collections import defaultdict
-from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
+from scipy import stats
 
 from anytip.errors import AnytipError
 from anytip.report.figures import plain_ratio_axis, save_figure, subplots
@@ -124,18 +125,88 @@ def plan_of_method(method: str) -> str | None:
     return method.split("@", 1)[1] if "@" in method else None
 
 
-def chosen_methods(val_loss: dict[str, dict[str, dict[str, float]]]) -> dict[tuple[float, str | None], str]:
-    """Per (budget, plan strategy), the method with the lowest validation-unit loss averaged
-    over seeds: val_loss is {seed: {method: {budget: loss}}} as the pipeline records it.
-    Label-free methods (budget 0) compete under strategy None. Held-out units never take part
-    in this choice."""
-    acc: dict[tuple[float, str | None], dict[str, list[float]]] = defaultdict(lambda: defaultdict(list))
-    for per_method in val_loss.values():
+Key = tuple[float, str | None]  # (budget, plan strategy or data family)
+
+
+def _competitors(val_loss: dict[str, dict[str, dict[str, float]]],
+                 key_of: Callable[[float, str], Key]) -> dict[Key, dict[str, dict[str, float]]]:
+    """key -> {method: {seed: validation-unit loss}}: the methods that compete for each choice,
+    `key_of(budget, method)` naming the choice."""
+    acc: dict[Key, dict[str, dict[str, float]]] = defaultdict(dict)
+    for seed, per_method in val_loss.items():
         for method, per_budget in per_method.items():
             for budget, loss in per_budget.items():
-                key = (float(budget), None if float(budget) == 0 else plan_of_method(method))
-                acc[key][method].append(float(loss))
-    return {key: min(m, key=lambda k: np.mean(m[k])) for key, m in acc.items()}
+                acc[key_of(float(budget), method)].setdefault(method, {})[seed] = float(loss)
+    return acc
+
+
+def _by_strategy(budget: float, method: str) -> Key:
+    """A choice per (budget, plan strategy); label-free methods (budget 0) compete under None."""
+    return budget, None if budget == 0 else plan_of_method(method)
+
+
+def chosen_methods(val_loss: dict[str, dict[str, dict[str, float]]]) -> dict[Key, str]:
+    """Per (budget, plan strategy), the method with the lowest validation-unit loss averaged
+    over seeds: val_loss is {seed: {method: {budget: loss}}} as the pipeline records it.
+    Held-out units never take part in this choice."""
+    return {key: min(m, key=lambda k: np.mean(list(m[k].values())))
+            for key, m in _competitors(val_loss, _by_strategy).items()}
+
+
+class ChoiceMargin(NamedTuple):
+    """How firmly the validation units chose one method over the runner-up: `margin` is the
+    runner-up's loss over the chosen method's, each averaged over seeds, less 1; `per_seed` the same
+    per seed holding both; (lower, upper) the 95% t-interval over those seeds of their mean log
+    ratio, as a margin (NaN with fewer than three seeds)."""
+
+    method: str
+    runner_up: str
+    margin: float
+    per_seed: list[float]
+    lower: float
+    upper: float
+
+    @property
+    def verdict(self) -> str:
+        """`resolved` where the interval lies above 0, `not resolved` where it holds 0, else why
+        there is no interval."""
+        if np.isnan(self.lower):
+            return f"{len(self.per_seed)} seed{'s' if len(self.per_seed) != 1 else ''}: no interval"
+        return "resolved" if self.lower > 0 else "not resolved"
+
+
+def choice_margins(val_loss: dict[str, dict[str, dict[str, float]]],
+                   family: Callable[[str], str] | None = None) -> dict[Key, ChoiceMargin]:
+    """Per (budget, family) with at least two methods, the best method's margin over the runner-up
+    on the validation units (`ChoiceMargin`), every plan strategy competing; `family(method)` names
+    the data a method uses (labels alone, ordinary use besides), so that only methods given the same
+    data compete (None: all of them). Seeds are the unit of repetition: a seed's validation units (a
+    fold's, in folds) are one draw of units, so the spread over seeds is what the choice would do on
+    other units."""
+    out = {}
+    named = family or (lambda method: "")
+    for key, methods in _competitors(val_loss, lambda b, m: (b, named(m))).items():
+        if len(methods) < 2:
+            continue
+        first, second = sorted(methods, key=lambda k: np.mean(list(methods[k].values())))[:2]
+        a, b = methods[first], methods[second]
+        seeds = [s for s in a if s in b]
+        logs = np.log([b[s] / a[s] for s in seeds])
+        lo = hi = float("nan")
+        if len(seeds) >= 3:
+            half = stats.t.ppf(0.975, len(seeds) - 1) * logs.std(ddof=1) / np.sqrt(len(seeds))
+            lo, hi = float(np.expm1(logs.mean() - half)), float(np.expm1(logs.mean() + half))
+        margin = float(np.mean(list(b.values())) / np.mean(list(a.values())) - 1)
+        out[key] = ChoiceMargin(first, second, margin, [float(v) for v in np.expm1(logs)], lo, hi)
+    return out
+
+
+def margin_rows(margins: dict[Key, ChoiceMargin]) -> list[list[str]]:
+    """The report's table of `choice_margins`, in budget order."""
+    return [[f"{budget:g}", name or "", f"`{m.method}`", f"`{m.runner_up}`",
+             f"{100 * m.margin:+.1f}%", " ".join(f"{100 * v:+.1f}" for v in m.per_seed),
+             "" if np.isnan(m.lower) else f"[{100 * m.lower:+.1f}, {100 * m.upper:+.1f}]%", m.verdict]
+            for (budget, name), m in sorted(margins.items(), key=lambda kv: (kv[0][0], str(kv[0][1])))]
 
 
 def targets(lines: list[dict[str, Any]], chosen: dict[tuple[float, str | None], str],
@@ -292,8 +363,9 @@ def unit_count_figure(rows: list[dict[str, Any]], method: str, path: Path,
 
 
 def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
-                 metrics: Sequence[Metric] = METRICS) -> Path:
-    """The report of a cross-sensor run; `metrics` are the sensor model's targets."""
+                 metrics: Sequence[Metric] = METRICS, family: Callable[[str], str] | None = None) -> Path:
+    """The report of a cross-sensor run; `metrics` are the sensor model's targets, `family(method)` the
+    data a method uses (`choice_margins`)."""
     main = full_set_rows(rows)
     lines = summary(main, metrics)
     budget_figure(main, ctx.run_dir / "rmse_vs_budget.png", metrics)
@@ -337,7 +409,7 @@ interval over units].
 
 {table(['target', 'goal', 'method (chosen on validation units)', *ratio_heads, ''],
        targets(lines, chosen, seconds, metrics))}
-
+{margin_section(val_loss, family)}
 ## All methods (RMSE: mean over held-out units and seeds; ratios per distinct unit)
 
 {table(['method', 'budget [robot-s]' if seconds else 'labeled samples', 'robot-s', *all_heads,
@@ -351,6 +423,27 @@ interval over units].
 
 ![error against training units](rmse_vs_train_units.png)
 """)).write()
+
+
+def margin_section(val_loss: dict[str, dict[str, dict[str, float]]],
+                   family: Callable[[str], str] | None) -> str:
+    """How firmly the validation units chose among the methods given the same data
+    (`choice_margins`); empty where no budget had two."""
+    margins = choice_margins(val_loss, family)
+    if not margins:
+        return ""
+    return f"""
+### How firmly the validation units chose
+
+At each budget, among the methods given the same data (every plan strategy competing): the best
+method on the validation units, the runner-up, the runner-up's loss over the best's less 1 (mean
+over seeds, then per seed), and the 95% t-interval of that margin over seeds (three or more). Where
+the interval holds 0 the validation units do not resolve the choice, and the runner-up may do as
+well or better on held-out units (research log entry 96).
+
+{table(['budget', 'data', 'best', 'runner-up', 'margin', 'per seed (%)', '95% interval', ''],
+       margin_rows(margins))}
+"""
 
 
 def chosen_lines(rows: list[dict[str, Any]], val_loss: dict[str, dict[str, dict[str, float]]],

@@ -539,6 +539,12 @@ def with_use_method(free: LabelFreeRecipe) -> str:
     return {"none": WITH_USE, "fitted": f"{WITH_USE}+distil", "oracle": f"{WITH_USE}+oracle"}[free.distil]
 
 
+def data_family(method: str) -> str:
+    """The data a cross-sensor method's row was given: `with ordinary use` for the with-use methods
+    (`with_use_method`), else `plan` (a labeled plan alone, or none at budget 0)."""
+    return "with ordinary use" if method.startswith(WITH_USE) else "plan"
+
+
 def distilled_rows(free: LabelFreeRecipe, X: Tensor, fitted: Tensor, truth: Tensor | None = None
                    ) -> tuple[Tensor, Tensor] | None:
     """What a unit's ordinary use adds to its network's rows under `free.distil` (entry 78): its
