@@ -6,20 +6,13 @@ Usage, from the repository root:
     python reports/cross_sensor_response_gpu/entry96/analyse.py
 """
 
-import importlib.util
 from pathlib import Path
+
+from concordance import entry90  # this folder's: entry90/analyse.py as a module
 
 HERE = Path(__file__).parent
 GPU = HERE.parent
 CELLS = ("f", "fp")
-
-
-def entry90():
-    """entry90/analyse.py as a module (its tables' code)."""
-    spec = importlib.util.spec_from_file_location("entry90_analyse", GPU / "entry90" / "analyse.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def main() -> None:
