@@ -170,7 +170,8 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
             base["n_extra_units"] = n_extra
         rows += [dict(base, **r) for r in got.rows]
         ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
-            "units": sd.split.to_json(), "val_loss": val_by_method(got)}
+            "units": sd.split.to_json(), "val_loss": val_by_method(got),
+            "val_loss_units": val_by_method(got, per_unit=True)}
         print(f"seed {seed}: {len(got.rows)} held-out rows ({time.perf_counter() - start:.0f} s)", flush=True)
     ctx.provenance.update(rescored_from=str(run), overrides=overrides, seeds=spec.all_seeds,
                           retrained=retrain, response_model=response_model, code=code_version(),

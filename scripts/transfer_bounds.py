@@ -189,7 +189,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, run: Path, seed: 
         if u in refs:
             row |= ratio_fields(row, refs[u], arrays.layout)
         else:
-            row["val_loss_mean"] = float(np.mean(val[(budget, float(ARMS.index(arm)))]))
+            row["val_loss_mean"] = float(np.mean(list(val[(budget, float(ARMS.index(arm)))].values())))
         out.append(row)
     for arm in arms:
         print(f"seed {seed} {arm:>14}: {summary(out, arm)}", flush=True)

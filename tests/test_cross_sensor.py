@@ -259,8 +259,13 @@ def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run)
     report = (seconds_run / "report.md").read_text()
     assert "robot seconds of whole presses" in report and "<= 120 s of robot time" in report
     assert "chosen on validation units" in report
-    val = json.loads((seconds_run / "provenance.json").read_text())["cross_sensor"]["seed0"]["val_loss"]
+    record = json.loads((seconds_run / "provenance.json").read_text())["cross_sensor"]["seed0"]
+    val = record["val_loss"]
     assert set(val["adapted:input_affine+film@spread"]) == {"8", "40"} and "0" in val["adapted:input_stats"]
+    units = record["val_loss_units"]["adapted:input_affine+film@spread"]  # each validation unit's loss
+    for budget, loss in val["adapted:input_affine+film@spread"].items():
+        assert set(units[budget]) == set(record["units"]["val"])
+        assert np.mean(list(units[budget].values())) == pytest.approx(loss)
     meta = load_shared(find_shared(seconds_run, "input_affine+film")[0]).meta
     assert meta["budget_unit"] == "seconds" and meta["plan_strategy"] == "spread"
     assert set(meta["priors_by_budget"]) == {"8", "40"}

@@ -105,3 +105,18 @@ def test_only_methods_given_the_same_data_compete():
     assert (m.method, m.runner_up) == ("a@cover", "b@cover")
     assert np.isnan(m.lower) and m.verdict == "2 seeds: no interval"
     assert choice_margins(val)[(120.0, "")].runner_up == "a@cover"  # without families, with use beats all
+
+
+def test_recorded_unit_losses_pair_the_choice_unit_by_unit():
+    # two seeds' means give no interval; their four validation units, paired, do
+    val = _val({"a@cover": [1.0, 2.0], "b@cover": [1.1, 2.3]})
+    units = {"seed0": {"a@cover": {"120": {"U1": 0.9, "U2": 1.1}},
+                       "b@cover": {"120": {"U1": 1.0, "U2": 1.2}}},
+             "seed1": {"a@cover": {"120": {"U3": 1.9, "U4": 2.1}},
+                       "b@cover": {"120": {"U3": 2.2, "U4": 2.4}}}}
+    m = choice_margins(val, val_units=units)[(120.0, "")]
+    assert (m.n, m.over) == (4, "validation units")
+    assert m.margin == pytest.approx(3.4 / 3.0 - 1)  # the margin stays the ratio of the means
+    assert 0 < m.lower < m.upper and m.verdict == "resolved"
+    units["seed1"]["b@cover"]["120"] = {"U3": 1.5, "U4": 2.2}  # U3 now prefers b by far
+    assert choice_margins(val, val_units=units)[(120.0, "")].verdict == "not resolved"

@@ -365,6 +365,11 @@ def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
         assert 0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1
         assert r["force_rmse_n"] > 0 and r["response_residual_pa"] > 0
     assert set(prov["val_loss"]["response@spread"]) == {"8", "40"}
+    for method, losses in prov["val_loss"].items():  # each validation unit's loss, whose mean is recorded
+        for budget, loss in losses.items():
+            units = prov["val_loss_units"][method][budget]
+            assert set(units) == set(prov["units"]["val"])
+            assert np.mean(list(units.values())) == pytest.approx(loss)
     saved = load_response(response_run / "models" / "response_seed0.safetensors")
     assert saved.meta["unit_ids"] == prov["units"]["train"]  # no validation or held-out unit trains it
     banded = [r for r in mine if "interval_level" in r]  # the spec asks for intervals at level 0.8

@@ -34,8 +34,10 @@ from anytip.models.mlp import MLPConfig
 from anytip.pipelines.common import Context, load, load_extra, report_metrics, unit_of
 from anytip.pipelines.cross_sensor_jobs import (
     Job,
+    UnitLosses,
     budget_fields,
     interval_fields,
+    mean_loss,
     plan_of,
     plan_suffix,
     validation_by_method,
@@ -96,6 +98,7 @@ class Adapted(NamedTuple):
     val_loss: dict[Budget, float]
     interval_factors: dict[Budget, np.ndarray]
     residuals: PlanResiduals
+    val_units: dict[Budget, UnitLosses] = {}  # noqa: RUF012  (each validation unit's loss; never mutated)
 
 
 def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
@@ -208,6 +211,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     rows += [dict(base, **r) for r in pooled_rows(pooled, arrays, sd)]
     priors_chosen: dict[str, dict[Budget, float]] = {}
     val_by_method: dict[str, dict[str, float]] = {}
+    val_units_by_method: dict[str, dict[str, UnitLosses]] = {}
     own_by_method: dict[str, dict[str, dict[str, float | None]]] = {}
     for kind, training in shared_models(opts):
         tag = training_tag(training)
@@ -225,6 +229,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
             method = adapted_method(fit_kind, family) + tag + fit.suffix()
             priors_chosen[method.removeprefix("adapted:")] = got.chosen
             val_by_method.update(validation_by_method(method, got.val_loss))
+            val_units_by_method.update(validation_by_method(method, got.val_units))
             first = first or (got, family, fit)
             ctx.say(f"seed {seed}: {method} calibrated on every budget and prior")
         got, family, fit = first
@@ -251,8 +256,9 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
         got = response_rows(ctx, arrays, sd, opts, seed, extra=extra)
         rows += [dict(base, **r) for r in got.rows]
         val_by_method.update(response_val_by_method(got))
+        val_units_by_method.update(response_val_by_method(got, per_unit=True))
     ctx.provenance.setdefault("cross_sensor", {})[f"seed{seed}"] = {
-        "units": sd.split.to_json(), "val_loss": val_by_method,
+        "units": sd.split.to_json(), "val_loss": val_by_method, "val_loss_units": val_units_by_method,
         "priors_chosen": {k: {b.label: p for b, p in v.items()} for k, v in priors_chosen.items()},
         "test_patches": {u: np.unique(arrays.patch[e.test_rows]).tolist() for u, e in sd.evals.items()},
         "calibration_runs": {u: list(e.stream.runs) for u, e in sd.evals.items()},
@@ -425,7 +431,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         jobs = planned_jobs(sd, opts, seed, units, budgets, priors_of, fits, plans)
         return fit_jobs(shared, arrays, sd, opts, seed, jobs, plans, recipe, fit_kind, prior)
 
-    chosen, val_loss = dict(fixed_priors or {}), {}
+    chosen, val_units = dict(fixed_priors or {}), {}
     validation: list[tuple[Job, np.ndarray]] = []
     if fixed_priors is None:
         # the prior is chosen on the validation units before any held-out unit is fitted
@@ -433,7 +439,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
         loss = validation_losses([j for j, _ in validation], [p for _, p in validation], sd, arrays,
                                  set(sd.split.val), shared.out_scaler)
         chosen = choose_priors(loss)
-        val_loss = {b: float(np.mean(v)) for (b, p), v in loss.items() if p == chosen.get(b, p)}
+        val_units = {b: v for (b, p), v in loss.items() if p == chosen.get(b, p)}
         priors_of = {b: [chosen.get(b, ps[0] if len(ps) == 1 else default_prior(opts))]
                      for b, ps in priors_of.items()}
     held_out = fitted(sd.split.test)
@@ -452,7 +458,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                      **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
                      **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout), **band})
-    return Adapted(rows, chosen, val_loss, factors, resid)
+    return Adapted(rows, chosen, {b: mean_loss(v) for b, v in val_units.items()}, factors, resid, val_units)
 
 
 
@@ -548,13 +554,13 @@ def own_checks(arrays: FleetArrays, sd: SeedData, opts: Options, shared: SharedF
     return out
 
 
-def choose_priors(loss: dict[tuple[Budget, float], list[float]]) -> dict[Budget, float]:
+def choose_priors(loss: dict[tuple[Budget, float], UnitLosses]) -> dict[Budget, float]:
     """Per budget > 0, the prior with the lowest mean validation loss."""
     chosen: dict[Budget, float] = {}
     for (b, p), v in sorted(loss.items(), key=lambda kv: (kv[0][0].amount, kv[0][0].strategy, kv[0][1])):
         if b.amount == 0:
             continue
-        if b not in chosen or np.mean(v) < np.mean(loss[(b, chosen[b])]):
+        if b not in chosen or mean_loss(v) < mean_loss(loss[(b, chosen[b])]):
             chosen[b] = p
     return chosen
 

@@ -5,7 +5,7 @@ intervals a held-out unit gets from its plan's residuals and what the validation
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, TypeVar
 
 import numpy as np
 from scipy.stats import gmean
@@ -63,10 +63,15 @@ def plan_suffix(budget: Budget) -> str:
     return f"@{budget.strategy}" if budget.unit == "seconds" and budget.amount > 0 else ""
 
 
-def validation_by_method(method: str, val_loss: dict[Budget, float]) -> dict[str, dict[str, float]]:
-    """{row method: {budget: validation-unit loss}} of one shared model and prior, keyed as the
-    report keys rows (method with its plan suffix; budget in samples or seconds)."""
-    out: dict[str, dict[str, float]] = {}
+UnitLosses = dict[str, float]  # validation unit -> its standardised MSE on its test patches
+V = TypeVar("V")
+
+
+def validation_by_method(method: str, val_loss: dict[Budget, V]) -> dict[str, dict[str, V]]:
+    """{row method: {budget: validation-unit loss}} of one shared model and prior (the mean, or each
+    unit's, `UnitLosses`), keyed as the report keys rows (method with its plan suffix; budget in
+    samples or seconds)."""
+    out: dict[str, dict[str, V]] = {}
     for b, v in val_loss.items():
         out.setdefault(method + plan_suffix(b), {})[f"{b.amount:g}"] = v
     return out
@@ -74,15 +79,20 @@ def validation_by_method(method: str, val_loss: dict[Budget, float]) -> dict[str
 
 def validation_losses(jobs: list[tuple[str, Budget, float]], preds: list[np.ndarray], sd: SeedData,
                       arrays: FleetArrays, val_units: set[str],
-                      out_scaler: Scaler) -> dict[tuple[Budget, float], list[float]]:
+                      out_scaler: Scaler) -> dict[tuple[Budget, float], UnitLosses]:
     """(budget, prior) -> each validation unit's standardised MSE on its test patches."""
     std = out_scaler.std.reshape(-1).cpu().numpy()
-    loss: dict[tuple[Budget, float], list[float]] = {}
+    loss: dict[tuple[Budget, float], UnitLosses] = {}
     for (u, b, p), pred in zip(jobs, preds, strict=True):
         if u in val_units:
             err = (pred - arrays.targets[sd.evals[u].test_rows]) / std
-            loss.setdefault((b, p), []).append(float((err**2).mean()))
+            loss.setdefault((b, p), {})[u] = float((err**2).mean())
     return loss
+
+
+def mean_loss(units: UnitLosses) -> float:
+    """The validation units' mean loss."""
+    return float(np.mean(list(units.values())))
 
 
 class FleetWidths(NamedTuple):

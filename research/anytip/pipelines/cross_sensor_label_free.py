@@ -21,7 +21,7 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget, Plan, ordinary_use, ordinary_use_seed
 from anytip.errors import AnytipError
 from anytip.pipelines.common import Context
-from anytip.pipelines.cross_sensor_jobs import budget_fields, validation_losses
+from anytip.pipelines.cross_sensor_jobs import UnitLosses, budget_fields, validation_losses
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.train.adapt import pooled_scaler
 from anytip.train.code_encoder import CodeEncoder
@@ -81,8 +81,8 @@ def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: in
 
 def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
                     fit: ResponseFit, source: SourceRows, start: FitResult, read: OrdinaryUse
-                    ) -> tuple[list[dict[str, Any]], float | None]:
-    """Rows of the held-out units, and the validation units' mean standardised MSE (None without
+                    ) -> tuple[list[dict[str, Any]], UnitLosses | None]:
+    """Rows of the held-out units, and each validation unit's standardised MSE (None without
     validation units). `source`: the rows a unit's network trains on once carried over; `start`: the
     pooled network it starts from; `read`: the units' ordinary use (`read_ordinary_use`)."""
     assert opts.response is not None
@@ -105,7 +105,7 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     out = [{"method": METHOD, "unit": u, **budget_fields(zero, Plan.empty()), **use_fields(read.uses[u]),
             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
            for u, pred in zip(units, preds, strict=True) if u in sd.split.test]
-    return out, None if loss is None else float(sum(loss) / len(loss))
+    return out, loss
 
 
 def plan_use_codes(fit: ResponseFit, opts: Options, read: OrdinaryUse, seed: int,

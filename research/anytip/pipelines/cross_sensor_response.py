@@ -22,8 +22,10 @@ from anytip.pipelines.common import Context
 from anytip.pipelines.cross_sensor_jobs import (
     FleetWidths,
     Job,
+    UnitLosses,
     budget_fields,
     interval_fields,
+    mean_loss,
     plan_of,
     plan_suffix,
     scaled_fields,
@@ -72,10 +74,25 @@ class ResponseRows(NamedTuple):
     of the zero-shot `response:label_free` (None where it did not run)."""
 
     rows: list[dict[str, Any]]
-    val_loss: dict[Budget, float]
-    label_free_loss: float | None = None
-    use_val_loss: dict[Budget, float] = {}  # noqa: RUF012  (a NamedTuple's default, never mutated)
-    use_method: str = WITH_USE  # the method of use_val_loss's rows (`with_use_method`)
+    val_units: dict[Budget, UnitLosses]
+    label_free_units: UnitLosses | None = None
+    use_val_units: dict[Budget, UnitLosses] = {}  # noqa: RUF012  (a NamedTuple's default, never mutated)
+    use_method: str = WITH_USE  # the method of use_val_units's rows (`with_use_method`)
+
+    @property
+    def val_loss(self) -> dict[Budget, float]:
+        """The validation units' mean loss per budget, plan alone."""
+        return {b: mean_loss(v) for b, v in self.val_units.items()}
+
+    @property
+    def use_val_loss(self) -> dict[Budget, float]:
+        """The same with ordinary use."""
+        return {b: mean_loss(v) for b, v in self.use_val_units.items()}
+
+    @property
+    def label_free_loss(self) -> float | None:
+        """The zero-shot row's validation units' mean loss."""
+        return None if not self.label_free_units else mean_loss(self.label_free_units)
 
 
 def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
@@ -96,9 +113,9 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     factor_jobs = (labeled_jobs(sd, list(sd.split.factor), opts, seed, fit, arrays)
                    if opts.intervals is not None else [])
     rows: list[dict[str, Any]] = []
-    val_loss: dict[Budget, float] = {}
+    val_units: dict[Budget, UnitLosses] = {}
     residual: dict[Budget, list[float]] = {}
-    free_loss = None
+    free_units = None
     if jobs or opts.response.label_free is not None:
         source = source_rows(fit, source_units(sd, recipe), recipe.source_rows, seed)
         start = None
@@ -109,7 +126,7 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     if jobs:
         mine = calibrated(ctx, arrays, sd, fit, (source, start), recipe, jobs, seed)
         X, Y, codes, preds = mine.X, mine.Y, mine.codes, mine.preds
-        val_loss = budget_losses(preds, jobs, sd, arrays)
+        val_units = budget_losses(preds, jobs, sd, arrays)
         if opts.intervals is not None:
             checks = None
             if opts.intervals.transfer_check:  # each unit's network again, on its transferred rows alone
@@ -131,40 +148,41 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
                          **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout),
                          **bands.fields.get(m, {})})
         ctx.say(f"seed {seed}: {len(jobs)} units and budgets calibrated by response transfer")
-    use_loss: dict[Budget, float] = {}
+    use_units: dict[Budget, UnitLosses] = {}
     use_bands = Bands({}, {}, {})
     saved_use: dict[str, Any] = {}  # what calibrate reads a new unit's ordinary use with
     if opts.response.label_free is not None:
         assert start is not None  # the option needs inverse_start: pooled
         read = read_ordinary_use(arrays, sd, opts, seed, fit, source, start, extra)
         if opts.response.label_free.zero_shot:
-            free_rows, free_loss = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, read)
+            free_rows, free_units = label_free_rows(ctx, arrays, sd, opts, seed, fit, source, start, read)
             rows += free_rows
         saved_use["label_free"] = read.fleet.to_json()
         if opts.response.label_free.with_plans and jobs:
-            use_rows, use_loss, use_bands = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start),
+            use_rows, use_units, use_bands = with_use_rows(ctx, arrays, sd, opts, seed, fit, (source, start),
                                                           read, mine, factor)
             rows += use_rows
+    free = opts.response.label_free
+    got = ResponseRows(rows, val_units, free_units, use_units,
+                       WITH_USE if free is None else with_use_method(free.recipe()))
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
-            "val_loss_by_strategy": by_strategy(val_loss),
+            "val_loss_by_strategy": by_strategy(got.val_loss),
             "residual_by_strategy": by_strategy(residual), **saved_use}
-    if free_loss is not None:
-        meta["label_free_val_loss"] = free_loss
-    if use_loss:
-        meta["use_val_loss_by_strategy"] = by_strategy(use_loss)
+    if got.label_free_loss is not None:
+        meta["label_free_val_loss"] = got.label_free_loss
+    if use_units:
+        meta["use_val_loss_by_strategy"] = by_strategy(got.use_val_loss)
     if opts.intervals is not None and jobs:
         meta["intervals"] = intervals_meta(opts.intervals.level, arrays.output_names, bands, use_bands,
                                            len(sd.split.factor))
     save_response(response_path(ctx, seed), fit.model, fit.noise_var, fit.code_var, meta)
-    free = opts.response.label_free
-    return ResponseRows(rows, val_loss, free_loss, use_loss,
-                        WITH_USE if free is None else with_use_method(free.recipe()))
+    return got
 
 
 def with_use_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
                   carry: tuple[SourceRows, FitResult], read: OrdinaryUse,
                   plans: Calibrated, factor: Calibrated | None = None
-                  ) -> tuple[list[dict[str, Any]], dict[Budget, float], Bands]:
+                  ) -> tuple[list[dict[str, Any]], dict[Budget, UnitLosses], Bands]:
     """Rows `response+use@<strategy>` of the held-out units, the validation units' loss per budget
     and, with `options.intervals`, their intervals (`plan_bands`; the factor units, `factor` as
     `response@` calibrated them, calibrated again the same way, learn its fleet factor too): every
@@ -287,18 +305,21 @@ def intervals_meta(level: float, names: tuple[str, ...], bands: Bands, use_bands
 
 
 def budget_losses(preds: list[np.ndarray], jobs: list[tuple[str, Budget, Plan]], sd: SeedData,
-                  arrays: FleetArrays) -> dict[Budget, float]:
-    """The validation units' mean standardised MSE per budget of the jobs' predictions."""
+                  arrays: FleetArrays) -> dict[Budget, UnitLosses]:
+    """Each validation unit's standardised MSE per budget of the jobs' predictions."""
     loss = validation_losses([(u, b, 0.0) for u, b, _ in jobs], preds, sd, arrays, set(sd.split.val),
                              pooled_scaler(sd.train.Y_train, sd.train.n_train))
-    return {b: float(sum(v) / len(v)) for (b, _), v in loss.items()}
+    return {b: v for (b, _), v in loss.items()}
 
 
-def val_by_method(got: ResponseRows) -> dict[str, dict[str, float]]:
-    """{row method: {budget: validation-unit loss}} of every method of response transfer's rows."""
-    out = validation_by_method(METHOD, got.val_loss) | validation_by_method(got.use_method, got.use_val_loss)
-    if got.label_free_loss is not None:
-        out[LABEL_FREE] = {"0": got.label_free_loss}
+def val_by_method(got: ResponseRows, per_unit: bool = False) -> dict[str, dict[str, Any]]:
+    """{row method: {budget: validation-unit loss}} of every method of response transfer's rows: the
+    mean, or with `per_unit` each validation unit's (`UnitLosses`)."""
+    plan, use, free = ((got.val_units, got.use_val_units, got.label_free_units) if per_unit
+                       else (got.val_loss, got.use_val_loss, got.label_free_loss))
+    out = validation_by_method(METHOD, plan) | validation_by_method(got.use_method, use)
+    if free is not None:
+        out[LABEL_FREE] = {"0": free}
     return out
 
 

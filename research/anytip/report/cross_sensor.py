@@ -156,8 +156,9 @@ def chosen_methods(val_loss: dict[str, dict[str, dict[str, float]]]) -> dict[Key
 class ChoiceMargin(NamedTuple):
     """How firmly the validation units chose one method over the runner-up: `margin` is the
     runner-up's loss over the chosen method's, each averaged over seeds, less 1; `per_seed` the same
-    per seed holding both; (lower, upper) the 95% t-interval over those seeds of their mean log
-    ratio, as a margin (NaN with fewer than three seeds)."""
+    per seed holding both; (lower, upper) the 95% t-interval of the mean log ratio, as a margin, over
+    the `n` pairs it was taken over (`over`: each validation unit's losses where the run recorded
+    them, else each seed's mean; NaN with fewer than three)."""
 
     method: str
     runner_up: str
@@ -165,24 +166,47 @@ class ChoiceMargin(NamedTuple):
     per_seed: list[float]
     lower: float
     upper: float
+    n: int = 0
+    over: str = "seeds"
 
     @property
     def verdict(self) -> str:
         """`resolved` where the interval lies above 0, `not resolved` where it holds 0, else why
         there is no interval."""
         if np.isnan(self.lower):
-            return f"{len(self.per_seed)} seed{'s' if len(self.per_seed) != 1 else ''}: no interval"
+            return f"{self.n} {self.over}: no interval"
         return "resolved" if self.lower > 0 else "not resolved"
 
 
+def _t_interval(logs: np.ndarray) -> tuple[float, float]:
+    """The 95% t-interval of the mean of log ratios, as margins (NaN with fewer than three)."""
+    if len(logs) < 3:
+        return float("nan"), float("nan")
+    half = stats.t.ppf(0.975, len(logs) - 1) * logs.std(ddof=1) / np.sqrt(len(logs))
+    return float(np.expm1(logs.mean() - half)), float(np.expm1(logs.mean() + half))
+
+
+def _unit_logs(val_units: dict[str, dict[str, dict[str, dict[str, float]]]], best: str, runner_up: str,
+               budget: float) -> np.ndarray:
+    """log(runner-up / best) of each (seed, validation unit) both methods' records hold at `budget`."""
+    logs = []
+    for per_method in val_units.values():
+        a, b = ({float(k): v for k, v in per_method.get(m, {}).items()}.get(budget, {})
+                for m in (best, runner_up))
+        logs += [np.log(b[u] / a[u]) for u in a if u in b]
+    return np.array(logs)
+
+
 def choice_margins(val_loss: dict[str, dict[str, dict[str, float]]],
-                   family: Callable[[str], str] | None = None) -> dict[Key, ChoiceMargin]:
+                   family: Callable[[str], str] | None = None,
+                   val_units: dict[str, dict[str, dict[str, dict[str, float]]]] | None = None
+                   ) -> dict[Key, ChoiceMargin]:
     """Per (budget, family) with at least two methods, the best method's margin over the runner-up
     on the validation units (`ChoiceMargin`), every plan strategy competing; `family(method)` names
     the data a method uses (labels alone, ordinary use besides), so that only methods given the same
-    data compete (None: all of them). Seeds are the unit of repetition: a seed's validation units (a
-    fold's, in folds) are one draw of units, so the spread over seeds is what the choice would do on
-    other units."""
+    data compete (None: all of them). `val_units` ({seed: {method: {budget: {unit: loss}}}}, as runs
+    record `val_loss_units`) pairs the two methods unit by unit; without it each seed's mean is one
+    pair (a seed's validation units, a fold's in folds, are one draw of units)."""
     out = {}
     named = family or (lambda method: "")
     for key, methods in _competitors(val_loss, lambda b, m: (b, named(m))).items():
@@ -190,14 +214,14 @@ def choice_margins(val_loss: dict[str, dict[str, dict[str, float]]],
             continue
         first, second = sorted(methods, key=lambda k: np.mean(list(methods[k].values())))[:2]
         a, b = methods[first], methods[second]
-        seeds = [s for s in a if s in b]
-        logs = np.log([b[s] / a[s] for s in seeds])
-        lo = hi = float("nan")
-        if len(seeds) >= 3:
-            half = stats.t.ppf(0.975, len(seeds) - 1) * logs.std(ddof=1) / np.sqrt(len(seeds))
-            lo, hi = float(np.expm1(logs.mean() - half)), float(np.expm1(logs.mean() + half))
+        per_seed = np.log([b[s] / a[s] for s in a if s in b])
+        logs, over = per_seed, "seeds"
+        by_unit = _unit_logs(val_units or {}, first, second, key[0])
+        if len(by_unit):
+            logs, over = by_unit, "validation units"
         margin = float(np.mean(list(b.values())) / np.mean(list(a.values())) - 1)
-        out[key] = ChoiceMargin(first, second, margin, [float(v) for v in np.expm1(logs)], lo, hi)
+        out[key] = ChoiceMargin(first, second, margin, [float(v) for v in np.expm1(per_seed)],
+                                *_t_interval(logs), len(logs), over)
     return out
 
 
@@ -205,7 +229,8 @@ def margin_rows(margins: dict[Key, ChoiceMargin]) -> list[list[str]]:
     """The report's table of `choice_margins`, in budget order."""
     return [[f"{budget:g}", name or "", f"`{m.method}`", f"`{m.runner_up}`",
              f"{100 * m.margin:+.1f}%", " ".join(f"{100 * v:+.1f}" for v in m.per_seed),
-             "" if np.isnan(m.lower) else f"[{100 * m.lower:+.1f}, {100 * m.upper:+.1f}]%", m.verdict]
+             "" if np.isnan(m.lower) else f"[{100 * m.lower:+.1f}, {100 * m.upper:+.1f}]%", f"{m.n} {m.over}",
+             m.verdict]
             for (budget, name), m in sorted(margins.items(), key=lambda kv: (kv[0][0], str(kv[0][1])))]
 
 
@@ -382,6 +407,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
     held = "patches" if main[0].get("split", "patches") == "patches" else "blocks of rows"
     all_heads = [h for m in metrics for h in (m.label, f"{m.name} / per_unit [95% CI]")]
     val_loss = {k: v.get("val_loss", {}) for k, v in ctx.provenance.get("cross_sensor", {}).items()}
+    val_units = {k: v.get("val_loss_units", {}) for k, v in ctx.provenance.get("cross_sensor", {}).items()}
     chosen = chosen_methods(val_loss)
     seeds = sorted({r["seed"] for r in rows})
     cs = ctx.provenance.get("cross_sensor", {})
@@ -409,7 +435,7 @@ interval over units].
 
 {table(['target', 'goal', 'method (chosen on validation units)', *ratio_heads, ''],
        targets(lines, chosen, seconds, metrics))}
-{margin_section(val_loss, family)}
+{margin_section(val_loss, family, val_units)}
 ## All methods (RMSE: mean over held-out units and seeds; ratios per distinct unit)
 
 {table(['method', 'budget [robot-s]' if seconds else 'labeled samples', 'robot-s', *all_heads,
@@ -425,11 +451,11 @@ interval over units].
 """)).write()
 
 
-def margin_section(val_loss: dict[str, dict[str, dict[str, float]]],
-                   family: Callable[[str], str] | None) -> str:
+def margin_section(val_loss: dict[str, dict[str, dict[str, float]]], family: Callable[[str], str] | None,
+                   val_units: dict[str, dict[str, dict[str, dict[str, float]]]]) -> str:
     """How firmly the validation units chose among the methods given the same data
     (`choice_margins`); empty where no budget had two."""
-    margins = choice_margins(val_loss, family)
+    margins = choice_margins(val_loss, family, val_units)
     if not margins:
         return ""
     return f"""
@@ -437,11 +463,12 @@ def margin_section(val_loss: dict[str, dict[str, dict[str, float]]],
 
 At each budget, among the methods given the same data (every plan strategy competing): the best
 method on the validation units, the runner-up, the runner-up's loss over the best's less 1 (mean
-over seeds, then per seed), and the 95% t-interval of that margin over seeds (three or more). Where
-the interval holds 0 the validation units do not resolve the choice, and the runner-up may do as
-well or better on held-out units (research log entry 96).
+over seeds, then per seed), and the 95% t-interval of that margin over the validation units paired
+one by one (where the run recorded each unit's loss), else over seeds (three or more). Where the
+interval holds 0 the validation units do not resolve the choice, and the runner-up may do as well or
+better on held-out units (research log entry 96).
 
-{table(['budget', 'data', 'best', 'runner-up', 'margin', 'per seed (%)', '95% interval', ''],
+{table(['budget', 'data', 'best', 'runner-up', 'margin', 'per seed (%)', '95% interval', 'over', ''],
        margin_rows(margins))}
 """
 
