@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from anytip.report.cross_sensor import choice_margins, mean_interval, unit_ratios
+from anytip.report.cross_sensor import choice_margins, mean_interval, paired_text, unit_ratios
 from anytip.rundir import read_json
 from anytip.train.label_free import data_family
 
@@ -43,9 +43,30 @@ def main() -> None:
         for plan, got in zip(PLANS, (a, b), strict=True):
             m, lo, hi = mean_interval(list(got.values()))
             print(f"held out {label} {plan}: {m:.3f}x [{lo:.2f}, {hi:.2f}]")
-        m, lo, hi = mean_interval([b[u] / a[u] for u in a])
-        print(f"  paired, cover_informative over cover: x{m:.3f} [{lo:.3f}, {hi:.3f}]")
+        print(f"  paired, cover_informative over cover: x{paired_text([b[u] / a[u] for u in a])}")
+
+
+def other16() -> None:
+    """The second part: other16's severe model, three start draws, both plans in one run per fold; each
+    (draw, validation unit) a pair."""
+    runs = {f"d{d}/seed{k}": HERE / f"other16_severe_d{d}" / f"other16_seed{k}"
+            for d in (0, 1, 2) for k in range(4)}
+    if not all((r / "metrics.json").is_file() for r in runs.values()):
+        return
+    records = {key: read_json(r / "provenance.json")["cross_sensor"][key.split("/")[1]]
+               for key, r in runs.items()}
+    val = {key: r["val_loss"] for key, r in records.items()}
+    units = {key: r["val_loss_units"] for key, r in records.items()}
+    print("\nother16, severe model, three draws")
+    for plan in (*PLANS, *(p.replace("response@", "response+use@") for p in PLANS)):
+        mean = np.mean([v[plan]["120"] for v in val.values()])
+        print(f"{plan}: validation loss, mean over draws and folds {mean:.5f}")
+    for key, m in choice_margins(val, data_family, units).items():
+        interval = f"[{100 * m.lower:+.1f}, {100 * m.upper:+.1f}]%"
+        print(f"{key}: best {m.method}, runner-up {m.runner_up}, margin {100 * m.margin:+.1f}%, "
+              f"95% interval over {m.n} {m.over} {interval}: {m.verdict}")
 
 
 if __name__ == "__main__":
     main()
+    other16()
