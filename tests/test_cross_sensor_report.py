@@ -120,3 +120,11 @@ def test_recorded_unit_losses_pair_the_choice_unit_by_unit():
     assert 0 < m.lower < m.upper and m.verdict == "resolved"
     units["seed1"]["b@cover"]["120"] = {"U3": 1.5, "U4": 2.2}  # U3 now prefers b by far
     assert choice_margins(val, val_units=units)[(120.0, "")].verdict == "not resolved"
+
+
+def test_a_unit_validating_in_several_seeds_is_one_pair():
+    val = _val({"a@cover": [1.0, 1.0, 1.0], "b@cover": [1.2, 1.2, 1.2]})
+    same = {"a@cover": {"120": {"U1": 1.0, "U2": 1.0}}, "b@cover": {"120": {"U1": 1.2, "U2": 1.1}}}
+    m = choice_margins(val, val_units={f"seed{k}": same for k in range(3)})[(120.0, "")]
+    assert (m.n, m.over) == (2, "validation units")  # six records, two units: no interval
+    assert np.isnan(m.lower)

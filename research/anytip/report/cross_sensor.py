@@ -188,13 +188,17 @@ def _t_interval(logs: np.ndarray) -> tuple[float, float]:
 
 def _unit_logs(val_units: dict[str, dict[str, dict[str, dict[str, float]]]], best: str, runner_up: str,
                budget: float) -> np.ndarray:
-    """log(runner-up / best) of each (seed, validation unit) both methods' records hold at `budget`."""
-    logs = []
+    """log(runner-up / best) of each validation unit both methods' records hold at `budget`, averaged
+    over the seeds that hold it: a unit validating in several seeds (or start-network draws) is one
+    pair, as the held-out figures average a unit's seeds first."""
+    logs: dict[str, list[float]] = defaultdict(list)
     for per_method in val_units.values():
         a, b = ({float(k): v for k, v in per_method.get(m, {}).items()}.get(budget, {})
                 for m in (best, runner_up))
-        logs += [np.log(b[u] / a[u]) for u in a if u in b]
-    return np.array(logs)
+        for u in a:
+            if u in b:
+                logs[u].append(float(np.log(b[u] / a[u])))
+    return np.array([np.mean(v) for v in logs.values()])
 
 
 def choice_margins(val_loss: dict[str, dict[str, dict[str, float]]],
