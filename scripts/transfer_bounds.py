@@ -44,7 +44,7 @@ from anytip.models.io import load_response
 from anytip.models.mlp import MLPConfig
 from anytip.pipelines.common import Context, load
 from anytip.pipelines.cross_sensor import min_units, prepare
-from anytip.pipelines.cross_sensor_jobs import plan_of, validation_losses
+from anytip.pipelines.cross_sensor_jobs import mean_loss, plan_of, validation_losses
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
 from anytip.train.adapt import pooled_scaler
@@ -189,7 +189,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, run: Path, seed: 
         if u in refs:
             row |= ratio_fields(row, refs[u], arrays.layout)
         else:
-            row["val_loss_mean"] = float(np.mean(list(val[(budget, float(ARMS.index(arm)))].values())))
+            row["val_loss_mean"] = mean_loss(val[(budget, float(ARMS.index(arm)))])
         out.append(row)
     for arm in arms:
         print(f"seed {seed} {arm:>14}: {summary(out, arm)}", flush=True)

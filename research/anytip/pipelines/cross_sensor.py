@@ -88,17 +88,21 @@ PlanResiduals = dict[tuple[str, Budget], np.ndarray | None]
 
 
 class Adapted(NamedTuple):
-    """What `adapted_rows` gives: rows, the prior chosen per budget, the validation units' loss
+    """What `adapted_rows` gives: rows, the prior chosen per budget, each validation unit's loss
     per budget at that prior, the intervals' fleet factor per budget (output order), and the
     out-of-fold residuals of the validation and held-out units' plans at that prior
     ((unit, budget) -> (n, D) or None; `PlanResiduals`), empty without intervals."""
 
     rows: list[dict[str, Any]]
     chosen: dict[Budget, float]
-    val_loss: dict[Budget, float]
+    val_units: dict[Budget, UnitLosses]
     interval_factors: dict[Budget, np.ndarray]
     residuals: PlanResiduals
-    val_units: dict[Budget, UnitLosses] = {}  # noqa: RUF012  (each validation unit's loss; never mutated)
+
+    @property
+    def val_loss(self) -> dict[Budget, float]:
+        """The validation units' mean loss per budget at the chosen prior."""
+        return {b: mean_loss(v) for b, v in self.val_units.items()}
 
 
 def prepare(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
@@ -458,7 +462,7 @@ def adapted_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options,
                      **unlabeled_fields(sd.evals[u].stream, opts.unlabeled_s),
                      "prior": p if b.amount > 0 else None,
                      **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout), **band})
-    return Adapted(rows, chosen, {b: mean_loss(v) for b, v in val_units.items()}, factors, resid, val_units)
+    return Adapted(rows, chosen, val_units, factors, resid)
 
 
 
