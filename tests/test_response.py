@@ -914,6 +914,12 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
             assert all(0 < r["unlabeled_seconds"] <= 20 and np.isfinite(r["u_rmse"]) for r in got.values())
         informed = {r["unit"]: r for r in rows if r["method"] == "response@cover_informative"}
         assert set(informed) == set(prov["test"])
+        record = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]
+        for method, losses in record["val_loss"].items():  # each validation unit's loss, every method
+            for budget, loss in losses.items():
+                units = record["val_loss_units"][method][budget]
+                assert set(units) == set(prov["val"]) and np.mean(list(units.values())) == pytest.approx(loss)
+        assert "How firmly the validation units chose" in (run / "report.md").read_text()
         assert all(0 < r["calib_seconds"] <= 20 and np.isfinite(r["u_rmse"]) for r in informed.values())
         assert not any(r["method"].endswith("@cover_informative") and not r["method"].startswith("response")
                        for r in rows)  # the adapters compare the other plans only
