@@ -1,0 +1,71 @@
+"""Research log entry 98: a finished run's response models scored on more validation units.
+
+The run's fold (its seed) keeps its training units, so its response model and the start network
+are the run's own; its validation units are the run's plus every unit of the registry whose id
+starts with PREFIX (units simulated for this, never trained on, never held out), and no unit is held
+out here: only the validation units' losses are computed, per unit and per plan strategy, as
+`scripts/rescore_response.py` computes them, and written to OUT/val_loss_units.json. Usage, from the
+repository root:
+
+    python reports/cross_sensor_response_gpu/entry98/more_val.py RUN --registry REG --prefix SIM41- \\
+        --out OUT [--set KEY=VALUE ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import torch
+
+import anytip.train.shared_split as shared_split
+from anytip.config import load_spec
+from anytip.data.registry import Registry
+from anytip.data.splits import UnitSplit
+from anytip.models.io import load_response
+from anytip.pipelines.common import Context, load
+from anytip.pipelines.cross_sensor import min_units, prepare
+from anytip.pipelines.cross_sensor_options import parse_options
+from anytip.pipelines.cross_sensor_response import response_rows, val_by_method
+from anytip.rundir import read_json, write_json
+from anytip.train.response import ResponseFit
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", type=Path)
+    parser.add_argument("--registry", type=Path, required=True)
+    parser.add_argument("--prefix", required=True, help="the added validation units' id prefix")
+    parser.add_argument("--out", type=Path, required=True)
+    parser.add_argument("--set", dest="overrides", action="append", default=[])
+    args = parser.parse_args()
+    torch.set_num_threads(1)
+    start = time.perf_counter()
+    spec = load_spec(args.run / "config.yaml",
+                     [*args.overrides, "options.adapters=[]", "options.extra_units=null"])
+    args.out.mkdir(parents=True, exist_ok=True)
+    ctx = Context(spec, Registry(args.registry, create=False), args.out, torch.device("cpu"), False,
+                  {"spec_file": str(args.run / "config.yaml")})
+    opts = parse_options(ctx)
+    arrays = load(ctx, min_units(ctx))
+    (seed,) = spec.all_seeds
+    was = read_json(args.run / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
+    added = sorted(u for u in arrays.units if u.startswith(args.prefix))
+    clash = set(added) & {*was["train"], *was["val"], *was["test"]}
+    if not added or clash:
+        raise SystemExit(f"no units {args.prefix}* to add, or some are the run's own: {sorted(clash)}")
+    split = UnitSplit(tuple(was["train"]), (*was["val"], *added), ())
+    shared_split.split_units = lambda *_, **__: split  # the run's training units, more validation units
+    sd = prepare(ctx, arrays, opts, seed)
+    fit = ResponseFit.from_loaded(load_response(args.run / "models" / f"response_seed{seed}.safetensors"))
+    got = response_rows(ctx, arrays, sd, opts, seed, fit)
+    write_json(args.out / "val_loss_units.json", {
+        "run": str(args.run), "seed": seed, "overrides": args.overrides, "units": split.to_json(),
+        "val_loss": val_by_method(got), "val_loss_units": val_by_method(got, per_unit=True),
+        "wall_s": round(time.perf_counter() - start, 1)})
+    print(f"seed {seed}: {len(split.val)} validation units in {time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
