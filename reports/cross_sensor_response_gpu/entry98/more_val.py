@@ -8,7 +8,10 @@ out here: only the validation units' losses are computed, per unit and per plan 
 repository root:
 
     python reports/cross_sensor_response_gpu/entry98/more_val.py RUN --registry REG --prefix SIM41- \\
-        --out OUT [--set KEY=VALUE ...]
+        --out OUT [--response-model FILE] [--set KEY=VALUE ...]
+
+Run in place of `scripts/rescore_response.py` by a wrapper that reads `RESCORE_SCRIPT` (entry 83's
+`start_draw.py`), it scores the validation units with that wrapper's start network.
 """
 
 from __future__ import annotations
@@ -39,6 +42,8 @@ def main() -> None:
     parser.add_argument("--prefix", required=True, help="the added validation units' id prefix")
     parser.add_argument("--out", type=Path, required=True)
     parser.add_argument("--set", dest="overrides", action="append", default=[])
+    parser.add_argument("--response-model",
+                        help="the seed's response model from this file ({seed}: the seed), not the run's own")
     args = parser.parse_args()
     torch.set_num_threads(1)
     start = time.perf_counter()
@@ -58,10 +63,13 @@ def main() -> None:
     split = UnitSplit(tuple(was["train"]), (*was["val"], *added), ())
     shared_split.split_units = lambda *_, **__: split  # the run's training units, more validation units
     sd = prepare(ctx, arrays, opts, seed)
-    fit = ResponseFit.from_loaded(load_response(args.run / "models" / f"response_seed{seed}.safetensors"))
+    path = (Path(args.response_model.format(seed=seed)) if args.response_model
+            else args.run / "models" / f"response_seed{seed}.safetensors")
+    fit = ResponseFit.from_loaded(load_response(path))
     got = response_rows(ctx, arrays, sd, opts, seed, fit)
     write_json(args.out / "val_loss_units.json", {
-        "run": str(args.run), "seed": seed, "overrides": args.overrides, "units": split.to_json(),
+        "run": str(args.run), "response_model": str(path), "seed": seed, "overrides": args.overrides,
+        "units": split.to_json(),
         "val_loss": val_by_method(got), "val_loss_units": val_by_method(got, per_unit=True),
         "wall_s": round(time.perf_counter() - start, 1)})
     print(f"seed {seed}: {len(split.val)} validation units in {time.perf_counter() - start:.0f} s")
