@@ -62,8 +62,10 @@ RESPONSE_VAL_FRACTION = 0.1  # of a new unit's transferred rows: its network's e
 class ResponseRecipe:
     """How the response model is trained (`steps` Adam steps of `rows_per_step` rows over all
     training units, one-cycle at peak `lr`, `code_decay` on the training codes), how a new
-    unit's codes are fitted (`code_fit`: `gauss_newton`, `code_iterations` damped Gauss-Newton
-    steps on `code_rows` rows evenly spaced over the plan; or `adam`, `code_steps` Adam steps of
+    unit's codes are fitted (`code_fit`: `gauss_newton`, at most `code_iterations` damped
+    Gauss-Newton steps on `code_rows` rows evenly spaced over the plan, each barometer's problem
+    stopping once a kept step lowers its loss by less than `code_tolerance` of it (0: never; research
+    log entry 99); or `adam`, `code_steps` Adam steps of
     `code_rows` random rows at `code_lr`), how many rows of each training unit are transferred
     (`source_rows`) and from which units (`transfer_from`: every unit that trained the response
     model, or the registry's own training units), and how the new unit's network trains on them
@@ -86,6 +88,7 @@ class ResponseRecipe:
     plan_criterion: str = "v"
     code_draw_scale: float = 0.0
     code_iterations: int = 10
+    code_tolerance: float = 0.0
     code_steps: int = 300
     code_rows: int = 2048
     code_lr: float = 3e-2
@@ -321,13 +324,16 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
     """(M, C, k) MAP codes by damped Gauss-Newton on `code_rows` evenly spaced rows of each job.
 
     Pressure c depends on code c alone, so every row's Jacobian (M, n, C, k) comes from one
-    backward pass (`code_jacobian`); each
-    (job, barometer) then takes a Levenberg-Marquardt step of k numbers, kept where it lowers
-    that problem's loss (the damping shrinks after a kept step and grows after a refused one)."""
+    backward pass (`code_jacobian`); each (job, barometer) then takes a Levenberg-Marquardt step of
+    k numbers, kept where it lowers that problem's loss (the damping shrinks after a kept step and
+    grows after a refused one). A problem whose kept step lowered its loss by less than
+    `recipe.code_tolerance` of it stops there (its codes do not depend on the other jobs of the
+    pass); the fit ends when every problem has, or after `recipe.code_iterations` steps."""
     problem = _plan_problem(fit, X, Y, n_effective, recipe)
     M, C, k = len(X), fit.model.n_channels, fit.model.config.code_dim
     codes = fit.code_prior.mean.expand(M, C, k).clone()
     damping = torch.full((M, C), 1e-2, device=fit.device)
+    done = torch.zeros((M, C), dtype=torch.bool, device=fit.device)
     loss = problem.loss(fit, codes)
     for _ in range(recipe.code_iterations):
         H, g = problem.system(fit, codes)
@@ -335,10 +341,13 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
         damped = H + torch.diag_embed(damping[..., None] * diag)
         step = torch.linalg.solve(damped, g.unsqueeze(-1)).squeeze(-1)
         trial = problem.loss(fit, codes + step)
-        kept = trial < loss
+        kept = (trial < loss) & ~done
         codes = torch.where(kept[..., None], codes + step, codes)
+        done |= kept & (loss - trial < recipe.code_tolerance * loss)
         loss = torch.where(kept, trial, loss)
         damping = torch.where(kept, damping / 3, damping * 4).clamp(1e-6, 1e6)
+        if bool(done.all()):
+            break
     return codes
 
 
