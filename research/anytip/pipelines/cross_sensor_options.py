@@ -228,8 +228,8 @@ class ResponseOptions(BaseModel):
     code_iterations: int = Field(default=ResponseRecipe.code_iterations, ge=1, le=10_000)
     code_tolerance: float = Field(
         default=ResponseRecipe.code_tolerance, ge=0, lt=1,
-        description="a barometer's Gauss-Newton code fit stops once a kept step lowers its loss by less "
-        "than this share of it (0: every one of code_iterations steps; research log entry 99)")
+        description="a barometer's Gauss-Newton code fit stops once a step moves its loss by less than "
+        "this share of it (0: every one of code_iterations steps; research log entry 99)")
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)
     code_lr: float = Field(default=ResponseRecipe.code_lr, gt=0, le=10)

@@ -64,8 +64,8 @@ class ResponseRecipe:
     training units, one-cycle at peak `lr`, `code_decay` on the training codes), how a new
     unit's codes are fitted (`code_fit`: `gauss_newton`, at most `code_iterations` damped
     Gauss-Newton steps on `code_rows` rows evenly spaced over the plan, each barometer's problem
-    stopping once a kept step lowers its loss by less than `code_tolerance` of it (0: never; research
-    log entry 99); or `adam`, `code_steps` Adam steps of
+    stopping once a step moves its loss by less than `code_tolerance` of it (0: never; research log
+    entry 99); or `adam`, `code_steps` Adam steps of
     `code_rows` random rows at `code_lr`), how many rows of each training unit are transferred
     (`source_rows`) and from which units (`transfer_from`: every unit that trained the response
     model, or the registry's own training units), and how the new unit's network trains on them
@@ -326,7 +326,7 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
     Pressure c depends on code c alone, so every row's Jacobian (M, n, C, k) comes from one
     backward pass (`code_jacobian`); each (job, barometer) then takes a Levenberg-Marquardt step of
     k numbers, kept where it lowers that problem's loss (the damping shrinks after a kept step and
-    grows after a refused one). A problem whose kept step lowered its loss by less than
+    grows after a refused one). A problem whose step, kept or refused, moved its loss by less than
     `recipe.code_tolerance` of it stops there (its codes do not depend on the other jobs of the
     pass); the fit ends when every problem has, or after `recipe.code_iterations` steps."""
     problem = _plan_problem(fit, X, Y, n_effective, recipe)
@@ -343,7 +343,7 @@ def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n
         trial = problem.loss(fit, codes + step)
         kept = (trial < loss) & ~done
         codes = torch.where(kept[..., None], codes + step, codes)
-        done |= kept & (loss - trial < recipe.code_tolerance * loss)
+        done |= (trial - loss).abs() < recipe.code_tolerance * loss  # a refused step at the optimum too
         loss = torch.where(kept, trial, loss)
         damping = torch.where(kept, damping / 3, damping * 4).clamp(1e-6, 1e6)
         if bool(done.all()):

@@ -1,0 +1,10 @@
+#!/bin/bash
+# Research log entry 99: entry 97's other16 rescoring of fold $1 in start draw $2 (severe models, `cover` and
+# `cover_informative`, criterion v) with the codes fitted to convergence (at most 40 Gauss-Newton steps,
+# tolerance 1e-4), into entry99/other16_severe_d$2/other16_seed$1. Control: entry97/other16_severe_d$2.
+k=$1; d=$2
+. reports/cross_sensor_response_gpu/entry83/other16.sh
+other16_rescore $k "$TWICE_THE_SPREAD" 60 reports/cross_sensor_response_gpu/entry99/other16_severe_d$d/other16_seed$k \
+  reports/cross_sensor_response_gpu/entry83/start_draw.py $d 60 \
+  --set "options.plan_strategies=[cover, cover_informative]" --set options.response.plan_criterion=v \
+  --set options.response.code_iterations=40 --set options.response.code_tolerance=1e-4
