@@ -1,8 +1,9 @@
-"""Research log entry 98's tables: each validation unit's margin between two plans, paired, over the
-folds (and start-network draws) that scored it. Usage, from the repository root:
+"""Research log entries 98 and 100's tables: each validation unit's margin between two plans, paired, over
+the folds (and start-network draws) that scored it. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry98/analyse.py fleet88
     python reports/cross_sensor_response_gpu/entry98/analyse.py other16
+    python reports/cross_sensor_response_gpu/entry98/analyse.py fleet88w   # entry 100: SIM42-*
 """
 
 import json
@@ -20,6 +21,8 @@ RUNS = {  # registry: (this entry's runs, entry 97's runs of the same folds, the
                 sorted(HERE.glob("entry97/fleet88_cpu/fleet88_seed*/provenance.json")), "SIM41-"),
     "other16": (sorted(HERE.glob("entry98/other16_d*/other16_seed*/val_loss_units.json")),
                 sorted(HERE.glob("entry97/other16_severe_d0/other16_seed*/provenance.json")), "SIM24-"),
+    "fleet88w": (sorted(HERE.glob("entry100/fleet88_seed*/val_loss_units.json")),
+                 sorted(HERE.glob("entry99/fleet88_cpu/fleet88_seed*/provenance.json")), "SIM42-"),
 }
 
 
@@ -58,7 +61,7 @@ def main(registry: str) -> None:
     print(line(f"added ({prefix}*)", logs[new]))
     print(line("the registry's own", logs[~new]))
     old = records(before)
-    print("\nthe registry's own units, this entry against entry 97 (cover; cover_informative):")
+    print(f"\nthe registry's own units, this entry against {before[0].parts[2]} (cover; cover_informative):")
     for rec in got.values():
         for u in rec[A]["120"]:
             if u.startswith(prefix):
