@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import torch
 
+import anytip.train.response as response_module
 from anytip.calibrate import calibrate_unit, response_strategy
 from anytip.cli import main
 from anytip.data.arrays import load_arrays
@@ -185,6 +186,42 @@ def test_gauss_newton_reaches_the_map_estimate_at_least_as_well_as_adam(made_up)
         best = map_loss(fit, X[m], Y[m], n_eff[m], longer[m])
         assert map_loss(fit, X[m], Y[m], n_eff[m], newton[m]) <= 1.001 * best
         assert map_loss(fit, X[m], Y[m], n_eff[m], newton[m]) <= map_loss(fit, X[m], Y[m], n_eff[m], adam[m])
+
+
+def test_a_code_fit_with_a_tolerance_stops_each_barometer_near_its_optimum_on_its_own(made_up, monkeypatch):
+    """A unit whose barometers read three times the fleet's gain starts far from its optimum: with a
+    tolerance its fit stops long before 200 steps, at the 200-step loss; an ordinary unit stops
+    sooner, and fitted in one pass with the far unit it keeps the codes it gets alone."""
+    _, _, fit = made_up
+    g = torch.Generator().manual_seed(5)
+    y = labels(400, g)
+    far = unit_pressures(y, torch.full((C,), 3.0), torch.tensor([0.3, -0.3, 0.3, -0.3]))
+    far = far + 5 * torch.randn(400, C, generator=g)
+    new, _ = made_up_fleet(1, seed=98)
+    X, Y = [far, new.unit(0).X_train[:400]], [y, new.unit(0).Y_train[:400]]
+    steps = []
+    system = response_module._PlanProblem.system
+    monkeypatch.setattr(response_module._PlanProblem, "system",
+                        lambda self, *a: steps.append(1) or system(self, *a))
+
+    def fitted(jobs: list[int], **recipe) -> tuple[torch.Tensor, int]:
+        steps.clear()
+        codes = fit_codes(fit, [X[j] for j in jobs], [Y[j] for j in jobs], [400.0] * len(jobs),
+                          replace(FAST_FIT, code_rows=400, code_iterations=200, **recipe))
+        return codes, len(steps)
+
+    fixed, n_fixed = fitted([0])
+    stopped, n_far = fitted([0], code_tolerance=1e-6)
+    assert n_fixed == 200 and n_far < 50
+    assert map_loss(fit, X[0], Y[0], 400.0, stopped[0]) <= 1.0001 * map_loss(fit, X[0], Y[0], 400.0, fixed[0])
+    alone, n_ordinary = fitted([1], code_tolerance=1e-6)
+    assert n_ordinary < n_far
+    # a coarse tolerance stops the ordinary unit at 4 steps, the far one at 7: the ordinary unit's
+    # codes stay where it stopped (steps past it would move them, if only in the last digits)
+    alone, n_ordinary = fitted([1], code_tolerance=0.1)
+    both, n_both = fitted([0, 1], code_tolerance=0.1)
+    assert n_ordinary < n_both
+    assert torch.equal(both[1], alone[0])
 
 
 @pytest.mark.parametrize("solver", ["gauss_newton", "adam"])
