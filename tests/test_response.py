@@ -831,6 +831,51 @@ def test_calibrate_makes_the_plan_the_response_model_chose_with_it(response_run,
         calibrate_unit(run, unit, fleet, tmp_path / "bad", budget_seconds=40, method="response")
 
 
+def test_calibrate_takes_the_press_selection_asked_for_over_the_runs_choice(response_run, fleet, tmp_path,
+                                                                          capsys):
+    """A choice made on more validation units than the run's overrides theirs: asked for
+    `cover_informative` where the run's units scored it worse, calibrate makes the plan it makes when
+    they scored it best; asked for the run's own selection it says so; an unknown selection, a
+    designed plan and an adapter calibration are refused by name."""
+    run, chose = tmp_path / "run", tmp_path / "chose"
+    shutil.copytree(response_run, run)
+    path = run / "models" / "response_seed0.json"
+    header = json.loads(path.read_text())
+    header["meta"]["recipe"]["plan_criterion"] = "v"
+    header["meta"]["val_loss_by_strategy"]["cover_informative"] = {"8": 1e9, "40": 1e9}
+    path.write_text(json.dumps(header))
+    shutil.copytree(run, chose)
+    header["meta"]["val_loss_by_strategy"]["cover_informative"] = {"8": 1e-9, "40": 1e-9}
+    (chose / "models" / "response_seed0.json").write_text(json.dumps(header))
+    unit = _held_out(run)
+    assert main(["calibrate", "--model", str(run), "--unit", unit, "--budget-seconds", "40", "--method",
+                 "response", "--plan-strategy", "cover_informative", "--registry", str(fleet.root),
+                 "--out", str(tmp_path / "asked")]) == 0
+    assert "plan: cover_informative, as asked (--plan-strategy)" in capsys.readouterr().out
+    asked = json.loads((tmp_path / "asked" / "calibration.json").read_text())
+    best = calibrate_unit(chose, unit, fleet, tmp_path / "best", budget_seconds=40, method="response")
+    assert any(n.startswith("plan: cover_informative, the response model's best") for n in best.notes)
+    assert (asked["calib_samples"], asked["calib_seconds"]) == (best.calib_samples, best.calib_seconds)
+    own = calibrate_unit(run, unit, fleet, tmp_path / "own", budget_seconds=40, method="response",
+                         plan_strategy="spread")
+    plain = calibrate_unit(run, unit, fleet, tmp_path / "plain", budget_seconds=40, method="response")
+    assert "plan: spread, as asked (--plan-strategy)" in own.notes
+    assert not any(n.startswith("plan:") for n in plain.notes)
+
+    def weights(name: str) -> torch.Tensor:
+        return torch.cat([w.flatten() for w in load_models(tmp_path / name).model.state_dict().values()])
+
+    assert torch.equal(weights("asked"), weights("best")) and torch.equal(weights("own"), weights("plain"))
+    assert not torch.equal(weights("asked"), weights("plain"))
+    for bad in ("bogus", "designed"):
+        with pytest.raises(AnytipError, match=f"--plan-strategy '{bad}': expected one of"):
+            calibrate_unit(run, unit, fleet, tmp_path / bad, budget_seconds=40, method="response",
+                           plan_strategy=bad)
+    with pytest.raises(AnytipError, match="--plan-strategy is read by response transfer alone"):
+        calibrate_unit(run, unit, fleet, tmp_path / "adapter", budget_seconds=40, method="adapter",
+                       plan_strategy="cover")
+
+
 def _write_lab_run(path: Path, serial: str, k: int, rng) -> None:
     """One run of a made-up 6-barometer pad, written with raw h5py from CALIBRATION_FORMAT.md alone
     (version 2, no in_contact, no temperature, no protocol record): 1 s at rest, then presses at

@@ -17,7 +17,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, get_args
 
 import numpy as np
 import torch
@@ -29,6 +29,7 @@ from anytip.data.plans import (
     INFORMED,
     Plan,
     RigTiming,
+    Strategy,
     find_presses,
     select_presses,
     stream_ordinary_use,
@@ -465,7 +466,8 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
                    budget_samples: int | None = None, budget_seconds: float | None = None,
                    adapter: str | None = None, seed: int | None = None,
                    interval_level: float | None = 0.9, method: str = "auto",
-                   use_seconds: float = 0.0, factor_from: Sequence[str | Path] = ()) -> Calibrated:
+                   use_seconds: float = 0.0, factor_from: Sequence[str | Path] = (),
+                   plan_strategy: str | None = None) -> Calibrated:
     """Fit, fold and save one unit's model; see the module docstring. `interval_level`: the
     nominal coverage of the intervals from the plan (None: none). `method`: `adapter` (the shared
     model's adapter, folded), `response` (response transfer; a run with a response model) or
@@ -473,7 +475,9 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     this budget). `use_seconds`: contact seconds of the unit's ordinary use read without labels
     (response transfer alone reads them: with the plan, or alone at budget 0). `factor_from`: more
     runs of the same benchmark (a registry's other unit folds) whose response models' learning units
-    learn the intervals' fleet factor and margin with the run's own (`pooled_learners`)."""
+    learn the intervals' fleet factor and margin with the run's own (`pooled_learners`).
+    `plan_strategy`: the press selection response transfer calibrates by, as asked (a choice made on
+    more validation units than the run's; research log entry 100), instead of `response_strategy`'s."""
     if method not in METHODS:
         raise AnytipError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if not 0 <= use_seconds <= MAX_USE_S:
@@ -516,13 +520,16 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
                              bool(meta.get("calibration_interleave", False)), rig.effective_hz)
         pooled = interval_records(factor_from, response)
         strategy, planned = _response_plan(response, meta, (arrays, stream), plan, budget, use is not None,
-                                           notes)
+                                           notes, plan_strategy)
         return calibrate_by_response_unit(response, registry, arrays, stream, planned, budget, Path(out),
                                           notes, interval_level, strategy, use, pooled,
                                           meta.get("calibration_protocol"))
     if factor_from:
         raise AnytipError("--factor-from is read by response transfer alone: the adapter's intervals have "
                           "their own fleet factor")
+    if plan_strategy is not None:
+        raise AnytipError("--plan-strategy is read by response transfer alone: the adapter calibrates on the "
+                          "plans its benchmark chose")
     prior = prior_for(meta, budget)
     unlabeled_rows = stream.unlabeled(meta.get("unlabeled_s"))
     tick = time.perf_counter()
@@ -628,18 +635,30 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
 
 
 def _response_plan(path: Path, meta: dict[str, Any], unit: tuple[FleetArrays, CalibrationStream], plan: Plan,
-                   budget: float, with_use: bool, notes: list[str]) -> tuple[str, Plan | PlanRequest]:
+                   budget: float, with_use: bool, notes: list[str], asked: str | None = None
+                   ) -> tuple[str, Plan | PlanRequest]:
     """(strategy, plan) of a calibration by the response model `path`: the shared model's plan
     `plan`, or a `PlanRequest` where the response model scored another strategy best
-    (`response_strategy`; budgets in robot seconds)."""
+    (`response_strategy`; budgets in robot seconds), or where another was `asked`."""
     shared = str(meta.get("plan_strategy", "spread"))
+    if asked is not None and asked not in ASKABLE:
+        raise AnytipError(f"--plan-strategy {asked!r}: expected one of {', '.join(ASKABLE)}")
     if meta.get("budget_unit") != "seconds" or not len(plan.rows):
+        if asked is not None and asked != shared:
+            raise AnytipError("--plan-strategy needs a run benchmarked in robot seconds and a labeled budget")
         return shared, plan
-    strategy = response_strategy(response_record(path), shared, budget, with_use)
+    strategy = asked or response_strategy(response_record(path), shared, budget, with_use)
+    why = ("as asked (--plan-strategy)" if asked
+           else "the response model's best on its validation units at this budget")
     if strategy == shared:
+        notes += [f"plan: {strategy}, {why}"] if asked else []
         return shared, plan
-    notes.append(f"plan: {strategy}, the response model's best on its validation units at this budget")
+    notes.append(f"plan: {strategy}, {why}")
     return strategy, PlanRequest(meta, *unit, budget, strategy)
+
+
+# what `--plan-strategy` may ask for: every selection from a unit's presses (a designed plan is its own run)
+ASKABLE: tuple[str, ...] = tuple(s for s in get_args(Strategy) if s != "designed")
 
 
 def response_record(path: Path) -> dict[str, Any]:

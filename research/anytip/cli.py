@@ -209,7 +209,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
     r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
                        args.budget_seconds, args.adapter, args.seed, args.interval_level or None, args.method,
-                       args.ordinary_use, args.factor_from)
+                       args.ordinary_use, args.factor_from, args.plan_strategy)
     for note in r.notes:
         print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
     if r.response_check is not None:
@@ -452,6 +452,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "models' validation units learn the intervals' fleet factor and margin with this "
                           "run's, all but the unit calibrated; response transfer only (research log "
                           "entry 53)")
+    cal.add_argument("--plan-strategy", default=None, metavar="STRATEGY",
+                     help="the press selection response transfer calibrates by (cover, cover_informative, "
+                          "...), where a choice was made on more validation units than the run's; default: "
+                          "the one the run's validation units scored lowest at this budget (research log "
+                          "entry 100)")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",
