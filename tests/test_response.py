@@ -214,7 +214,7 @@ def test_a_code_fit_with_a_tolerance_stops_each_barometer_near_its_optimum_on_it
     stopped, n_far = fitted([0], code_tolerance=1e-6)
     assert n_fixed == 200 and n_far < 50
     assert map_loss(fit, X[0], Y[0], 400.0, stopped[0]) <= 1.0001 * map_loss(fit, X[0], Y[0], 400.0, fixed[0])
-    alone, n_ordinary = fitted([1], code_tolerance=1e-6)
+    _, n_ordinary = fitted([1], code_tolerance=1e-6)
     assert n_ordinary < n_far
     # a coarse tolerance stops the ordinary unit at 4 steps, the far one at 7: the ordinary unit's
     # codes stay where it stopped (steps past it would move them, if only in the last digits)

@@ -99,6 +99,8 @@ from anytip.validation import read_yaml
 
 METHODS = ("auto", "adapter", "response")
 MAX_USE_S = 600.0  # seconds of ordinary use after mounting a calibration may read (the allowance)
+# what `--plan-strategy` may ask for: every selection from a unit's presses (a designed plan is its own run)
+ASKABLE: tuple[str, ...] = tuple(s for s in get_args(Strategy) if s != "designed")
 
 # A new unit whose own check exceeds the worst validation unit's by more than this is flagged.
 # Every cross_sensor report shows how often it fires on held-out units, which are ordinary units
@@ -655,10 +657,6 @@ def _response_plan(path: Path, meta: dict[str, Any], unit: tuple[FleetArrays, Ca
         return shared, plan
     notes.append(f"plan: {strategy}, {why}")
     return strategy, PlanRequest(meta, *unit, budget, strategy)
-
-
-# what `--plan-strategy` may ask for: every selection from a unit's presses (a designed plan is its own run)
-ASKABLE: tuple[str, ...] = tuple(s for s in get_args(Strategy) if s != "designed")
 
 
 def response_record(path: Path) -> dict[str, Any]:

@@ -58,8 +58,9 @@ def validation(runs: list[tuple[str, int]], method: str) -> None:
 
 def held_out(runs: list[tuple[str, int]], method: str) -> None:
     """Each held-out unit's ratio to its reference (draws averaged), new and control, and their factor."""
+    both = [rows(root, runs) for root in (HERE, CONTROL)]
     for label, key in KEYS.items():
-        per = [unit_ratios(rows(root, runs), key)[(method, 120.0)] for root in (HERE, CONTROL)]
+        per = [unit_ratios(got, key)[(method, 120.0)] for got in both]
         (m, lo, hi), (c, clo, chi) = (mean_interval(list(p.values())) for p in per)
         factor = paired_text([per[0][u] / per[1][u] for u in per[1]])
         print(f"  held out {label}: {m:.3f}x [{lo:.2f}, {hi:.2f}] against {c:.3f}x [{clo:.2f}, {chi:.2f}]; "
