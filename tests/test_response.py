@@ -35,11 +35,13 @@ from anytip.train.response import (
     code_covariance,
     drawn_codes,
     fit_codes,
+    plan_correction,
     press_information,
     residual_rms,
     source_rows,
     train_response,
     transfer,
+    transferred,
 )
 from anytip.uncertainty.fleet_margin import Learner, pooled_factor
 from test_cross_sensor import REPO, SECONDS, SPEC
@@ -222,6 +224,37 @@ def test_a_code_fit_with_a_tolerance_stops_each_barometer_near_its_optimum_on_it
     both, n_both = fitted([0, 1], code_tolerance=0.1)
     assert n_ordinary < n_both
     assert torch.equal(both[1], alone[0])
+
+
+def test_a_plans_correction_carries_a_misfit_its_codes_cannot_to_the_transferred_rows(made_up):
+    """A new unit whose barometers also read a smooth bump over the place, which no code of the
+    fleet's response gives: the correction learnt from its plan's residuals predicts most of that
+    misfit on other rows, falls to zero far from every press, and is what `transferred` adds to
+    `transfer` (nothing without a kernel length)."""
+    data, _, fit = made_up
+    g = torch.Generator().manual_seed(7)
+    y = labels(1300, g)
+    bump = 300 * torch.sin(3 * y[:, 3:4]) * torch.tensor([1.0, -1.0, 0.5, 2.0])
+    x = unit_pressures(y, 1 + 0.2 * torch.randn(C, generator=g), 0.1 * torch.randn(C, generator=g))
+    x = x + bump + 5 * torch.randn(1300, C, generator=g)
+    plan, other = slice(0, 300), slice(300, 1300)
+    codes = fit_codes(fit, [x[plan]], [y[plan]], [300.0], FAST_FIT)[0]
+    recipe = replace(FAST_FIT, residual_length=1.0, residual_ratio=0.01, residual_rows=300)
+    scale = (y.double().mean(0), y.double().std(0))
+    misfit = x[other] - fit.model(y[other], codes).detach()
+    corrected = misfit - plan_correction(fit, x[plan], y[plan], codes, y[other], scale, recipe)
+    assert corrected.pow(2).mean().sqrt() < 0.5 * misfit.pow(2).mean().sqrt()
+    far = y[other][:5].clone()
+    far[:, 3:] = 40.0  # a place no press came near
+    assert plan_correction(fit, x[plan], y[plan], codes, far, scale, recipe).abs().max() < 1e-6
+    source = source_rows(fit, data, 50)
+    source_scale = (source.Y.double().mean(0), source.Y.double().std(0))
+    carried = transferred(fit, source, codes, x[plan], y[plan], recipe)
+    added = plan_correction(fit, x[plan], y[plan], codes, source.Y, source_scale, recipe)
+    assert torch.allclose(carried, transfer(fit, source, codes) + added, atol=1e-3)
+    assert added.abs().max() > 10
+    off = transferred(fit, source, codes, x[plan], y[plan], FAST_FIT)
+    assert torch.equal(off, transfer(fit, source, codes))
 
 
 @pytest.mark.parametrize("solver", ["gauss_newton", "adam"])
@@ -874,6 +907,47 @@ def test_calibrate_takes_the_press_selection_asked_for_over_the_runs_choice(resp
     with pytest.raises(AnytipError, match="--plan-strategy is read by response transfer alone"):
         calibrate_unit(run, unit, fleet, tmp_path / "adapter", budget_seconds=40, method="adapter",
                        plan_strategy="cover")
+
+
+def test_a_plan_the_spec_decided_is_recorded_reported_and_taken_by_calibrate(response_run, fleet, tmp_path,
+                                                                            capsys):
+    """`options.response.plan_strategy` decides response transfer's press selection beforehand: the
+    response model records it and the report names it; calibrate takes it over the selection the
+    run's validation units would give it, exactly as asking for it does. A decision the spec does
+    not compare is refused by key, and a recorded one that is no selection by file and key."""
+    shared = json.loads(next((response_run / "models").glob("shared_*.json")).read_text())["meta"]
+    decided = "spread" if shared["plan_strategy"] == "first" else "first"  # not what calibrate takes today
+    rescore, out = _script("rescore_response"), tmp_path / "decided"
+    command = [str(response_run), "--registry", str(fleet.root), "--set"]
+    assert rescore.main([*command, f"options.response.plan_strategy={decided}", "--out", str(out)]) == 0
+    recorded = load_response(out / "models" / "response_seed0.safetensors").meta
+    assert recorded["decided_plan_strategy"] == decided
+    assert f"(`options.response.plan_strategy`): `{decided}`." in (out / "report.md").read_text()
+    undecidable = "options.response.plan_strategy=cover"  # not among the run's plan_strategies
+    assert rescore.main([*command, undecidable, "--out", str(tmp_path / "no")]) == 2
+    assert "options.response.plan_strategy: 'cover'" in capsys.readouterr().err
+    unit = _held_out(out)
+    undecided = calibrate_unit(response_run, unit, fleet, tmp_path / "undecided", budget_seconds=40,
+                               method="response")
+    assert not any(n.startswith("plan:") for n in undecided.notes)  # the shared model's selection
+    plain = calibrate_unit(out, unit, fleet, tmp_path / "plain", budget_seconds=40, method="response")
+    note = f"plan: {decided}, decided beforehand by the run's spec (options.response.plan_strategy)"
+    assert note in plain.notes
+    asked = calibrate_unit(out, unit, fleet, tmp_path / "asked", budget_seconds=40, method="response",
+                           plan_strategy=decided)
+    assert (plain.calib_samples, plain.calib_seconds) == (asked.calib_samples, asked.calib_seconds)
+    assert (plain.calib_samples, plain.calib_seconds) != (undecided.calib_samples, undecided.calib_seconds)
+
+    def weights(name: str) -> torch.Tensor:
+        return torch.cat([w.flatten() for w in load_models(tmp_path / name).model.state_dict().values()])
+
+    assert torch.equal(weights("plain"), weights("asked"))
+    path = out / "models" / "response_seed0.json"
+    header = json.loads(path.read_text())
+    header["meta"]["decided_plan_strategy"] = "designed"
+    path.write_text(json.dumps(header))
+    with pytest.raises(AnytipError, match=r"response_seed0\.json: meta\.decided_plan_strategy: 'designed'"):
+        calibrate_unit(out, unit, fleet, tmp_path / "bad", budget_seconds=40, method="response")
 
 
 def _write_lab_run(path: Path, serial: str, k: int, rng) -> None:

@@ -626,6 +626,7 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
     if adapter is not None:
         return None, ""
     recorded = response_record(path)
+    decided_strategy(recorded, path)  # a malformed decision is refused naming the file
     strategy = response_strategy(recorded, str(meta.get("plan_strategy", "spread")), budget)
     table = _strategy_table(recorded, "val_loss", strategy)
     theirs = _at_budget({b: float(v) for b, v in table.items() if isinstance(v, (int, float))}, budget)
@@ -649,11 +650,14 @@ def _response_plan(path: Path, meta: dict[str, Any], unit: tuple[FleetArrays, Ca
         if asked is not None and asked != shared:
             raise AnytipError("--plan-strategy needs a run benchmarked in robot seconds and a labeled budget")
         return shared, plan
-    strategy = asked or response_strategy(response_record(path), shared, budget, with_use)
-    why = ("as asked (--plan-strategy)" if asked
+    recorded = response_record(path)
+    decided = decided_strategy(recorded, path)
+    strategy = asked or response_strategy(recorded, shared, budget, with_use)
+    why = ("as asked (--plan-strategy)" if asked else
+           "decided beforehand by the run's spec (options.response.plan_strategy)" if decided
            else "the response model's best on its validation units at this budget")
     if strategy == shared:
-        notes += [f"plan: {strategy}, {why}"] if asked else []
+        notes += [f"plan: {strategy}, {why}"] if asked or decided else []
         return shared, plan
     notes.append(f"plan: {strategy}, {why}")
     return strategy, PlanRequest(meta, *unit, budget, strategy)
@@ -665,12 +669,29 @@ def response_record(path: Path) -> dict[str, Any]:
     return recorded if isinstance(recorded, dict) else {}
 
 
+def decided_strategy(recorded: dict[str, Any], path: Path | None = None) -> str | None:
+    """The press selection a response model's run decided beforehand (`decided_plan_strategy`, from its
+    spec's `options.response.plan_strategy`), or None where its validation units choose. A value that
+    is no selection calibrate can make is refused naming the file (`path`) and key."""
+    got = recorded.get("decided_plan_strategy")
+    if got is None:
+        return None
+    if got not in ASKABLE:
+        where = f"{model_paths(path)[1]}: " if path is not None else ""
+        raise AnytipError(f"{where}meta.decided_plan_strategy: {got!r} is not one of {', '.join(ASKABLE)}")
+    return str(got)
+
+
 def response_strategy(recorded: dict[str, Any], shared: str, budget: float, with_use: bool = False) -> str:
-    """The press selection response transfer calibrates by: the shared model's (`shared`, what its
-    adapters chose on their validation units), unless a selection made with the response model
-    (`INFORMED`, which adapters never use) has a lower validation-unit loss at `budget` in the
-    response model's record (`val_loss_by_strategy`; with ordinary use, `use_val_loss_by_strategy`
-    where it holds one); then the lowest of those."""
+    """The press selection response transfer calibrates by: the one the run's spec decided beforehand
+    (`decided_strategy`) where it decided one; else the shared model's (`shared`, what its adapters
+    chose on their validation units), unless a selection made with the response model (`INFORMED`,
+    which adapters never use) has a lower validation-unit loss at `budget` in the response model's
+    record (`val_loss_by_strategy`; with ordinary use, `use_val_loss_by_strategy` where it holds one);
+    then the lowest of those."""
+    decided = decided_strategy(recorded)
+    if decided is not None:
+        return decided
     for key in (["use_val_loss"] if with_use else []) + ["val_loss"]:
         losses = {}
         for strategy in [shared, *INFORMED]:

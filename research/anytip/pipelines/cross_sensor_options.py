@@ -233,6 +233,17 @@ class ResponseOptions(BaseModel):
     code_steps: int = Field(default=ResponseRecipe.code_steps, ge=1, le=1_000_000)
     code_rows: int = Field(default=ResponseRecipe.code_rows, ge=1, le=2**22)
     code_lr: float = Field(default=ResponseRecipe.code_lr, gt=0, le=10)
+    residual_length: float = Field(
+        default=ResponseRecipe.residual_length, ge=0, le=1e6,
+        description="> 0: each transferred row also carries the new unit's misfit at its contact, a Gaussian "
+        "process through its plan's residuals with this kernel length in standard deviations of the "
+        "contact (train/response.py plan_correction; 0: none; research log entry 101)")
+    residual_ratio: float = Field(
+        default=ResponseRecipe.residual_ratio, gt=0, le=1e9,
+        description="that process's noise variance over its kernel's (larger: a smoother, smaller "
+        "correction)")
+    residual_rows: int = Field(default=ResponseRecipe.residual_rows, ge=1, le=4096,
+                               description="plan rows, evenly spaced, that process is fitted on")
     source_rows: int = Field(default=ResponseRecipe.source_rows, ge=1, le=10_000_000)
     transfer_from: Literal["all", "registry"] = Field(
         default=ResponseRecipe.transfer_from,
@@ -248,6 +259,12 @@ class ResponseOptions(BaseModel):
 
     label_free: LabelFreeOptions | None = Field(
         default=None, description="a zero-shot row from unlabeled ordinary use (train/label_free.py)")
+    plan_strategy: Strategy | None = Field(
+        default=None,
+        description="the press selection decided beforehand for response transfer's calibrations, on more "
+        "validation units than a run holds (research log entries 98, 100): one of `plan_strategies`. The "
+        "response model records it, `anytip calibrate` takes it and the report names it beside the run's "
+        "own choice. null: the run's validation units choose (calibrate.response_strategy)")
 
     @model_validator(mode="after")
     def _label_free_needs_a_start(self) -> ResponseOptions:
@@ -261,7 +278,7 @@ class ResponseOptions(BaseModel):
 
     def recipe(self) -> ResponseRecipe:
         return ResponseRecipe(**self.model_dump(exclude={"code_dim", "channel_dim", "hidden", "layers",
-                                                         "label_free"}))
+                                                         "label_free", "plan_strategy"}))
 
 
 Training = Literal["joint", "episodic"]
@@ -378,6 +395,12 @@ def parse_options(ctx: Context) -> Options:
     if opts.budget_unit == "samples" and any(b != int(b) for b in opts.budgets):
         raise AnytipError(f"options.budgets: with budget_unit samples, budgets are whole sample counts, "
                           f"got {opts.budgets}")
+    decided = opts.response.plan_strategy if opts.response is not None else None
+    if decided is not None and (opts.budget_unit != "seconds" or decided not in opts.plan_strategies
+                                or decided == "designed"):
+        raise AnytipError(f"options.response.plan_strategy: {decided!r} is not a press selection this spec "
+                          f"compares (budget_unit seconds; options.plan_strategies {opts.plan_strategies}, "
+                          "`designed` excluded: a designed plan is a run of its own)")
     return opts
 
 

@@ -60,7 +60,7 @@ from anytip.train.response import (
     start_network_path,
     train_response,
     training_digest,
-    transfer,
+    transferred,
     unit_networks,
 )
 from anytip.train.shared_split import SeedData, predict_rows
@@ -130,7 +130,8 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         if opts.intervals is not None:
             checks = None
             if opts.intervals.transfer_check:  # each unit's network again, on its transferred rows alone
-                alone = ((transfer(fit, source, codes[m]), source.Y) for m in range(len(jobs)))
+                alone = ((transferred(fit, source, codes[m], X[m], Y[m], recipe), source.Y)
+                         for m in range(len(jobs)))
                 checks = unit_networks(alone, ctx.spec.model, recipe, seed,
                                        [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names,
                                        fit.device, ctx.progress, start)
@@ -168,6 +169,8 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
     meta = {**response_meta(ctx, sd, arrays, recipe, seed, fit, digest),
             "val_loss_by_strategy": by_strategy(got.val_loss),
             "residual_by_strategy": by_strategy(residual), **saved_use}
+    if opts.response.plan_strategy is not None:  # anytip calibrate takes it over the validation units' choice
+        meta["decided_plan_strategy"] = opts.response.plan_strategy
     if got.label_free_loss is not None:
         meta["label_free_val_loss"] = got.label_free_loss
     if use_units:

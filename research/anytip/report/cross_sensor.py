@@ -439,7 +439,7 @@ interval over units].
 
 {table(['target', 'goal', 'method (chosen on validation units)', *ratio_heads, ''],
        targets(lines, chosen, seconds, metrics))}
-{margin_section(val_loss, family, val_units)}
+{_decided_text(opts)}{margin_section(val_loss, family, val_units)}
 ## All methods (RMSE: mean over held-out units and seeds; ratios per distinct unit)
 
 {table(['method', 'budget [robot-s]' if seconds else 'labeled samples', 'robot-s', *all_heads,
@@ -453,6 +453,20 @@ interval over units].
 
 ![error against training units](rmse_vs_train_units.png)
 """)).write()
+
+
+def _decided_text(opts: Any) -> str:
+    """A paragraph naming the press selection the spec decided for response transfer beforehand
+    (`options.response.plan_strategy`); empty where the run's validation units choose."""
+    decided = opts.response.plan_strategy if opts.response is not None else None
+    if decided is None:
+        return ""
+    return f"""
+Response transfer's press selection was decided before this run, by its spec, on more validation
+units than a run holds (`options.response.plan_strategy`): `{decided}`. Its rows above are the
+figures for a unit calibrated from this run: `anytip calibrate` takes that selection whatever this
+run's validation units chose below.
+"""
 
 
 def margin_section(val_loss: dict[str, dict[str, dict[str, float]]], family: Callable[[str], str] | None,

@@ -76,7 +76,11 @@ class ResponseRecipe:
     `plan_criterion`: what an `informative` plan maximises (`data.plans.CodeInformation`).
     `code_draw_scale`: where a unit's codes are fitted on its plan alone, each transferred row's codes
     are drawn from their Laplace posterior with its covariance times this (`code_covariance`,
-    `drawn_codes`; 0, the default: every row the MAP codes; research log entry 94)."""
+    `drawn_codes`; 0, the default: every row the MAP codes; research log entry 94).
+    `residual_length` > 0: each transferred row also carries the unit's own misfit at its contact, as
+    a Gaussian process learns it from the plan's residuals (`plan_correction`: kernel length
+    `residual_length` in standard deviations of the contact, noise-to-signal `residual_ratio`, at most
+    `residual_rows` plan rows; 0, the default: none; research log entry 101)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
@@ -92,6 +96,9 @@ class ResponseRecipe:
     code_steps: int = 300
     code_rows: int = 2048
     code_lr: float = 3e-2
+    residual_length: float = 0.0
+    residual_ratio: float = 1.0
+    residual_rows: int = 1024
     source_rows: int = 8000
     transfer_from: str = "all"
     inverse_epochs: int = 40
@@ -113,6 +120,8 @@ class ResponseRecipe:
             if not ok or (kind is int and value < 1) or (kind is float and not value >= 0):
                 raise ValueError(f"recipe.{key}: {value!r} is not a {'positive ' if kind is int else ''}"
                                  f"{kind.__name__}")
+        if recipe.residual_ratio <= 0:
+            raise ValueError(f"recipe.residual_ratio: {recipe.residual_ratio!r} is not a positive float")
         if recipe.code_fit not in CODE_FITS:
             raise ValueError(f"recipe.code_fit: {recipe.code_fit!r} is not one of {', '.join(CODE_FITS)}")
         if recipe.code_prior not in CODE_PRIORS:
@@ -494,6 +503,47 @@ def transfer(fit: ResponseFit, source: SourceRows, codes: Tensor) -> Tensor:
     return source.X + respond(fit.model, source.Y, codes.to(fit.device)) - source.fitted
 
 
+RESIDUAL_CHUNK = 8192  # query rows per kernel block in `plan_correction` (bounds memory)
+
+
+def plan_correction(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, queries: Tensor,
+                    scale: tuple[Tensor, Tensor], recipe: ResponseRecipe) -> Tensor:
+    """(q, C) Pa: a unit's misfit at contacts `queries` (q, D) as its plan tells it: the posterior mean
+    of a zero-mean Gaussian process, one per barometer, through the plan's residuals about the unit's
+    response with `codes` (C, k) at its rows X (n, C) Pa, Y (n, D), on at most `recipe.residual_rows`
+    of them evenly spaced. Kernel: squared exponential of length `recipe.residual_length` over
+    contacts standardised by `scale` (mean, std, each (D,)); noise variance `recipe.residual_ratio`
+    times the kernel's. Far from every press the correction falls to zero (research log entry 101)."""
+    take = evenly_spaced(len(Y), recipe.residual_rows).to(Y.device)
+    mean, std = (t.to(fit.device, torch.float64) for t in scale)
+    points = (Y[take].to(fit.device, torch.float64) - mean) / std
+    fitted = respond(fit.model, Y[take].to(fit.device), codes.to(fit.device))
+    resid = (X[take].to(fit.device) - fitted).double()
+
+    def kernel(a: Tensor) -> Tensor:
+        return torch.exp(-torch.cdist(a, points).pow(2) / (2 * recipe.residual_length**2))
+
+    noise = recipe.residual_ratio * torch.eye(len(points), dtype=torch.float64, device=fit.device)
+    gram = kernel(points) + noise
+    weights = torch.cholesky_solve(resid, torch.linalg.cholesky(gram))
+    out = [kernel((queries[a:a + RESIDUAL_CHUNK].to(fit.device, torch.float64) - mean) / std) @ weights
+           for a in range(0, len(queries), RESIDUAL_CHUNK)]
+    return torch.cat(out).to(X.dtype) if out else X.new_zeros(0, X.shape[1])
+
+
+def transferred(fit: ResponseFit, source: SourceRows, codes: Tensor, X: Tensor, Y: Tensor,
+                recipe: ResponseRecipe, drawn: Tensor | None = None) -> Tensor:
+    """(S, C) Pa: the source rows as the unit of `codes` (C, k) would have read them (`transfer`; with
+    each row's codes `drawn` (S, C, k) where given), plus the misfit its plan's rows X (n, C) Pa,
+    Y (n, D) show about its response with `codes` (`plan_correction`, contacts standardised over the
+    source rows) where the recipe asks for it."""
+    rows = transfer(fit, source, codes if drawn is None else drawn)
+    if recipe.residual_length <= 0 or not len(Y):
+        return rows
+    scale = (source.Y.double().mean(0), source.Y.double().std(0).clamp_min(1e-12))
+    return rows + plan_correction(fit, X, Y, codes, source.Y, scale, recipe)
+
+
 def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor], Y: list[Tensor],
                           n_effective: list[float], shape: MLPConfig,
                           recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0,
@@ -525,14 +575,15 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
             covariance = code_covariance(fit, X, Y, n_effective, codes, recipe)
     more = list(extra) if extra is not None else [None] * len(X)
 
-    def job_codes(m: int) -> Tensor:
+    def drawn(m: int) -> Tensor | None:
         if covariance is None:
-            return codes[m]
+            return None
         return drawn_codes(codes[m].to(fit.device), covariance[m].to(fit.device), recipe.code_draw_scale,
                            len(source.Y), unit_seed(seed, m, "response code draws"))
 
     def job_rows(m: int) -> tuple[Tensor, Tensor]:
-        xs, ys = [transfer(fit, source, job_codes(m)), X[m].to(fit.device)], [source.Y, Y[m].to(fit.device)]
+        carried = transferred(fit, source, codes[m], X[m], Y[m], recipe, drawn(m))
+        xs, ys = [carried, X[m].to(fit.device)], [source.Y, Y[m].to(fit.device)]
         if more[m] is not None:
             xs.append(more[m][0].to(fit.device))
             ys.append(more[m][1].to(fit.device))
