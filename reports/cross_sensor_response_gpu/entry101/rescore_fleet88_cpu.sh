@@ -2,9 +2,9 @@
 # Research log entry 101: entry 99's fleet88 rescoring of fold $1 (CPU response models, the registry code prior,
 # 120 s alone, both plans, the converged code fit: the recipe's) with each transferred row corrected by the
 # unit's plan residuals (kernel length $2, noise-to-signal $3), into entry101/fleet88_cpu/fleet88_seed$1.
-# Control: entry99/fleet88_cpu.
+# Control: entry99/fleet88_cpu. The registry is simulated again (same_rows.py).
 k=$1; length=$2; ratio=$3
-python scripts/rescore_response.py reports/cross_sensor_response_start/fleet88_seed$k \
+python reports/cross_sensor_response_gpu/entry101/same_rows.py reports/cross_sensor_response_start/fleet88_seed$k \
   --registry data/fleet88 --out reports/cross_sensor_response_gpu/entry101/fleet88_cpu/fleet88_seed$k \
   --response-model "reports/cross_sensor_response_start/fleet88_seed$k/models/response_seed{seed}.safetensors" \
   --set "options.budgets=[120]" --set "options.intervals=null" --set options.response.code_prior=registry \
