@@ -626,8 +626,7 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
     if adapter is not None:
         return None, ""
     recorded = response_record(path)
-    decided_strategy(recorded, path)  # a malformed decision is refused naming the file
-    strategy = response_strategy(recorded, str(meta.get("plan_strategy", "spread")), budget)
+    strategy = response_strategy(recorded, str(meta.get("plan_strategy", "spread")), budget, path=path)
     table = _strategy_table(recorded, "val_loss", strategy)
     theirs = _at_budget({b: float(v) for b, v in table.items() if isinstance(v, (int, float))}, budget)
     ours = _val_loss_table(meta, budget)
@@ -652,7 +651,7 @@ def _response_plan(path: Path, meta: dict[str, Any], unit: tuple[FleetArrays, Ca
         return shared, plan
     recorded = response_record(path)
     decided = decided_strategy(recorded, path)
-    strategy = asked or response_strategy(recorded, shared, budget, with_use)
+    strategy = asked or response_strategy(recorded, shared, budget, with_use, path)
     why = ("as asked (--plan-strategy)" if asked else
            "decided beforehand by the run's spec (options.response.plan_strategy)" if decided
            else "the response model's best on its validation units at this budget")
@@ -682,14 +681,15 @@ def decided_strategy(recorded: dict[str, Any], path: Path | None = None) -> str 
     return str(got)
 
 
-def response_strategy(recorded: dict[str, Any], shared: str, budget: float, with_use: bool = False) -> str:
+def response_strategy(recorded: dict[str, Any], shared: str, budget: float, with_use: bool = False,
+                      path: Path | None = None) -> str:
     """The press selection response transfer calibrates by: the one the run's spec decided beforehand
     (`decided_strategy`) where it decided one; else the shared model's (`shared`, what its adapters
     chose on their validation units), unless a selection made with the response model (`INFORMED`,
     which adapters never use) has a lower validation-unit loss at `budget` in the response model's
     record (`val_loss_by_strategy`; with ordinary use, `use_val_loss_by_strategy` where it holds one);
-    then the lowest of those."""
-    decided = decided_strategy(recorded)
+    then the lowest of those. `path`: the response model's file, named where its decision is refused."""
+    decided = decided_strategy(recorded, path)
     if decided is not None:
         return decided
     for key in (["use_val_loss"] if with_use else []) + ["val_loss"]:
