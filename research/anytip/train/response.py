@@ -521,7 +521,9 @@ def plan_correction(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, queri
     resid = (X[take].to(fit.device) - fitted).double()
 
     def kernel(a: Tensor) -> Tensor:
-        return torch.exp(-torch.cdist(a, points).pow(2) / (2 * recipe.residual_length**2))
+        # in place: the (chunk, n) block is the correction's whole cost, and each pass allocating
+        # another block doubles it; x / -c is -(x / c) to the bit
+        return torch.cdist(a, points).pow_(2).div_(-2 * recipe.residual_length**2).exp_()
 
     noise = recipe.residual_ratio * torch.eye(len(points), dtype=torch.float64, device=fit.device)
     gram = kernel(points) + noise
