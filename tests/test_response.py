@@ -4,6 +4,7 @@ the saved model file, and the cross_sensor method `response` end to end on tiny 
 import argparse
 import importlib
 import json
+import multiprocessing
 import shutil
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -792,8 +793,8 @@ def test_an_interrupted_retraining_resumes_on_the_model_it_saved(response_run, f
     assert rescore.main(command) == 0 and len(trained) == 1
     assert json.loads((out / "metrics.json").read_text())["results"] == done
     (out / "metrics.json").unlink()
-    assert rescore.main([*command, "--set", "options.response.steps=1000"]) == 0 and len(trained) == 2
-    assert load_response(model).meta["recipe"]["steps"] == 1000
+    assert rescore.main([*command, "--set", "options.response.steps=300"]) == 0 and len(trained) == 2
+    assert load_response(model).meta["recipe"]["steps"] == 300
 
 
 def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_run, fleet, tmp_path):
@@ -1034,15 +1035,16 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     no in_contact, temperature or protocol record, its own targets): the response method finds
     the presses, trains on the training units only and calibrates held-out units better than the
     pooled model that ignores how units differ, its networks started from random weights or from
-    the pooled start network (there with the recipe spec's registry code prior; from random weights with
-    each transferred row's codes drawn from their posterior)."""
+    the pooled start network (there with the recipe spec's registry code prior and plan residual
+    correction; from random weights with each transferred row's codes drawn from their posterior)."""
     import numpy as np
 
     reg = _lab_registry(tmp_path)
     over = [o for o in SECONDS if not o.startswith(("options.fits", "options.calibration_protocol"))]
     # from random weights, each transferred row's codes drawn from their posterior (entry 94's option)
     free = ", code_draw_scale: 1" if start == "scratch" else (
-        ", code_prior: registry, label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, "
+        ", code_prior: registry, residual_length: 1, residual_ratio: 10, "
+        "label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, "
         "iterations: 2, with_plans: true}")
     # with the pooled start, plans chosen with the response model too (adapters never take them)
     strategies = "[spread]" if start == "scratch" else "[spread, cover_informative]"
@@ -1060,6 +1062,7 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
     assert meta["unit_ids"] == prov["train"] and meta["recipe"]["inverse_start"] == start
     assert meta["recipe"]["code_prior"] == ("diagonal" if start == "scratch" else "registry")
     assert meta["recipe"]["code_draw_scale"] == (1.0 if start == "scratch" else 0.0)
+    assert meta["recipe"]["residual_length"] == (0.0 if start == "scratch" else 1.0)
     assert meta["registry_unit_ids"] == prov["train"]  # the recipe spec's prior, centred on the lab's units
     assert (run / "models" / "response_seed0_start.safetensors").is_file() == (start == "pooled")
     for key in ("u_rmse", "v_rmse", "fz_rmse"):  # the place is where units differ most
@@ -1089,8 +1092,12 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
             assert 0 < cal.unlabeled_seconds <= 15
             assert load_models(tmp_path / f"cal{budget}").meta["method"] == method
     if start == "pooled":  # factor units on such runs: widths of its own targets, and a margin
+        lean = ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 500, source_rows: 1000, "
+                "inverse_epochs: 5, inverse_start: pooled, code_prior: registry}",
+                "options.plan_strategies=[spread]", "options.adapters=[]"]  # only the intervals are read
         more = run_experiment(SPEC, reg, out=tmp_path / "factor", progress=False, overrides=[
-            *over, "splits.n_train_units=4", "options.intervals={folds: 3, level: 0.8, factor_units: 2}"])
+            *over, *lean, "splits.n_train_units=4",
+            "options.intervals={folds: 3, level: 0.8, factor_units: 2}"])
         units = json.loads((more / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
         assert len(units["factor"]) == 2
         scored = json.loads((more / "metrics.json").read_text())["results"]
@@ -1229,6 +1236,8 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     run = run_experiment(SPEC, registry, out=tmp_path / "run", overrides=over, progress=False)
     monkeypatch.syspath_prepend(str(REPO / "scripts"))  # its worker processes import it by name
     many = importlib.import_module("response_many_units")
+    # forked workers: the script spawns them (safe beside CUDA), and each spawn imports torch anew
+    monkeypatch.setattr(many, "get_context", lambda method: multiprocessing.get_context("fork"))
     out = tmp_path / "many"
     assert many.main([str(run), "--registry-seed", "21", "--registry-protocols", "short", "--extra-seed",
                       "22", "--extra", "2", "--extra-protocols", "short", "--workers", "2", "--device", "cpu",
