@@ -1476,9 +1476,8 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
     budget and no rig time, its unlabeled contact seconds within the option's, a validation loss
     the report chooses the zero-shot method on; refused without the pooled start it pulls towards."""
     free = "label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2, with_plans: true}"
-    one = "options.plan_strategies=[spread]"  # the one calibrate reads below
     over = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"),
-            "options.adapters=[input_affine]", "options.fits=[{}]", one]  # calibrate needs a shared model
+            "options.adapters=[input_affine]", "options.fits=[{}]"]  # calibrate needs a shared model
     run = run_experiment(SPEC, fleet, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
     prov = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]
@@ -1505,8 +1504,7 @@ def test_the_label_free_zero_shot_row_scores_every_held_out_unit_from_its_ordina
     assert set(prov["val_loss"]["response+use@spread"]) == set(prov["val_loss"]["response@spread"])
     # zero_shot: false scores the same labeled rows with ordinary use, without the zero-shot row
     use_free = free.replace("}", ", zero_shot: false}")
-    alone = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {use_free}}}"), "options.adapters=[]",
-             one]
+    alone = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {use_free}}}"), "options.adapters=[]"]
     use_only = run_experiment(SPEC, fleet, out=tmp_path / "use_only", overrides=alone, progress=False)
     again = json.loads((use_only / "metrics.json").read_text())["results"]
     assert not any(r["method"] == "response:label_free" for r in again)
@@ -1683,8 +1681,7 @@ def test_factor_units_learn_the_fleet_factor_beside_the_validation_units(fleet, 
     free = ("label_free: {seconds: 20, rows: 64, candidates: 256, rounds: 1, iterations: 2, "
             "with_plans: true, zero_shot: false}")
     base = [*SECONDS, RESPONSE.replace("}", f", inverse_start: pooled, {free}}}"), "splits.n_train_units=3",
-            "options.adapters=[input_affine]", "options.fits=[{}]",  # calibrate needs a shared model
-            "options.plan_strategies=[spread]"]  # the one read below
+            "options.adapters=[input_affine]", "options.fits=[{}]"]  # calibrate needs a shared model
     runs = {k: run_experiment(SPEC, fleet, out=tmp_path / f"f{k}", progress=False, overrides=[
         *base, f"options.intervals={{folds: 3, level: 0.8, factor_units: {k}}}"]) for k in (0, 2)}
     split = {k: json.loads((r / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
