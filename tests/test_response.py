@@ -1048,10 +1048,13 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
         "iterations: 2, with_plans: true}")
     # with the pooled start, plans chosen with the response model too (adapters never take them)
     strategies = "[spread]" if start == "scratch" else "[spread, cover_informative]"
-    over += ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 1500, source_rows: 2000, "
-             f"inverse_epochs: 10, inverse_start: {start}{free}}}", "data.protocol=null",
-             "options.calibration_protocol=null", "options.budgets=[0,20]",
-             f"options.plan_strategies={strategies}"]
+
+    def response(steps: int, rows: int, epochs: int) -> str:
+        return (f"options.response={{code_dim: 4, hidden: 32, layers: 2, steps: {steps}, "
+                f"source_rows: {rows}, inverse_epochs: {epochs}, inverse_start: {start}{free}}}")
+
+    over += [response(1500, 2000, 10), "data.protocol=null", "options.calibration_protocol=null",
+             "options.budgets=[0,20]", f"options.plan_strategies={strategies}"]
     run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
     prov = json.loads((run / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
@@ -1092,11 +1095,8 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
             assert 0 < cal.unlabeled_seconds <= 15
             assert load_models(tmp_path / f"cal{budget}").meta["method"] == method
     if start == "pooled":  # factor units on such runs: widths of its own targets, and a margin
-        lean = ["options.response={code_dim: 4, hidden: 32, layers: 2, steps: 500, source_rows: 1000, "
-                "inverse_epochs: 5, inverse_start: pooled, code_prior: registry}",
-                "options.plan_strategies=[spread]", "options.adapters=[]"]  # only the intervals are read
         more = run_experiment(SPEC, reg, out=tmp_path / "factor", progress=False, overrides=[
-            *over, *lean, "splits.n_train_units=4",
+            *over, response(500, 1000, 5), "splits.n_train_units=4",  # its intervals are what is read
             "options.intervals={folds: 3, level: 0.8, factor_units: 2}"])
         units = json.loads((more / "provenance.json").read_text())["cross_sensor"]["seed0"]["units"]
         assert len(units["factor"]) == 2
@@ -1236,12 +1236,13 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     run = run_experiment(SPEC, registry, out=tmp_path / "run", overrides=over, progress=False)
     monkeypatch.syspath_prepend(str(REPO / "scripts"))  # its worker processes import it by name
     many = importlib.import_module("response_many_units")
-    # forked workers: the script spawns them (safe beside CUDA), and each spawn imports torch anew
-    monkeypatch.setattr(many, "get_context", lambda method: multiprocessing.get_context("fork"))
     out = tmp_path / "many"
     assert many.main([str(run), "--registry-seed", "21", "--registry-protocols", "short", "--extra-seed",
                       "22", "--extra", "2", "--extra-protocols", "short", "--workers", "2", "--device", "cpu",
                       "--steps", "30", "--max-rows", "300", "--out", str(out)]) == 0
+    # the calls below fork their workers: the script's spawned ones (safe beside CUDA) are checked above,
+    # and each spawn imports torch anew
+    monkeypatch.setattr(many, "get_context", lambda method: multiprocessing.get_context("fork"))
     digests = json.loads(next(out.glob("log_*.json")).read_text())["registry_rows_sha256"]["run_seed0"]
     spec = load_spec(run / "config.yaml", ["options.adapters=[]"])
     ctx = Context(spec, registry, tmp_path / "x", torch.device("cpu"), False, {})
