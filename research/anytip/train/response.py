@@ -520,10 +520,14 @@ def plan_correction(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, queri
     fitted = respond(fit.model, Y[take].to(fit.device), codes.to(fit.device))
     resid = (X[take].to(fit.device) - fitted).double()
 
+    norms = points.pow(2).sum(1)
+
     def kernel(a: Tensor) -> Tensor:
-        # in place: the (chunk, n) block is the correction's whole cost, and each pass allocating
-        # another block doubles it; x / -c is -(x / c) to the bit
-        return torch.cdist(a, points).pow_(2).div_(-2 * recipe.residual_length**2).exp_()
+        # the squared distances as |a|^2 + |p|^2 - 2 a.p, as cdist's own product path computes them,
+        # without its root and a square after it; in place: the (chunk, n) block is the correction's
+        # whole cost, and each pass allocating another block doubles it
+        d2 = torch.addmm(norms, a, points.T, alpha=-2).add_(a.pow(2).sum(1, keepdim=True)).clamp_min_(0)
+        return d2.div_(-2 * recipe.residual_length**2).exp_()
 
     noise = recipe.residual_ratio * torch.eye(len(points), dtype=torch.float64, device=fit.device)
     gram = kernel(points) + noise
