@@ -43,7 +43,8 @@ def same_as_before(arm: str) -> None:
         held = [sorted((r["unit"], r["seed"], r[key]) for r in rows([root]) for key in KEYS.values()
                        if r["method"] in (method, "per_unit")) for root in (new, old)]
         same = losses[0] == losses[1] and held[0] == held[1]
-        print(f"rule 1, arm {arm}, fold {k}: {method} rows {'equal' if same else 'DIFFER from'} {old}")
+        where = old.relative_to(HERE.parent)
+        print(f"rule 1, arm {arm}, fold {k}: {method} rows {'equal' if same else 'DIFFER from'} {where}")
 
 
 def validation(method: str) -> None:
