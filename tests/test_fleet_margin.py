@@ -24,6 +24,22 @@ def test_alike_units_need_no_margin_and_one_hard_unit_asks_for_one():
     assert got.below[1.0] == 1 and got.margin > 1.0 and got.below[got.margin] == 0
     assert got.in_band[got.margin] >= 0.9
     assert leave_one_out_margin(alike[:2]).margin == 1.0  # too few to leave one out
+    assert leave_one_out_margin(alike).shortfall() is None and got.shortfall() is None
+    assert leave_one_out_margin(alike[:2]).shortfall() is None
+
+
+def test_a_margin_the_rule_cannot_find_says_why():
+    """Margin 1 because no grid value met the rule: a unit whose test rows need 2x what its plan
+    says stays below the floor up to 1.2; one that needs 1.5x reaches it only at a margin that
+    pushes most of the alike units above the band."""
+    alike = [gaussian_learner(1.0, 1 / 1.6449 * (1 + 0.01 * k)) for k in range(-3, 4)]
+    lost = leave_one_out_margin([*alike * 3, gaussian_learner(1.0, 2.0 / 1.6449)])
+    assert lost.margin == 1.0 and min(lost.below.values()) == 1
+    assert lost.shortfall() == "1 left-out unit-output(s) stayed below the floor at every margin up to 1.2"
+    wide = leave_one_out_margin([*alike * 3, gaussian_learner(1.0, 1.5 / 1.6449)])
+    assert wide.margin == 1.0 and wide.below[1.18] == 0 and wide.in_band[1.18] < 0.9
+    assert wide.shortfall() == ("none falls below the floor only from a margin of 1.18, where 41% lie in the "
+                                "band (the rule asks 90%)")
 
 
 def test_factor_ceiling_finds_the_best_factor_with_and_without_the_floor():

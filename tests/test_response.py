@@ -1721,6 +1721,16 @@ def test_factor_units_learn_the_fleet_factor_beside_the_validation_units(fleet, 
         assert half == pytest.approx(before.intervals["own_halfwidth"][name] * 1.5 *
                                      before.intervals["fleet_factor"][name] / _margin_of(before), rel=1e-6)
     assert any("the fleet factor times 1.5" in n for n in after.notes)
+    # a record whose rule found no margin (every grid value leaves two left-out unit-outputs below the
+    # floor): calibrate applies the factor alone and says why
+    for m in header["meta"]["intervals"]["margin_by_strategy"]["spread"].values():
+        m["margin"], m["below_floor"] = 1.0, {g: 2 for g in m["below_floor"]}
+    response.with_suffix(".json").write_text(json.dumps(header))
+    bare = calibrate_unit(runs[2], unit, fleet, tmp_path / "c2", budget_seconds=40, method="response",
+                          interval_level=0.8)
+    assert bare.intervals is not None and not any(n.startswith("the fleet factor times ") for n in bare.notes)
+    assert any("without a margin" in n and "2 left-out unit-output(s) stayed below the floor at every margin "
+               "up to 1.2" in n for n in bare.notes)
 
 
 def _margin_of(got) -> float:

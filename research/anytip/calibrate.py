@@ -94,7 +94,7 @@ from anytip.train.shared_split import (
     unit_main_rows,
 )
 from anytip.uncertainty.conformal import coverage, interval, residual_halfwidth
-from anytip.uncertainty.fleet_margin import Learner, pooled_factor
+from anytip.uncertainty.fleet_margin import Learner, MarginChoice, pooled_factor
 from anytip.validation import read_yaml
 
 METHODS = ("auto", "adapter", "response")
@@ -741,29 +741,51 @@ def _response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: flo
         prefix = "use_" if table else ""
         table = table or _strategy_table(rec, "fleet_factor", strategy)
         factor, why = _usable_factor(rec, table, budget, level, names)
-        margin = _margin(rec, f"{prefix}margin", strategy, budget)
+        choice = _margin(rec, f"{prefix}margin", strategy, budget)
         if pooled is not None and factor is not None:
             learners = pooled_learners([(Path("."), rec), *pooled[0]], f"{prefix}units", strategy, budget,
                                        level, names, pooled[1])
             got, choice = pooled_factor(learners)
-            factor, margin = dict(zip(names, map(float, got), strict=True)), choice.margin
+            factor = dict(zip(names, map(float, got), strict=True))
             notes.append(f"the fleet factor learnt by {len(learners)} learning units of this run and "
                          f"{len(pooled[0])} other response model(s) (--factor-from, research log entry 53)")
-        if factor is not None and margin != 1:
-            factor = {n: f * margin for n, f in factor.items()}
-            notes.append(f"the fleet factor times {margin:g}: the margin its learning units chose, each "
-                         "left out in turn (research log entry 50)")
+        if factor is not None and choice.margin != 1:
+            factor = {n: f * choice.margin for n, f in factor.items()}
+            notes.append(f"the fleet factor times {choice.margin:g}: the margin its learning units chose, "
+                         "each left out in turn (research log entry 50)")
+        short = choice.shortfall() if factor is not None else None
+        if short:
+            notes.append(f"the fleet factor without a margin: its learning units, each left out in turn, "
+                         f"found none that keeps their outputs' coverage at the floor ({short}); a new "
+                         "unit's coverage may fall below it too (research log entries 50, 104)")
     notes += [why] if why else []
     return plan_intervals(residuals, level, names, other, factor, folds=None)
 
 
-def _margin(rec: dict[str, Any], key: str, strategy: str, budget: float) -> float:
+def _margin(rec: dict[str, Any], key: str, strategy: str, budget: float) -> MarginChoice:
     """The margin on the fleet factor a benchmark recorded (`<key>_by_strategy`) at the largest
-    budget <= `budget`; 1 where it recorded none or no finite positive one."""
+    budget <= `budget`, with its grid's counts below the floor and shares in the band where
+    recorded; margin 1 where it recorded none or no finite positive one (a grid entry that is not a
+    number is left out)."""
     got = _at_budget(_strategy_table(rec, key, strategy), budget)
-    margin = got.get("margin") if isinstance(got, dict) else None
+    got = got if isinstance(got, dict) else {}
+    margin = got.get("margin")
     ok = isinstance(margin, (int, float)) and math.isfinite(margin) and margin > 0
-    return float(margin) if ok else 1.0
+    below, in_band = (_grid(got.get(k)) for k in ("below_floor", "in_band"))
+    return MarginChoice(float(margin) if ok else 1.0, {m: int(v) for m, v in below.items()}, in_band)
+
+
+def _grid(table: object) -> dict[float, float]:
+    """{margin: value} of a recorded grid ({"1.02": value, ...}), its finite numeric entries only."""
+    out = {}
+    for key, v in (table.items() if isinstance(table, dict) else ()):
+        try:
+            m = float(key)
+        except ValueError:
+            continue
+        if isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(m) and math.isfinite(v):
+            out[m] = float(v)
+    return out
 
 
 def response_models(run: Path) -> dict[int, Path]:

@@ -62,6 +62,20 @@ class MarginChoice(NamedTuple):
     below: dict[float, int]
     in_band: dict[float, float]
 
+    def shortfall(self, in_band_share: float = IN_BAND_SHARE) -> str | None:
+        """Why no margin on the grid met the rule, in words; None where one did (1 included) or
+        none was tried (too few learners)."""
+        met = [m for m, n in self.below.items() if n == 0 and self.in_band.get(m, 0.0) >= in_band_share]
+        if met or not self.below:
+            return None
+        fewest = min(self.below.values())
+        if fewest > 0:
+            return (f"{fewest} left-out unit-output(s) stayed below the floor at every margin up to "
+                    f"{max(self.below):g}")
+        first = min(m for m, n in self.below.items() if n == 0)
+        return (f"none falls below the floor only from a margin of {first:g}, where "
+                f"{self.in_band.get(first, 0.0):.0%} lie in the band (the rule asks {in_band_share:.0%})")
+
 
 def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_BAND_SHARE,
                          grid: Sequence[float] = MARGIN_GRID) -> MarginChoice:
