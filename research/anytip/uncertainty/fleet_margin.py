@@ -65,8 +65,7 @@ class MarginChoice(NamedTuple):
     def shortfall(self, in_band_share: float = IN_BAND_SHARE) -> str | None:
         """Why no margin on the grid met the rule, in words; None where one did (1 included) or
         none was tried (too few learners)."""
-        met = [m for m, n in self.below.items() if n == 0 and self.in_band.get(m, 0.0) >= in_band_share]
-        if met or not self.below:
+        if meeting(self.below, self.in_band, in_band_share) or not self.below:
             return None
         fewest = min(self.below.values())
         if fewest > 0:
@@ -94,8 +93,14 @@ def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_
         width = base * m
         below[m] = int((width < floor).sum())
         in_band[m] = float(((width >= low) & (width <= high)).mean())
-    ok = [m for m in grid if below[m] == 0 and in_band[m] >= in_band_share]
+    ok = meeting(below, in_band, in_band_share)
     return MarginChoice(min(ok) if ok else 1.0, below, in_band)
+
+
+def meeting(below: dict[float, int], in_band: dict[float, float], in_band_share: float) -> list[float]:
+    """The margins of a grid that meet the rule: no left-out unit-output below the floor and at
+    least `in_band_share` of them in the band."""
+    return [m for m, n in below.items() if n == 0 and in_band.get(m, 0.0) >= in_band_share]
 
 
 def pooled_factor(learners: Sequence[Learner]) -> tuple[np.ndarray, MarginChoice]:
