@@ -1724,7 +1724,8 @@ def test_factor_units_learn_the_fleet_factor_beside_the_validation_units(fleet, 
     # a record whose rule found no margin (every grid value leaves two left-out unit-outputs below the
     # floor): calibrate applies the factor alone and says why
     for m in header["meta"]["intervals"]["margin_by_strategy"]["spread"].values():
-        m["margin"], m["below_floor"] = 1.0, {g: 2 for g in m["below_floor"]}
+        # an entry that is no grid value or no number (a lab's hand-edited record) is left out, no traceback
+        m["margin"], m["below_floor"] = 1.0, {**{g: 2 for g in m["below_floor"]}, "x": 0, "1.3": "none"}
     response.with_suffix(".json").write_text(json.dumps(header))
     bare = calibrate_unit(runs[2], unit, fleet, tmp_path / "c2", budget_seconds=40, method="response",
                           interval_level=0.8)
