@@ -3,7 +3,14 @@
 import numpy as np
 import pytest
 
-from anytip.uncertainty.fleet_margin import Learner, factor_ceiling, leave_one_out_margin, pooled_factor
+from anytip.uncertainty.conformal import fleet_factor
+from anytip.uncertainty.fleet_margin import (
+    Learner,
+    factor_ceiling,
+    leave_one_out_margin,
+    left_out_widths,
+    pooled_factor,
+)
 
 
 def gaussian_learner(own: float, sigma: float) -> Learner:
@@ -26,6 +33,19 @@ def test_alike_units_need_no_margin_and_one_hard_unit_asks_for_one():
     assert leave_one_out_margin(alike[:2]).margin == 1.0  # too few to leave one out
     assert leave_one_out_margin(alike).shortfall() is None and got.shortfall() is None
     assert leave_one_out_margin(alike[:2]).shortfall() is None
+
+
+def test_each_left_out_learner_gets_the_factor_of_the_others():
+    """A learner's width left out is its own half-width times the factor of the rest alone: changing
+    its own test rows moves every other learner's width and never its own."""
+    units = [gaussian_learner(1.0 + 0.1 * k, (1 + 0.05 * k) / 1.6449) for k in range(4)]
+    base, floor, low, high = left_out_widths(units)
+    rest = units[1:]
+    factor = fleet_factor(np.stack([u.own for u in rest]), np.stack([u.needed for u in rest]))
+    assert base[0] == pytest.approx(units[0].own * factor)
+    assert (floor[:, 0] < low[:, 0]).all() and (low[:, 0] < high[:, 0]).all()
+    moved = left_out_widths([gaussian_learner(1.0, 2.0 / 1.6449), *rest])[0]
+    assert moved[0] == pytest.approx(base[0]) and (moved[1:] > base[1:]).all()
 
 
 def test_a_margin_the_rule_cannot_find_says_why():

@@ -82,12 +82,7 @@ def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_
     learners (a factor of at least two others), else the margin is 1 and the tables are empty."""
     if len(learners) < 3:
         return MarginChoice(1.0, {}, {})
-    own = np.stack([u.own for u in learners])
-    needed = np.stack([u.needed for u in learners])
-    base = np.stack([u.own * fleet_factor(np.delete(own, k, 0), np.delete(needed, k, 0))
-                     for k, u in enumerate(learners)])  # (U, D) each unit's width from the others
-    floor, low, high = (np.stack([getattr(u, f) for u in learners])
-                        for f in ("at_floor", "at_low", "at_high"))
+    base, floor, low, high = left_out_widths(learners)
     below, in_band = {}, {}
     for m in grid:
         width = base * m
@@ -95,6 +90,17 @@ def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_
         in_band[m] = float(((width >= low) & (width <= high)).mean())
     ok = meeting(below, in_band, in_band_share)
     return MarginChoice(min(ok) if ok else 1.0, below, in_band)
+
+
+def left_out_widths(learners: Sequence[Learner]) -> tuple[np.ndarray, ...]:
+    """Per learner and output (U, D): its half-width from the factor of the others (its own times
+    `conformal.fleet_factor` of the rest), and the half-widths at which its coverage is the floor, the
+    band's lower and its upper edge; needs >= 3 learners."""
+    own = np.stack([u.own for u in learners])
+    needed = np.stack([u.needed for u in learners])
+    base = np.stack([u.own * fleet_factor(np.delete(own, k, 0), np.delete(needed, k, 0))
+                     for k, u in enumerate(learners)])
+    return (base, *(np.stack([getattr(u, f) for u in learners]) for f in ("at_floor", "at_low", "at_high")))
 
 
 def meeting(below: dict[float, int], in_band: dict[float, float], in_band_share: float) -> list[float]:
