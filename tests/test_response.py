@@ -413,7 +413,7 @@ def test_a_saved_response_model_loads_equal_and_a_damaged_one_is_named(made_up, 
 
 
 RESPONSE = "options.response={code_dim: 4, hidden: 32, layers: 2, steps: 200, code_steps: 50, " \
-           "source_rows: 500, inverse_epochs: 2}"
+           "source_rows: 500, rows_per_step: 1024, inverse_epochs: 2}"
 
 
 @pytest.fixture(scope="module")
@@ -1051,7 +1051,8 @@ def test_response_transfer_runs_on_a_registry_written_from_the_format_alone(tmp_
 
     def response(steps: int, rows: int, epochs: int) -> str:
         return (f"options.response={{code_dim: 4, hidden: 32, layers: 2, steps: {steps}, "
-                f"source_rows: {rows}, inverse_epochs: {epochs}, inverse_start: {start}{free}}}")
+                f"source_rows: {rows}, rows_per_step: 1024, inverse_epochs: {epochs}, inverse_start: {start}"
+                f"{free}}}")
 
     over += [response(1500, 2000, 10), "data.protocol=null", "options.calibration_protocol=null",
              "options.budgets=[0,20]", f"options.plan_strategies={strategies}"]
@@ -1232,7 +1233,7 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     registry = Registry(tmp_path / "reg")
     simulate_into(registry, FleetConfig(), 8, seed=21, protocols=("short",))
     over = [*SECONDS, RESPONSE.replace("}", ", transfer_from: registry}"), "options.fits=[{}]",
-            "options.adapters=[input_affine+film]", "options.plan_strategies=[spread]"]
+            "options.adapters=[]", "options.plan_strategies=[spread]"]
     run = run_experiment(SPEC, registry, out=tmp_path / "run", overrides=over, progress=False)
     monkeypatch.syspath_prepend(str(REPO / "scripts"))  # its worker processes import it by name
     many = importlib.import_module("response_many_units")
@@ -1256,7 +1257,7 @@ def test_response_models_of_many_simulated_units_take_the_registrys_rows_and_res
     assert check.main([str(run), "--registry", str(registry.root), "--log", str(log)]) == 0
     (tmp_path / "none.json").write_text(json.dumps({"registry_rows_sha256": {}}))  # nothing to compare
     assert check.main([str(run), "--registry", str(registry.root), "--log", str(tmp_path / "none.json")]) == 1
-    model = out / "run_seed0_extra2_rps4096.safetensors"
+    model = out / "run_seed0_extra2_rps1024.safetensors"
     assert load_response(model).meta["unit_ids"] == [*sd.train.unit_ids, "SIM22-000", "SIM22-001"]
     # --extra-store: the first call keeps the extra units' registries, the next reads them back;
     # both give the model of a fresh simulation byte for byte, and a store without a unit is named
