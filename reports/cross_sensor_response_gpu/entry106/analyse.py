@@ -37,6 +37,22 @@ def rows_by_unit(runs: list[Path], method: str) -> dict[str, dict[str, Any]]:
     return {r["unit"]: r for r in FOLD_TABLE["rows_of"](runs) if r["method"] == method}
 
 
+def factors(run: Path, seed: int) -> str:
+    """A fold's fleet factors and leave-one-out margins, plan alone and with ordinary use, as recorded."""
+    header = read_json(run / f"models/response_seed{seed}.json")
+    iv = header.get("meta", header)["intervals"]
+
+    def line(prefix: str, label: str) -> str:
+        factor, margin = (iv[f"{prefix}{k}_by_strategy"]["cover_informative"]["120"]
+                          for k in ("fleet_factor", "margin"))
+        band = ", ".join(f"{m} {v:.0%}" for m, v in margin["in_band"].items())
+        cells = ", ".join(f"{o} {factor[o]:.2f}" for o in OUTPUTS)
+        return (f"  fold {seed} {label}: factor {cells}; margin {margin['margin']:g} "
+                f"(below 0.80 by margin: {margin['below_floor']}; in band: {band})")
+
+    return "\n".join(line(prefix, label) for prefix, label in (("", "plan alone"), ("use_", "with use")))
+
+
 def same(mine: dict[str, dict[str, Any]], theirs: dict[str, dict[str, Any]], keys: list[str]) -> str:
     """How many units give equal `keys` in both, and the largest relative difference."""
     if set(mine) != set(theirs):
@@ -56,21 +72,6 @@ def rule_1() -> str:
     lines.append(f"  {METHODS[0]} interval fields against entry 104: "
                  f"{same(rows_by_unit(RUNS, METHODS[0]), rows_by_unit(PLAN_CONTROL, METHODS[0]), fields)}")
     return "rule 1:\n" + "\n".join(lines)
-
-
-def factors(run: Path, seed: int) -> str:
-    """A fold's fleet factors and leave-one-out margins, plan alone and with ordinary use, as recorded."""
-    rec = read_json(run / f"models/response_seed{seed}.json")
-    iv = rec.get("meta", rec)["intervals"]
-    lines = []
-    for prefix, label in (("", "plan alone"), ("use_", "with use")):
-        factor = iv[f"{prefix}fleet_factor_by_strategy"]["cover_informative"]["120"]
-        margin = iv[f"{prefix}margin_by_strategy"]["cover_informative"]["120"]
-        cells = ", ".join(f"{o} {factor[o]:.2f}" for o in OUTPUTS)
-        lines.append(f"  fold {seed} {label}: factor {cells}; margin {margin['margin']:g} "
-                     f"(below 0.80 by margin: {margin['below_floor']}; in band: "
-                     + ", ".join(f"{m} {v:.0%}" for m, v in margin["in_band"].items()) + ")")
-    return "\n".join(lines)
 
 
 def below(rows: dict[str, dict[str, Any]], kind: str) -> list[str]:
