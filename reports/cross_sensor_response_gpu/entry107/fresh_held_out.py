@@ -1,0 +1,71 @@
+"""Research log entry 107: a finished run's fold scored on fresh held-out units, its learners as they were.
+
+The run's fold (its seed) keeps its training, validation and factor units, its spec and its response
+model (the run's own, `models/response_seed<seed>.safetensors`); its held-out units become the registry's
+units whose ids start with PREFIX, the slice FROM:TO of them in sorted order (units simulated for this,
+never trained on, never scored). Every held-out unit is calibrated as `scripts/rescore_response.py`
+calibrates one, with the intervals the spec asks for (the learners' fleet factor and margin), and the
+held-out rows (no per-unit references: only their intervals are read) and the learners' record are written
+to OUT/rows.json and OUT/models/. Usage, from the repository root:
+
+    python reports/cross_sensor_response_gpu/entry107/fresh_held_out.py RUN --registry REG --prefix SIM42- \\
+        --units 0:32 --out OUT
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import torch
+
+import anytip.train.shared_split as shared_split
+from anytip.config import load_spec
+from anytip.data.registry import Registry
+from anytip.data.splits import UnitSplit
+from anytip.models.io import load_response
+from anytip.pipelines.common import Context, load
+from anytip.pipelines.cross_sensor import min_units, prepare
+from anytip.pipelines.cross_sensor_options import parse_options
+from anytip.pipelines.cross_sensor_response import response_rows
+from anytip.rundir import read_json, write_json
+from anytip.train.response import ResponseFit
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", type=Path)
+    parser.add_argument("--registry", type=Path, required=True)
+    parser.add_argument("--prefix", required=True, help="the fresh held-out units' id prefix")
+    parser.add_argument("--units", required=True, help="FROM:TO, the slice of those units (sorted) held out")
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args()
+    torch.set_num_threads(1)
+    start = time.perf_counter()
+    spec = load_spec(args.run / "config.yaml", ["options.adapters=[]"])
+    args.out.mkdir(parents=True, exist_ok=True)
+    ctx = Context(spec, Registry(args.registry, create=False), args.out, torch.device("cpu"), False,
+                  {"spec_file": str(args.run / "config.yaml")})
+    opts = parse_options(ctx)
+    arrays = load(ctx, min_units(ctx))
+    (seed,) = spec.all_seeds
+    was = read_json(args.run / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
+    first, last = (int(v) for v in args.units.split(":"))
+    fresh = sorted(u for u in arrays.units if u.startswith(args.prefix))[first:last]
+    clash = set(fresh) & {u for role in was.values() for u in role}
+    if not fresh or clash:
+        raise SystemExit(f"no units {args.prefix}* in {args.units}, or some are the run's own: "
+                         f"{sorted(clash)}")
+    split = UnitSplit(tuple(was["train"]), tuple(was["val"]), tuple(fresh), tuple(was.get("factor", ())))
+    shared_split.split_units = lambda *_, **__: split  # the run's learners, fresh held-out units
+    sd = prepare(ctx, arrays, opts, seed)
+    path = args.run / "models" / f"response_seed{seed}.safetensors"
+    got = response_rows(ctx, arrays, sd, opts, seed, ResponseFit.from_loaded(load_response(path)))
+    write_json(args.out / "rows.json", {"run": str(args.run), "seed": seed, "units": split.to_json(),
+                                         "rows": got.rows, "wall_s": round(time.perf_counter() - start, 1)})
+    print(f"seed {seed}: {len(fresh)} fresh held-out units in {time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
