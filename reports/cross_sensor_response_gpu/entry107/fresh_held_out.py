@@ -15,22 +15,20 @@ to OUT/rows.json and OUT/models/. Usage, from the repository root:
 from __future__ import annotations
 
 import argparse
+import runpy
 import time
 from pathlib import Path
 
-import torch
-
 import anytip.train.shared_split as shared_split
-from anytip.config import load_spec
-from anytip.data.registry import Registry
 from anytip.data.splits import UnitSplit
 from anytip.models.io import load_response
-from anytip.pipelines.common import Context, load
-from anytip.pipelines.cross_sensor import min_units, prepare
-from anytip.pipelines.cross_sensor_options import parse_options
+from anytip.pipelines.cross_sensor import prepare
 from anytip.pipelines.cross_sensor_response import response_rows
-from anytip.rundir import read_json, write_json
+from anytip.rundir import write_json
 from anytip.train.response import ResponseFit
+
+# entry 98's driver: a finished run's fold (its spec, one CPU thread, the registry's arrays, its unit roles)
+FOLD_OF = runpy.run_path("reports/cross_sensor_response_gpu/entry98/more_val.py")["fold_of"]
 
 
 def main() -> None:
@@ -41,16 +39,8 @@ def main() -> None:
     parser.add_argument("--units", required=True, help="FROM:TO, the slice of those units (sorted) held out")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
-    torch.set_num_threads(1)
     start = time.perf_counter()
-    spec = load_spec(args.run / "config.yaml", ["options.adapters=[]"])
-    args.out.mkdir(parents=True, exist_ok=True)
-    ctx = Context(spec, Registry(args.registry, create=False), args.out, torch.device("cpu"), False,
-                  {"spec_file": str(args.run / "config.yaml")})
-    opts = parse_options(ctx)
-    arrays = load(ctx, min_units(ctx))
-    (seed,) = spec.all_seeds
-    was = read_json(args.run / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
+    ctx, opts, arrays, seed, was = FOLD_OF(args.run, args.registry, args.out, [])
     first, last = (int(v) for v in args.units.split(":"))
     fresh = sorted(u for u in arrays.units if u.startswith(args.prefix))[first:last]
     clash = set(fresh) & {u for role in was.values() for u in role}

@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import time
 from pathlib import Path
+from typing import Any
 
 import torch
 
@@ -35,6 +36,20 @@ from anytip.rundir import read_json, write_json
 from anytip.train.response import ResponseFit
 
 
+def fold_of(run: Path, registry: Path, out: Path,
+            overrides: list[str]) -> tuple[Context, Any, Any, int, dict]:
+    """A finished run's fold on one CPU thread, written to `out`: its context (the run's spec with
+    `overrides`, no adapters), options, the registry's arrays, its seed and its recorded unit roles."""
+    torch.set_num_threads(1)
+    spec = load_spec(run / "config.yaml", [*overrides, "options.adapters=[]"])
+    out.mkdir(parents=True, exist_ok=True)
+    ctx = Context(spec, Registry(registry, create=False), out, torch.device("cpu"), False,
+                  {"spec_file": str(run / "config.yaml")})
+    (seed,) = spec.all_seeds
+    was = read_json(run / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
+    return ctx, parse_options(ctx), load(ctx, min_units(ctx)), seed, was
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("run", type=Path)
@@ -45,17 +60,9 @@ def main() -> None:
     parser.add_argument("--response-model",
                         help="the seed's response model from this file ({seed}: the seed), not the run's own")
     args = parser.parse_args()
-    torch.set_num_threads(1)
     start = time.perf_counter()
-    spec = load_spec(args.run / "config.yaml",
-                     [*args.overrides, "options.adapters=[]", "options.extra_units=null"])
-    args.out.mkdir(parents=True, exist_ok=True)
-    ctx = Context(spec, Registry(args.registry, create=False), args.out, torch.device("cpu"), False,
-                  {"spec_file": str(args.run / "config.yaml")})
-    opts = parse_options(ctx)
-    arrays = load(ctx, min_units(ctx))
-    (seed,) = spec.all_seeds
-    was = read_json(args.run / "provenance.json")["cross_sensor"][f"seed{seed}"]["units"]
+    ctx, opts, arrays, seed, was = fold_of(args.run, args.registry, args.out,
+                                           [*args.overrides, "options.extra_units=null"])
     added = sorted(u for u in arrays.units if u.startswith(args.prefix))
     clash = set(added) & {*was["train"], *was["val"], *was["test"]}
     if not added or clash:
