@@ -20,7 +20,7 @@ import numpy as np
 from anytip.pipelines.cross_sensor_jobs import band_edges, needed_key
 from anytip.rundir import read_json
 from anytip.uncertainty.conformal import fleet_factor
-from anytip.uncertainty.fleet_margin import IN_BAND_SHARE, MARGIN_GRID, Learner, left_out_widths
+from anytip.uncertainty.fleet_margin import IN_BAND_SHARE, MARGIN_GRID, Learner, left_out_widths, meeting
 
 G = Path("reports/cross_sensor_response_gpu")
 RUNS = [G / f"entry106/fleet88_cpu_use/fleet88_seed{k}" for k in (0, 1)]
@@ -87,8 +87,10 @@ def output_margins(learners: list[Learner]) -> np.ndarray:
     base, floor, low, high = left_out_widths(learners)
     out = []
     for d in range(base.shape[1]):
-        ok = [m for m in MARGIN_GRID if not (base[:, d] * m < floor[:, d]).any()
-              and np.mean((base[:, d] * m >= low[:, d]) & (base[:, d] * m <= high[:, d])) >= IN_BAND_SHARE]
+        width = {m: base[:, d] * m for m in MARGIN_GRID}
+        below = {m: int((w < floor[:, d]).sum()) for m, w in width.items()}
+        in_band = {m: float(((w >= low[:, d]) & (w <= high[:, d])).mean()) for m, w in width.items()}
+        ok = meeting(below, in_band, IN_BAND_SHARE)  # the learners' rule, one output at a time
         out.append(min(ok) if ok else 1.0)
     return np.array(out)
 

@@ -95,7 +95,7 @@ def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_
 def left_out_widths(learners: Sequence[Learner]) -> tuple[np.ndarray, ...]:
     """Per learner and output (U, D): its half-width from the factor of the others (its own times
     `conformal.fleet_factor` of the rest), and the half-widths at which its coverage is the floor, the
-    band's lower and its upper edge; needs >= 3 learners."""
+    band's lower and its upper edge; needs >= 2 learners (each left out needs another's factor)."""
     own = np.stack([u.own for u in learners])
     needed = np.stack([u.needed for u in learners])
     base = np.stack([u.own * fleet_factor(np.delete(own, k, 0), np.delete(needed, k, 0))
