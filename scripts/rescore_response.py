@@ -94,14 +94,17 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
     of every unit: the held-out units are then tested on its rows alone, and `references` (a directory
     with the run's saved per-unit references, `per_unit_seed<s>[_lr<j>]`) scores each reference
     again on them, with the learning rate the run kept for its unit (without a test session, on the
-    run's own test rows: the run's rows back, a check of the saved references)."""
+    run's own test rows: the run's rows back, a check of the saved references). A test session
+    without `references` needs `paired_only`: the rows then keep the run's references, scored on
+    its own test rows, and only the rescored methods compare (a run that saved no references)."""
     wrong = [p for p in added if not (is_designed(p) or is_test_session(p))]
     if wrong:
         raise AnytipError(f"--added-protocol {wrong[0]}: only a designed calibration's runs (plan<seconds>) "
                           "or a test session's (retest) may join a rescoring: no unit is trained on them")
-    if any(map(is_test_session, added)) and references is None:
+    if any(map(is_test_session, added)) and references is None and not paired_only:
         raise AnytipError("a test session (--added-protocol retest) moves the held-out units' test rows, so "
-                          "their references are scored again: give --references with it")
+                          "their references are scored again: give --references with it (or --paired-only, "
+                          "whose rows compare only with each other)")
     if retrain and response_model:
         raise AnytipError("--retrain and --response-model exclude each other")
     said = rescored_from(run, overrides, retrain, response_model, added)
@@ -254,7 +257,8 @@ def main(argv: list[str] | None = None) -> int:
                              "check that its runs are the run's; the rows then compare only with each other")
     parser.add_argument("--references", type=Path, metavar="DIR",
                         help="the run's saved per-unit references (per_unit_seed<s>[_lr<j>]), scored "
-                             "again on the held-out units' test rows (needed with --added-protocol retest)")
+                             "again on the held-out units' test rows (needed with --added-protocol retest, "
+                             "unless --paired-only)")
     parser.add_argument("--response-model", help="each seed's response model from this file ({seed} is "
                         "replaced by the seed) instead of the run's")
     args = parser.parse_args(argv)

@@ -726,7 +726,8 @@ def test_a_test_session_moves_the_test_rows_and_the_references_are_scored_again_
                                                                                          tmp_path, capsys):
     """With every unit's test session (`retest`) added, the rescoring tests the held-out units on its rows:
     the run's saved references are scored again there (on the run's own rows they give its rows back),
-    and a test session without them is refused."""
+    and a test session without them is refused, unless the rows are to compare only with each other
+    (`--paired-only`: the run's references kept, the rescored methods' rows as with them)."""
     import importlib.util
 
     from anytip.data.simulated import simulate_into
@@ -757,6 +758,12 @@ def test_a_test_session_moves_the_test_rows_and_the_references_are_scored_again_
         assert all(x["force_rmse_n"] != y["force_rmse_n"] for x, y in zip(a, b, strict=True))
     assert [r.get("reference_lr") for r in then if r["method"] == "per_unit"] == [
         r.get("reference_lr") for r in now if r["method"] == "per_unit"]
+    alone = tmp_path / "alone"  # a run that saved no references: the rescored methods compare alone
+    assert rescore.main([*command, str(alone), "--paired-only"]) == 0
+    rows = json.loads((alone / "metrics.json").read_text())["results"]
+    assert [r for r in rows if r["method"] == "per_unit"] == [r for r in then if r["method"] == "per_unit"]
+    assert [r for r in rows if r["method"] != "per_unit"] == [r for r in now if r["method"] != "per_unit"]
+    assert (alone / "report.md").read_text().startswith(f"> {rescore.PAIRED_ONLY_NOTE}")
     table = _script("fold_table")  # paired with the run, the references as well, only when asked
     with pytest.raises(SystemExit, match="references differ"):
         table.main([str(out), "--against", str(response_run)])
