@@ -30,6 +30,7 @@ from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import joined_fits
 from anytip.train.metrics import predict
 from anytip.train.response import (
+    PlanMisfit,
     ResponseFit,
     ResponseRecipe,
     calibrate_by_response,
@@ -37,6 +38,7 @@ from anytip.train.response import (
     drawn_codes,
     fit_codes,
     plan_correction,
+    plan_misfit,
     press_information,
     residual_rms,
     source_rows,
@@ -231,7 +233,8 @@ def test_a_plans_correction_carries_a_misfit_its_codes_cannot_to_the_transferred
     """A new unit whose barometers also read a smooth bump over the place, which no code of the
     fleet's response gives: the correction learnt from its plan's residuals predicts most of that
     misfit on other rows, falls to zero far from every press, and is what `transferred` adds to
-    `transfer` (nothing without a kernel length)."""
+    `transfer` (nothing without a kernel length). Its query rows' kernel in float32 stays within the
+    rounding bound of float64's (`float32_kernel_bound`)."""
     data, _, fit = made_up
     g = torch.Generator().manual_seed(7)
     y = labels(1300, g)
@@ -245,6 +248,11 @@ def test_a_plans_correction_carries_a_misfit_its_codes_cannot_to_the_transferred
     misfit = x[other] - fit.model(y[other], codes).detach()
     corrected = misfit - plan_correction(fit, x[plan], y[plan], codes, y[other], scale, recipe)
     assert corrected.pow(2).mean().sqrt() < 0.5 * misfit.pow(2).mean().sqrt()
+    exact = plan_correction(fit, x[plan], y[plan], codes, y[other], scale, recipe, torch.float64)
+    assert not torch.equal(misfit - corrected, exact)  # the float32 query kernel is the default
+    assert ((misfit - corrected - exact).abs() <= float32_kernel_bound(
+        plan_misfit(fit, x[plan], y[plan], codes, scale, recipe), y[other], recipe.residual_length)
+        + 2**-24 * exact.abs()).all()
     far = y[other][:5].clone()
     far[:, 3:] = 40.0  # a place no press came near
     assert plan_correction(fit, x[plan], y[plan], codes, far, scale, recipe).abs().max() < 1e-6
@@ -256,6 +264,22 @@ def test_a_plans_correction_carries_a_misfit_its_codes_cannot_to_the_transferred
     assert added.abs().max() > 10
     off = transferred(fit, source, codes, x[plan], y[plan], FAST_FIT)
     assert torch.equal(off, transfer(fit, source, codes))
+
+
+def float32_kernel_bound(misfit: PlanMisfit, queries: torch.Tensor, length: float) -> torch.Tensor:
+    """(q, C): how far `plan_correction`'s float32 evaluation at `queries` (q, D) may lie from its float64
+    one, by float32 rounding (u = 2^-24) of each step: the standardised contacts a and points p rounded
+    (u each) and the squared distance |a|^2 + |p|^2 - 2 a.p over D coordinates, at most (2D + 8) u
+    (|a| + |p|)^2; the exponent's division (u |d2| / 2l^2) and exp's own two ulps; the product with the
+    rounded weights over n points, (n + 4) u sum |K w|. Each term times the kernel K and |w|, summed over
+    the points, with 1% to spare for second-order terms."""
+    u, (n, d) = 2.0**-24, misfit.points.shape
+    a = (queries.double() - misfit.mean) / misfit.std
+    d2 = torch.cdist(a, misfit.points) ** 2
+    k = torch.exp(-d2 / (2 * length**2))
+    reach = (a.norm(dim=1, keepdim=True) + misfit.points.norm(dim=1)) ** 2
+    relative = (2 * d + 8) * u * reach / (2 * length**2) + u * d2 / (2 * length**2) + (n + 4) * u
+    return 1.01 * (k * relative) @ misfit.weights.abs()
 
 
 @pytest.mark.parametrize("solver", ["gauss_newton", "adam"])

@@ -506,33 +506,54 @@ def transfer(fit: ResponseFit, source: SourceRows, codes: Tensor) -> Tensor:
 RESIDUAL_CHUNK = 8192  # query rows per kernel block in `plan_correction` (bounds memory)
 
 
-def plan_correction(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, queries: Tensor,
-                    scale: tuple[Tensor, Tensor], recipe: ResponseRecipe) -> Tensor:
-    """(q, C) Pa: a unit's misfit at contacts `queries` (q, D) as its plan tells it: the posterior mean
-    of a zero-mean Gaussian process, one per barometer, through the plan's residuals about the unit's
-    response with `codes` (C, k) at its rows X (n, C) Pa, Y (n, D), on at most `recipe.residual_rows`
-    of them evenly spaced. Kernel: squared exponential of length `recipe.residual_length` over
-    contacts standardised by `scale` (mean, std, each (D,)); noise variance `recipe.residual_ratio`
-    times the kernel's. Far from every press the correction falls to zero (research log entry 101)."""
+class PlanMisfit(NamedTuple):
+    """The plan's misfit as `plan_correction` learns it: its contacts standardised (n, D) and the Gaussian
+    process's weights (n, C) through them, float64, and the standardisation's mean and std (D,)."""
+
+    points: Tensor
+    weights: Tensor
+    mean: Tensor
+    std: Tensor
+
+
+def plan_misfit(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, scale: tuple[Tensor, Tensor],
+                recipe: ResponseRecipe) -> PlanMisfit:
+    """What `plan_correction` learns from a unit's plan: a zero-mean Gaussian process per barometer
+    through the plan's residuals about the unit's response with `codes` (C, k) at its rows X (n, C) Pa,
+    Y (n, D), on at most `recipe.residual_rows` of them evenly spaced, solved in float64."""
     take = evenly_spaced(len(Y), recipe.residual_rows).to(Y.device)
     mean, std = (t.to(fit.device, torch.float64) for t in scale)
     points = (Y[take].to(fit.device, torch.float64) - mean) / std
     fitted = respond(fit.model, Y[take].to(fit.device), codes.to(fit.device))
     resid = (X[take].to(fit.device) - fitted).double()
-
-    norms = points.pow(2).sum(1)
-
-    def kernel(a: Tensor) -> Tensor:
-        # the squared distances as |a|^2 + |p|^2 - 2 a.p, as cdist's own product path computes them,
-        # without its root and a square after it; in place: the (chunk, n) block is the correction's
-        # whole cost, and each pass allocating another block doubles it
-        d2 = torch.addmm(norms, a, points.T, alpha=-2).add_(a.pow(2).sum(1, keepdim=True)).clamp_min_(0)
-        return d2.div_(-2 * recipe.residual_length**2).exp_()
-
     noise = recipe.residual_ratio * torch.eye(len(points), dtype=torch.float64, device=fit.device)
-    gram = kernel(points) + noise
-    weights = torch.cholesky_solve(resid, torch.linalg.cholesky(gram))
-    out = [kernel((queries[a:a + RESIDUAL_CHUNK].to(fit.device, torch.float64) - mean) / std) @ weights
+    gram = _kernel(points, points, recipe.residual_length) + noise
+    return PlanMisfit(points, torch.cholesky_solve(resid, torch.linalg.cholesky(gram)), mean, std)
+
+
+def _kernel(a: Tensor, p: Tensor, length: float) -> Tensor:
+    """(m, n): exp(-|a_i - p_j|^2 / (2 length^2)) of rows a (m, D), p (n, D), in their dtype."""
+    # the squared distances as |a|^2 + |p|^2 - 2 a.p, as cdist's own product path computes them,
+    # without its root and a square after it; in place: the (chunk, n) block is the correction's
+    # whole cost, and each pass allocating another block doubles it
+    d2 = torch.addmm(p.pow(2).sum(1), a, p.T, alpha=-2).add_(a.pow(2).sum(1, keepdim=True)).clamp_min_(0)
+    return d2.div_(-2 * length**2).exp_()
+
+
+def plan_correction(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, queries: Tensor,
+                    scale: tuple[Tensor, Tensor], recipe: ResponseRecipe,
+                    query_dtype: torch.dtype = torch.float32) -> Tensor:
+    """(q, C) Pa: a unit's misfit at contacts `queries` (q, D) as its plan tells it: the posterior mean
+    of the Gaussian process `plan_misfit` fits to the plan's residuals. Kernel: squared exponential
+    of length `recipe.residual_length` over contacts standardised by `scale` (mean, std, each (D,));
+    noise variance `recipe.residual_ratio` times the kernel's. Far from every press the correction
+    falls to zero (research log entry 101). The query rows' kernel and its product with the weights
+    are evaluated in `query_dtype`: float32 takes half of float64's time over the source rows, the
+    correction's whole cost (research log entry 109); `tests/test_response.py` bounds the difference."""
+    misfit = plan_misfit(fit, X, Y, codes, scale, recipe)
+    near, weights = misfit.points.to(query_dtype), misfit.weights.to(query_dtype)
+    out = [_kernel(((queries[a:a + RESIDUAL_CHUNK].to(fit.device, torch.float64) - misfit.mean) / misfit.std)
+                   .to(query_dtype), near, recipe.residual_length) @ weights
            for a in range(0, len(queries), RESIDUAL_CHUNK)]
     return torch.cat(out).to(X.dtype) if out else X.new_zeros(0, X.shape[1])
 
