@@ -29,18 +29,19 @@ WATCHED = ("SIM40-019", "fy")
 ALSO = ("SIM40-019", "SIM40-006")  # the two below 0.80 in entry 106
 FLOOR, LOW, HIGH = band_edges(0.9)
 FOLD_TABLE = runpy.run_path("scripts/fold_table.py")  # its functions, not its command line
-ANALYSE_106 = runpy.run_path(str(G / "entry106/analyse.py"))
-
-
-def rows_by_unit(runs: list[Path], method: str) -> dict[str, dict[str, Any]]:
-    """The runs' `method` rows by unit."""
-    return {r["unit"]: r for r in FOLD_TABLE["rows_of"](runs) if r["method"] == method}
+ANALYSE_106 = runpy.run_path(str(G / "entry106/analyse.py"))  # its rows_by_unit, same, below, factors
+rows_by_unit = ANALYSE_106["rows_by_unit"]
+row_log_ratio = runpy.run_path(str(G / "entry108/tail_persistence.py"))["log_ratio"]
 
 
 def log_ratio(rows: dict[str, dict[str, Any]]) -> np.ndarray:
     """(U, D) log(needed80 / own) per unit (sorted by name) and output."""
-    return np.log([[rows[u][f"{o}_needed80_halfwidth"] / rows[u][f"{o}_halfwidth"] for o in OUTPUTS]
-                   for u in sorted(rows)])
+    return np.stack([row_log_ratio(rows[u]) for u in sorted(rows)])
+
+
+def rank(values: np.ndarray, units: list[str], unit: str) -> int:
+    """`unit`'s rank among `units` by `values` (U,), 1 the largest."""
+    return int((values > values[units.index(unit)]).sum()) + 1
 
 
 def rule_1() -> str:
@@ -58,25 +59,23 @@ def rule_2(method: str = METHODS[0]) -> str:
     a, b = log_ratio(then), log_ratio(now)
     corr = [float(np.corrcoef(a[:, d], b[:, d])[0, 1]) for d in range(len(OUTPUTS))]
     units, d = sorted(now), OUTPUTS.index(WATCHED[1])
-    rank = int((b[:, d] > b[units.index(WATCHED[0]), d]).sum()) + 1
-    rank_then = int((a[:, d] > a[units.index(WATCHED[0]), d]).sum()) + 1
+    now_rank, rank_then = rank(b[:, d], units, WATCHED[0]), rank(a[:, d], units, WATCHED[0])
     other = METHODS[1] if method == METHODS[0] else METHODS[0]
     same_rows = log_ratio(rows_by_unit(BEFORE, other))
     ref = [float(np.corrcoef(a[:, k], same_rows[:, k])[0, 1]) for k in range(len(OUTPUTS))]
     fy = corr[d]
-    verdict = ("the unit" if rank <= 5 and fy >= 0.5 else "the session" if rank > 10 and fy < 0.3
+    verdict = ("the unit" if now_rank <= 5 and fy >= 0.5 else "the session" if now_rank > 10 and fy < 0.3
                else "undecided")
     top = [units[i] for i in np.argsort(-b[:, d])[:5]]
     # where both sessions' noise is alike, 1 - correlation is the session's share of the units' variance
     share = ", ".join(f"{o} {1 - c:.2f}" for o, c in zip(OUTPUTS, corr, strict=True))
-    ranks = ", ".join(f"{u} {int((a[:, d] > a[units.index(u), d]).sum()) + 1} -> "
-                      f"{int((b[:, d] > b[units.index(u), d]).sum()) + 1}" for u in ALSO)
+    ranks = ", ".join(f"{u} {rank(a[:, d], units, u)} -> {rank(b[:, d], units, u)}" for u in ALSO)
     return (f"rule 2 ({method}, {len(units)} held-out units):\n"
             f"  correlation of log(needed80 / own), entry 106's test rows against the session's: "
             + ", ".join(f"{o} {c:.2f}" for o, c in zip(OUTPUTS, corr, strict=True))
             + f"\n  for reference, entry 106's {method} against its {other}, on the same test rows: "
             + ", ".join(f"{o} {c:.2f}" for o, c in zip(OUTPUTS, ref, strict=True))
-            + f"\n  {' '.join(WATCHED)}: rank {rank} of {len(units)} in the session (entry 106: "
+            + f"\n  {' '.join(WATCHED)}: rank {now_rank} of {len(units)} in the session (entry 106: "
             f"{rank_then}); the session's top 5 in fy: {', '.join(top)}\n  verdict: {verdict}\n"
             f"  also read: 1 - correlation (the session's share of the variance, if alike in both): {share}\n"
             f"  fy ranks, entry 106 -> the session: {ranks}")
@@ -87,8 +86,7 @@ def intervals(runs: list[Path], method: str) -> str:
     exact method's share in band."""
     rows = rows_by_unit(runs, method)
     cover = np.array([[r[f"{o}_margin_coverage"] for o in OUTPUTS] for r in rows.values()])
-    low = [f"{u} {o} {r[f'{o}_margin_coverage']:.3f}" for u, r in sorted(rows.items()) for o in OUTPUTS
-           if r[f"{o}_margin_coverage"] < FLOOR]
+    low = ANALYSE_106["below"](rows, "margin")
     exact = exact_share(list(rows.values()))
     return (f"  {method}: {np.mean((cover >= LOW) & (cover <= HIGH)):.1%} of {cover.size} in [{LOW:.2f}, "
             f"{HIGH:.2f}], {len(low)} below {FLOOR:.2f} ({', '.join(low) or 'none'}); "

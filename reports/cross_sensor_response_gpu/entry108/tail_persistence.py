@@ -26,14 +26,19 @@ OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
 WATCHED = ("SIM40-019", "SIM40-006")
 
 
+def log_ratio(row: dict) -> np.ndarray:
+    """(D,) a held-out row's log(needed80 / own) per output: how much wider than its plan's own
+    half-width its test rows needed the interval at the floor."""
+    return np.log([row[f"{o}_needed80_halfwidth"] / row[f"{o}_halfwidth"] for o in OUTPUTS])
+
+
 def log_ratios(arm: str) -> dict[str, dict[str, np.ndarray]]:
-    """Per method of `arm`'s two folds at 120 s: {unit: log(needed80 / own) per output (D,)}."""
+    """Per method of `arm`'s two folds at 120 s: {unit: `log_ratio` (D,)}."""
     out: dict[str, dict[str, np.ndarray]] = {}
     for fold in (0, 1):
         for r in read_json(G / arm / f"fleet88_seed{fold}" / "metrics.json")["results"]:
             if r["method"].startswith("response") and r.get("budget_s") == 120.0 and "fy_halfwidth" in r:
-                out.setdefault(r["method"], {})[r["unit"]] = np.log(
-                    [r[f"{o}_needed80_halfwidth"] / r[f"{o}_halfwidth"] for o in OUTPUTS])
+                out.setdefault(r["method"], {})[r["unit"]] = log_ratio(r)
     return out
 
 
