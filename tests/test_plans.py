@@ -246,7 +246,8 @@ def test_a_designed_calibrations_runs_are_a_plan_of_their_own_never_stream_test_
 def test_a_test_sessions_runs_hold_a_units_test_rows_alone_and_nothing_else_reads_them(tmp_path):
     """Units with a test session (`retest`) beside their calibration runs: their test rows are that
     session's rows in their test patches, and no stream, plan, training or reference row comes from
-    the session; its test patches stay out of every other run's rows that a plan or reference reads."""
+    the session; its test patches stay out of every other run's rows that a plan or reference reads.
+    With `test_rows: all_sessions` they are their main rows and the session's there, and only they move."""
     from anytip.train.shared_split import Roles, main_rows, prepare_seed
 
     registry = Registry(tmp_path / "r")
@@ -266,6 +267,15 @@ def test_a_test_sessions_runs_hold_a_units_test_rows_alone_and_nothing_else_read
         assert cover.presses > 0 and not session[cover.rows].any()
     for unit in sd.split.train:
         assert not session[calibration_stream(arrays, unit, None).rows].any()
+    both = prepare_seed(arrays, Roles(1, 1, None, 0.25, 0.1, test_rows="all_sessions"), None, False, seed=0)
+    for unit, ev in both.evals.items():  # both sessions' rows at the same test patches, nothing else moves
+        mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+        at = np.isin(arrays.patch[mine], ev.test_cells)
+        main = mine[at & main_rows(arrays, None)[mine]]
+        assert len(main) and np.array_equal(ev.test_rows, np.concatenate([main, sd.evals[unit].test_rows]))
+        np.testing.assert_array_equal(ev.test_cells, sd.evals[unit].test_cells)
+        np.testing.assert_array_equal(ev.stream.rows, sd.evals[unit].stream.rows)
+        np.testing.assert_array_equal(ev.presses.rows, sd.evals[unit].presses.rows)
 
 
 def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_path):

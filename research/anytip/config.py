@@ -69,6 +69,10 @@ class SplitConfig(Strict):
     random_test_fraction: float = Field(default=0.1, gt=0, lt=1)  # the paper's 90/10 rows
     patch_test_fraction: float = Field(default=0.2, gt=0, lt=1)  # whole held-out patches
     val_fraction: float = Field(default=0.1, gt=0, lt=1)  # of training rows, for early stopping
+    # a validation or held-out unit's test rows at its test patches: its test session's (`retest`) where it
+    # has one, else its main rows' (`test_session`); or both sessions' rows (`all_sessions`), so that a
+    # unit-output's coverage carries less of one session's draw
+    test_rows: Literal["test_session", "all_sessions"] = "test_session"
 
 
 class ExperimentSpec(Strict):

@@ -117,7 +117,8 @@ def roles_of(ctx: Context, opts: Options) -> Roles:
     """The spec's unit roles and row fractions, as `prepare_seed` takes them."""
     s = ctx.spec.splits
     return Roles(s.n_val_units, s.n_test_units, s.n_train_units, s.patch_test_fraction, s.val_fraction,
-                 s.unit_folds, opts.unlabeled_s, opts.intervals.factor_units if opts.intervals else 0)
+                 s.unit_folds, opts.unlabeled_s, opts.intervals.factor_units if opts.intervals else 0,
+                 s.test_rows)
 
 
 def shared_shape(ctx: Context, opts: Options) -> MLPConfig:

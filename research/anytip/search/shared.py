@@ -59,7 +59,7 @@ def prepare_shared(arrays: FleetArrays, opts: SearchOptions, splits: Any, seed: 
     """Deal units (n_search_units as validation units, n_test_units held out) and build tensors;
     `splits` gives the row fractions (the spec's `splits`)."""
     roles = Roles(opts.n_search_units, opts.n_test_units, opts.n_train_units, splits.patch_test_fraction,
-                  splits.val_fraction)
+                  splits.val_fraction, test_rows=splits.test_rows)
     sd = prepare_seed(arrays, roles, opts.calibration_protocol, False, seed, device)
     if opts.max_train_rows is not None:
         sd.train = cap_rows(sd.train, opts.max_train_rows, seed)

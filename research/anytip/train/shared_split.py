@@ -41,7 +41,7 @@ class EvalUnit:
     its designed calibrations' runs (what the `designed` strategy's plan takes). `test_cells`:
     the global patch ids of its test patches, which no calibration or reference of it reads in any
     run; its test rows are its main rows there, or, where it has a test session (`retest`), that
-    session's rows there alone."""
+    session's rows there alone (`Roles.test_rows`: or both sessions' rows there)."""
 
     unit: str
     test_rows: np.ndarray
@@ -83,6 +83,7 @@ class Roles:
     unit_folds: int | None = None  # held-out units as rotating folds (data.splits.split_units)
     unlabeled_s: float | None = None  # seconds of each stream whose pressures set input statistics
     n_factor_units: int = 0  # units that learn intervals' width alone (data.splits.split_units)
+    test_rows: str = "test_session"  # or "all_sessions" (config.SplitConfig.test_rows, `test_rows_at`)
 
 
 def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
@@ -106,8 +107,7 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
-        retest = mine[session[mine]]
-        test = retest[exclude[retest]] if len(retest) else own[exclude[own]]
+        test = test_rows_at(own, mine[session[mine]], exclude, roles.test_rows)
         selectable = find_presses(arrays, unit, exclude | stream.outside(arrays))
         own_designed = find_presses(arrays, unit, exclude | ~designed)
         evals[unit] = EvalUnit(unit, test, stream, selectable, own_designed, test_cells)
@@ -120,6 +120,18 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
     train = FleetBatchData.from_units(members, device, arrays.output_names)
     return SeedData(split, train, input_stats(stats, device), evals, 0 if extra is None else len(extra.units),
                     presses if len(presses) == len(members) else None)
+
+
+def test_rows_at(own: np.ndarray, session: np.ndarray, at: np.ndarray, which: str) -> np.ndarray:
+    """A unit's test rows: of its main rows `own` and its test session's rows `session` (row indices),
+    those at its test patches (`at`, (N,) bool over every row): the session's where it has one, else
+    the main rows' (`which` "test_session"); or both, main rows first ("all_sessions")."""
+    main, retest = own[at[own]], session[at[session]]
+    if which == "all_sessions":
+        return np.concatenate([main, retest])
+    if which != "test_session":
+        raise ValueError(f"test rows {which!r}: test_session or all_sessions")
+    return retest if len(retest) else main
 
 
 def training_units(arrays: FleetArrays, units: Sequence[str], roles: Roles, calibration_protocol: str | None,
