@@ -43,6 +43,8 @@ def test_wrong_type_and_bad_value(tmp_path):
         load_spec(write(tmp_path, "pipeline: baseline\ntraining: {use: fast, epochs: many}\n"))
     with pytest.raises(AnytipError, match=r"pipeline.*'baseline'.*got 'nope'"):
         load_spec(tmp_path / "exp.yaml", ["pipeline=nope"])
+    with pytest.raises(AnytipError, match=r"splits.test_rows.*'test_session'.*'all_sessions'.*got 'both'"):
+        load_spec(tmp_path / "exp.yaml", ["splits.test_rows=both"])
 
 
 def test_unknown_block_lists_known(tmp_path):
