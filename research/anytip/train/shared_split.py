@@ -83,7 +83,7 @@ class Roles:
     unit_folds: int | None = None  # held-out units as rotating folds (data.splits.split_units)
     unlabeled_s: float | None = None  # seconds of each stream whose pressures set input statistics
     n_factor_units: int = 0  # units that learn intervals' width alone (data.splits.split_units)
-    test_rows: str = "test_session"  # or "all_sessions" (config.SplitConfig.test_rows, `test_rows_at`)
+    test_rows: str = "test_session"  # or "all_sessions" (config.SplitConfig.test_rows, `unit_test_rows`)
 
 
 def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
@@ -107,7 +107,7 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
-        test = test_rows_at(own, mine[session[mine]], exclude, roles.test_rows)
+        test = unit_test_rows(own, mine[session[mine]], exclude, roles.test_rows)
         selectable = find_presses(arrays, unit, exclude | stream.outside(arrays))
         own_designed = find_presses(arrays, unit, exclude | ~designed)
         evals[unit] = EvalUnit(unit, test, stream, selectable, own_designed, test_cells)
@@ -122,7 +122,7 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
                     presses if len(presses) == len(members) else None)
 
 
-def test_rows_at(own: np.ndarray, session: np.ndarray, at: np.ndarray, which: str) -> np.ndarray:
+def unit_test_rows(own: np.ndarray, session: np.ndarray, at: np.ndarray, which: str) -> np.ndarray:
     """A unit's test rows: of its main rows `own` and its test session's rows `session` (row indices),
     those at its test patches (`at`, (N,) bool over every row): the session's where it has one, else
     the main rows' (`which` "test_session"); or both, main rows first ("all_sessions")."""
