@@ -278,6 +278,29 @@ def test_a_test_sessions_runs_hold_a_units_test_rows_alone_and_nothing_else_read
         np.testing.assert_array_equal(ev.presses.rows, sd.evals[unit].presses.rows)
 
 
+def test_a_labs_test_session_marked_in_the_registry_joins_its_test_rows_on_runs_from_the_format(tmp_path):
+    """Rig runs made from the format spec alone (no in_contact, no temperature), each unit's later run
+    marked `retest` in the registry: `test_rows: all_sessions` tests a unit on both runs' rows at its
+    test patches, the default on the marked run's alone."""
+    from anytip.train.shared_split import Roles, prepare_seed
+    from run_factory import make_run
+
+    registry = Registry(tmp_path / "r")
+    registry.add_runs([make_run(f"LAB-{u}", 0.0, f"2024-05-0{k + 1}T12:00:00Z", n=600, seed=10 * u + k,
+                                source="rig", optional=False) for u in range(4) for k in range(2)])
+    for u in range(4):
+        registry.set_protocol(max(r.run_id for r in registry.list_runs(unit=f"LAB-{u}")), "retest")
+    arrays = load_arrays(registry, registry.list_runs())
+    session = np.array([arrays.runs[k].protocol == "retest" for k in arrays.run])
+    alone, both = (prepare_seed(arrays, Roles(1, 1, None, 0.25, 0.1, test_rows=t), None, False, seed=0)
+                   for t in ("test_session", "all_sessions"))
+    for unit, ev in both.evals.items():
+        mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
+        at = mine[np.isin(arrays.patch[mine], ev.test_cells)]
+        assert len(alone.evals[unit].test_rows) and session[alone.evals[unit].test_rows].all()
+        np.testing.assert_array_equal(ev.test_rows, np.concatenate([at[~session[at]], at[session[at]]]))
+
+
 def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_path):
     """Runs made from the format spec alone, without in_contact or temperature: contact then comes
     from |F| >= 0.5 N, and presses (plans and ordinary use alike) from the rows it marks."""
