@@ -9,7 +9,7 @@ held-out rows (no per-unit references: only their intervals are read) and the le
 to OUT/rows.json and OUT/models/. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry107/fresh_held_out.py RUN --registry REG --prefix SIM42- \\
-        --units 0:32 --out OUT
+        --units 0:32 --out OUT [--set KEY=VALUE ...]
 """
 
 from __future__ import annotations
@@ -38,9 +38,11 @@ def main() -> None:
     parser.add_argument("--prefix", required=True, help="the fresh held-out units' id prefix")
     parser.add_argument("--units", required=True, help="FROM:TO, the slice of those units (sorted) held out")
     parser.add_argument("--out", type=Path, required=True)
+    parser.add_argument("--set", dest="overrides", action="append", default=[],
+                        help="KEY=VALUE on the run's spec, e.g. splits.test_rows=all_sessions")
     args = parser.parse_args()
     start = time.perf_counter()
-    ctx, opts, arrays, seed, was = FOLD_OF(args.run, args.registry, args.out, [])
+    ctx, opts, arrays, seed, was = FOLD_OF(args.run, args.registry, args.out, args.overrides)
     first, last = (int(v) for v in args.units.split(":"))
     fresh = sorted(u for u in arrays.units if u.startswith(args.prefix))[first:last]
     clash = set(fresh) & {u for role in was.values() for u in role}
@@ -52,7 +54,8 @@ def main() -> None:
     sd = prepare(ctx, arrays, opts, seed)
     path = args.run / "models" / f"response_seed{seed}.safetensors"
     got = response_rows(ctx, arrays, sd, opts, seed, ResponseFit.from_loaded(load_response(path)))
-    write_json(args.out / "rows.json", {"run": str(args.run), "seed": seed, "units": split.to_json(),
+    write_json(args.out / "rows.json", {"run": str(args.run), "seed": seed, "overrides": args.overrides,
+                                         "units": split.to_json(),
                                          "rows": got.rows, "wall_s": round(time.perf_counter() - start, 1)})
     print(f"seed {seed}: {len(fresh)} fresh held-out units in {time.perf_counter() - start:.0f} s")
 
