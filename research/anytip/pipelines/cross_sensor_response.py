@@ -53,6 +53,7 @@ from anytip.train.response import (
     ResponseRecipe,
     SourceRows,
     calibrate_by_response,
+    grouped_networks,
     plan_residual,
     press_information,
     source_rows,
@@ -61,7 +62,6 @@ from anytip.train.response import (
     train_response,
     training_digest,
     transferred,
-    unit_networks,
 )
 from anytip.train.shared_split import SeedData, predict_rows
 from anytip.uncertainty.fleet_margin import Learner
@@ -130,11 +130,11 @@ def response_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
         if opts.intervals is not None:
             checks = None
             if opts.intervals.transfer_check:  # each unit's network again, on its transferred rows alone
-                alone = ((transferred(fit, source, codes[m], X[m], Y[m], recipe), source.Y)
-                         for m in range(len(jobs)))
-                checks = unit_networks(alone, ctx.spec.model, recipe, seed,
-                                       [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names,
-                                       fit.device, ctx.progress, start)
+                checks = grouped_networks(
+                    lambda m: (transferred(fit, source, codes[m], X[m], Y[m], recipe), source.Y),
+                    fleet_groups(jobs, sd.split.test), ctx.spec.model, recipe, seed,
+                    [f"{u}@{b.label}" for u, b, _ in jobs], arrays.output_names, fit.device, ctx.progress,
+                    start)
             if factor_jobs:
                 factor = calibrated(ctx, arrays, sd, fit, (source, start), recipe, factor_jobs, seed)
             bands = plan_bands(mine.nets, arrays, sd, mine.at(), mine.plans(), opts.intervals.level, checks,
@@ -254,6 +254,17 @@ class Calibrated(NamedTuple):
         return [p for _, _, p in self.jobs]
 
 
+def fleet_groups(jobs: list[tuple[str, Budget, Plan]], held_out: Sequence[str]) -> list[tuple[Budget, bool]]:
+    """Each job's batched fleet (`calibrate_by_response`'s `groups`): its budget, so a job trains for
+    as many steps as `anytip calibrate` gives its plan whatever other budgets the run holds, and
+    whether its unit is held out, so no held-out unit's rows reach a validation or factor unit's
+    network (a fleet's epoch is its largest job's rows, and a job's draws are those of its index)
+    and what those units choose (budgets, plans, the fleet factor and its margin) is the same
+    whichever units are held out."""
+    test = set(held_out)
+    return [(b, u in test) for u, b, _ in jobs]
+
+
 def calibrated(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit,
                carry: tuple[SourceRows, FitResult | None], recipe: ResponseRecipe,
                jobs: list[tuple[str, Budget, Plan]], seed: int, codes: Tensor | None = None,
@@ -261,15 +272,14 @@ def calibrated(ctx: Context, arrays: FleetArrays, sd: SeedData, fit: ResponseFit
     """`jobs` calibrated by response transfer with `recipe` (`carry`: the source rows and the start
     network), their codes fitted on their plans or given (`codes`, (M, C, k)), each network also
     trained on its job's `extra` rows where given (`calibrate_by_response`), one batched fleet per
-    budget (so a job trains for as many steps as `anytip calibrate` gives its plan, whatever other
-    budgets the run holds), and scored on their units' test rows."""
+    budget and role (`fleet_groups`), and scored on their units' test rows."""
     source, start = carry
     X = [torch.from_numpy(arrays.pressure[p.rows]) for _, _, p in jobs]
     Y = [torch.from_numpy(arrays.targets[p.rows]) for _, _, p in jobs]
     ids = [f"{u}@{b.label}" for u, b, _ in jobs]
     nets, got = calibrate_by_response(fit, source, X, Y, [p.n_effective for _, _, p in jobs], ctx.spec.model,
                                       recipe, seed, ids, arrays.output_names, ctx.progress, start, codes,
-                                      extra, [b for _, b, _ in jobs])
+                                      extra, fleet_groups(jobs, sd.split.test))
     preds = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays,
                          [sd.evals[u].test_rows for u, _, _ in jobs])
     return Calibrated(jobs, X, Y, got, nets, preds)

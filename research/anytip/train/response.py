@@ -28,7 +28,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
-from collections.abc import Hashable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Hashable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
@@ -616,15 +616,28 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
             ys.append(more[m][1].to(fit.device))
         return torch.cat(xs), torch.cat(ys)
 
-    keys = list(groups) if groups is not None else [None] * len(X)
+    nets = grouped_networks(job_rows, [None] * len(X) if groups is None else groups, shape, recipe, seed, ids,
+                            output_names, fit.device, progress, start)
+    return nets, codes
+
+
+def grouped_networks(job_rows: Callable[[int], tuple[Tensor, Tensor]], groups: Sequence[Hashable],
+                     shape: MLPConfig, recipe: ResponseRecipe = ResponseRecipe(), seed: int = 0,
+                     ids: list[str] | None = None, output_names: tuple[str, ...] = OUTPUT_NAMES,
+                     device: torch.device | str = "cpu", progress: bool = False,
+                     start: FitResult | LoadedModels | None = None) -> FitResult:
+    """M jobs' plain networks (`unit_networks`), job m on `job_rows(m)` (X (n_m, C) Pa, Y (n_m, D)):
+    the jobs of one key of `groups` (one per job) train as one batched fleet, each group apart, in
+    the order of its first job, and the result holds job m's network at index m."""
+    keys = list(groups)
     parts = []
     for key in dict.fromkeys(keys):
         ms = [m for m, k in enumerate(keys) if k == key]
-        rows = (job_rows(m) for m in ms)
-        nets = unit_networks(rows, shape, recipe, seed, None if ids is None else [ids[m] for m in ms],
-                             output_names, fit.device, progress, start)
+        mine = None if ids is None else [ids[m] for m in ms]
+        nets = unit_networks((job_rows(m) for m in ms), shape, recipe, seed, mine, output_names, device,
+                             progress, start)
         parts.append((ms, nets))
-    return parts[0][1] if len(parts) == 1 else joined_fits(parts), codes
+    return parts[0][1] if len(parts) == 1 else joined_fits(parts)
 
 
 def start_network_path(response_path: Path) -> Path:
