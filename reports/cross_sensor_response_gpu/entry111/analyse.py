@@ -1,9 +1,10 @@
 """Research log entry 111: the recipe's intervals on 64 fresh units (SIM43-*, never simulated before), each
 tested on both its sessions, under entry 106's folds and learners. Prints rule 1 (the gate: 32 distinct
-SIM43 units per fold and method with the override recorded; and, not gating, the 24 factor units' learner
-records against entry 110's `fleet88r_both`), rule 2 (the target per method with its verdict) and, deciding
-nothing, each fold's factors and margins, the lowest coverage and an exact method's share in band. The
-fresh units have no per-unit references, so no ratio to them is printed. From the repository root:
+SIM43 units per fold and method with the override recorded and each unit's test rows 1.5-2.5 times its main
+rows alone; and, not gating, the 24 factor units' learner records against entry 110's `fleet88r_both`),
+rule 2 (the target per method with its verdict) and, deciding nothing, the first runs (main rows alone),
+each fold's factors and margins, the lowest coverage and an exact method's share in band. The fresh units
+have no per-unit references, so no ratio to them is printed. From the repository root:
 
     python reports/cross_sensor_response_gpu/entry111/analyse.py
 """
@@ -21,6 +22,7 @@ from anytip.rundir import read_json
 
 G = Path("reports/cross_sensor_response_gpu")
 RUNS = [G / f"entry111/fleet88x_seed{k}" for k in (0, 1)]
+ONE_SESSION = [G / f"entry111/one_session_seed{k}" for k in (0, 1)]  # the first runs: main rows alone
 SAME_LEARNERS = [G / f"entry110/fleet88r_both/fleet88_seed{k}" for k in (0, 1)]
 OVERRIDE = "splits.test_rows=all_sessions"
 PREFIX, PER_FOLD = "SIM43-", 32
@@ -47,15 +49,21 @@ def rows_by_unit(runs: list[Path], method: str) -> dict[str, dict[str, Any]]:
 
 
 def gate() -> bool:
-    """Rule 1's gate: 32 distinct SIM43 units per fold and method, the override recorded."""
+    """Rule 1's gate: 32 distinct SIM43 units per fold and method, the override recorded, and (added after
+    the first runs read no test session) each unit's test rows 1.5-2.5 times its main rows alone."""
     ok = True
-    for run in RUNS:
+    for run, first in zip(RUNS, ONE_SESSION, strict=True):
         got = read_json(run / "rows.json")
         units = {m: fold_rows(run, m) for m in METHODS}
         fine = (OVERRIDE in got.get("overrides", [])
                 and all(len(u) == PER_FOLD and all(k.startswith(PREFIX) for k in u) for u in units.values()))
+        main = {m: fold_rows(first, m) for m in METHODS}
+        ratio = np.array([r["interval_test_rows"] / main[m][u]["interval_test_rows"]
+                          for m, rows in units.items() for u, r in rows.items()])
+        fine &= bool(((ratio >= 1.5) & (ratio <= 2.5)).all())
         print(f"  {run.name}: {', '.join(f'{m} {len(u)} units' for m, u in units.items())}; overrides "
-              f"{got.get('overrides')}: {'holds' if fine else 'FAILS'}")
+              f"{got.get('overrides')}; test rows over the main rows alone {ratio.min():.2f}-"
+              f"{ratio.max():.2f}: {'holds' if fine else 'FAILS'}")
         ok &= fine
     return ok
 
@@ -116,6 +124,12 @@ def main() -> None:
         print(summary(rows_by_unit(RUNS, m), m))
     for m in METHODS:
         print(verdict(rows_by_unit(RUNS, m), m))
+    print("\nalso read (decides nothing): the first runs, every fresh unit on its main rows alone (the code "
+          "before fleet_groups)")
+    for m in METHODS:
+        rows = rows_by_unit(ONE_SESSION, m)
+        print(summary(rows, m))
+        print(verdict(rows, m))
     print("\nalso read (decides nothing): each fold's factors and margins")
     for seed, run in enumerate(RUNS):
         print(ANALYSE_106["factors"](run, seed))
