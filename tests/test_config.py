@@ -47,6 +47,20 @@ def test_wrong_type_and_bad_value(tmp_path):
         load_spec(tmp_path / "exp.yaml", ["splits.test_rows=both"])
 
 
+def test_all_sessions_needs_the_test_sessions_runs_read(tmp_path):
+    """`splits.test_rows: all_sessions` with a `data.protocol` that leaves out `retest` would test every
+    unit on its main rows alone: refused, naming both keys; with retest listed or every protocol read,
+    taken."""
+    path = write(tmp_path, "pipeline: baseline\nsplits: {test_rows: all_sessions}\n")
+    said = r"exp.yaml.*splits.test_rows.*all_sessions.*data.protocol.*retest"
+    for protocol in ("full", "[full, short, quick]"):
+        with pytest.raises(AnytipError, match=said):
+            load_spec(path, [f"data.protocol={protocol}"])
+    for protocol in ("[full, retest]", "null"):
+        assert load_spec(path, [f"data.protocol={protocol}"]).splits.test_rows == "all_sessions"
+    assert load_spec(path, ["splits.test_rows=test_session"]).data.protocols == ["full"]
+
+
 def test_unknown_block_lists_known(tmp_path):
     with pytest.raises(AnytipError, match=r"no block 'quick'; allowed: fast, paper"):
         load_spec(write(tmp_path, "pipeline: baseline\ntraining: quick\n"))

@@ -21,6 +21,7 @@ from anytip.errors import AnytipError
 from anytip.models.mlp import MLPConfig
 from anytip.rundir import builtin
 from anytip.sensor.fleet import FleetConfig
+from anytip.sensor.protocols import TEST_SESSION
 from anytip.train.recipe import FAST, TrainRecipe
 from anytip.validation import NAME_PATTERN, load_yaml, mask_secrets, read_yaml, validate_strict
 
@@ -163,4 +164,16 @@ def load_spec(path: str | Path, overrides: list[str] | None = None) -> Experimen
     for assignment in overrides or []:
         apply_override(data, assignment)
     source = f"{path}" + (f" (with --set {' '.join(overrides)})" if overrides else "")
-    return validate_strict(ExperimentSpec, data, source)
+    spec = validate_strict(ExperimentSpec, data, source)
+    _check_sessions(spec, source)
+    return spec
+
+
+def _check_sessions(spec: ExperimentSpec, source: str) -> None:
+    """`splits.test_rows: all_sessions` asks for a unit's test session's rows, so `data.protocol` must
+    read its runs (`retest`): a list without it would silently test every unit on its main rows alone."""
+    protocols = spec.data.protocols
+    if spec.splits.test_rows == "all_sessions" and protocols is not None and TEST_SESSION not in protocols:
+        raise AnytipError(f"{source}: key 'splits.test_rows' is all_sessions, but key 'data.protocol' "
+                          f"({', '.join(protocols)}) leaves out the test sessions' runs ({TEST_SESSION}); "
+                          f"add {TEST_SESSION} to data.protocol or set it to null (every protocol)")
