@@ -424,8 +424,8 @@ def test_a_job_trains_as_alone_in_its_group_and_the_joined_fleet_keeps_each_jobs
 def test_no_held_out_units_rows_reach_a_validation_units_network(made_up):
     """`fleet_groups`: a benchmark calibrates its validation (and factor) units in fleets of their
     own, so what they choose is the same whichever units are held out: a validation unit's network
-    is bit for bit the same beside a small or a large held-out plan, while one fleet of both budgets'
-    jobs (budget alone) hands it the held-out unit's epoch length."""
+    is bit for bit the same beside a small or a large held-out plan, while one fleet keyed by budget
+    alone hands it the held-out unit's epoch length."""
     _, _, fit = made_up
     new, _ = made_up_fleet(3, seed=98)
     X = [new.unit(0).X_train[:40], new.unit(1).X_train[:40], new.unit(2).X_train[:400]]

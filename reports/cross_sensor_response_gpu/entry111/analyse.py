@@ -28,6 +28,7 @@ OVERRIDE = "splits.test_rows=all_sessions"
 PREFIX, PER_FOLD = "SIM43-", 32
 ANALYSE_106 = runpy.run_path(str(G / "entry106/analyse.py"))  # factors
 ANALYSE_108 = runpy.run_path(str(G / "entry108/analyse.py"))  # METHODS, OUTPUTS, band edges
+ANALYSE_110 = runpy.run_path(str(G / "entry110/analyse.py"))  # met
 METHODS, OUTPUTS = ANALYSE_108["METHODS"], ANALYSE_108["OUTPUTS"]
 FLOOR, LOW, HIGH = ANALYSE_108["FLOOR"], ANALYSE_108["LOW"], ANALYSE_108["HIGH"]
 
@@ -95,10 +96,9 @@ def coverage(rows: dict[str, dict[str, Any]]) -> np.ndarray:
 
 
 def verdict(rows: dict[str, dict[str, Any]], method: str) -> str:
-    """Rule 2: met if at least 90% of the unit-outputs lie in the band and none below the floor."""
-    cover = coverage(rows)
-    met = np.mean((cover >= LOW) & (cover <= HIGH)) >= 0.9 and not (cover < FLOOR).any()
-    return f"  verdict, {method}: {'met' if met else 'missed'}"
+    """Rule 2: met if at least 90% of the unit-outputs lie in the band and none below the floor (entry
+    110's rule)."""
+    return f"  verdict, {method}: {'met' if ANALYSE_110['met'](rows) else 'missed'}"
 
 
 def summary(rows: dict[str, dict[str, Any]], method: str) -> str:
