@@ -82,10 +82,10 @@ def main() -> None:
                 left_out.append(check)
         folds = calibrated(ctx, arrays, sd, fit, (source, start), recipe, fold_jobs, seed)
         checks = predict_rows(folds.nets.model, folds.nets.in_scaler, folds.nets.out_scaler, arrays, left_out)
+        fitted = predict_rows(whole.nets.model, whole.nets.in_scaler, whole.nets.out_scaler, arrays,
+                              [plan.rows for _, _, plan in jobs])  # network m on job m's plan
         for m, (u, _, plan) in enumerate(jobs):
-            fitted = predict_rows(whole.nets.model, whole.nets.in_scaler, whole.nets.out_scaler, arrays,
-                                  [plan.rows])[0]
-            in_sample = residual_halfwidth(fitted - arrays.targets[plan.rows], level)
+            in_sample = residual_halfwidth(fitted[m] - arrays.targets[plan.rows], level)
             oof = np.concatenate([checks[m * FOLDS + f] - arrays.targets[left_out[m * FOLDS + f]]
                                   for f in range(FOLDS)])
             out[u] = {"in_sample": dict(zip(names, map(float, in_sample), strict=True)),
