@@ -184,8 +184,8 @@ def main() -> None:
     parser.add_argument("--registry", type=Path, required=True, help="fleet88 (its runs and unit properties)")
     args = parser.parse_args()
     got = across_calibrations()
-    by_properties(got, args.registry)
     by_place(got, args.registry)
+    by_properties(got, args.registry)
 
 
 if __name__ == "__main__":
