@@ -13,7 +13,9 @@ held-out units this prints:
    error there over the fold's other held-out units) and the unit's own (its errors there), each as the log
    RMS ratio of its test cells to its other cells, against the excess (needs the registry: --registry);
 3. the simulator's recorded unit properties (from each unit's first run file): each one's correlation with
-   the common part, and a ridge regression on all of them scored leaving each unit out (R^2).
+   the common part, and a ridge regression on all of them scored leaving each unit out (R^2);
+4. a signal known before the test: the with-use network's half-width on the plan's rows over the plan-alone
+   network's (both in-sample), against each method's excess, in entries 106, 108 and 110-112.
 
 From the repository root (data/fleet88 as its README builds it):
 
@@ -179,6 +181,28 @@ def by_properties(got: dict[str, dict[str, np.ndarray]], registry: Path) -> None
         print(f"   {name}: {cells}\n      ridge on all, left-out R^2: {fits}")
 
 
+TWO_METHODS = {"106": "entry106/fleet88_cpu_use", "108": "entry108/fleet88r_use",
+               "110": "entry110/fleet88r_both", "111": "entry111", "112": "entry112/fleet88r_apart"}
+
+
+def with_use_over_alone() -> None:
+    """Rule 4."""
+    at = E113["row_array"]
+    print("4. log(with-use own / plan-alone own half-width) against the excess: common part; per output")
+    for name, sub in TWO_METHODS.items():
+        runs = [G / sub / (f"fleet88x_seed{k}" if name == "111" else f"fleet88_seed{k}") for k in (0, 1)]
+        by = {m: {r["unit"]: r for run in runs for r in E113["held_out"](run, m)} for m in (PLAN, USE)}
+        units = sorted(by[PLAN])
+        rows = {m: [by[m][u] for u in units] for m in by}
+        signal = np.log(at(rows[USE], "halfwidth") / at(rows[PLAN], "halfwidth"))
+        for m, label in ((PLAN, "plan alone"), (USE, "with use")):
+            e = np.log(np.sqrt(at(rows[m], "needed85_halfwidth") * at(rows[m], "needed95_halfwidth"))
+                       / at(rows[m], "margin_halfwidth"))
+            e = e - e.mean(0)
+            per = " ".join(f"{corr(signal[:, d], e[:, d]):+.2f}" for d in range(len(OUTPUTS)))
+            print(f"   {name} {label}: {corr(signal.mean(1), e.mean(1)):+.2f}; {per}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--registry", type=Path, required=True, help="fleet88 (its runs and unit properties)")
@@ -186,6 +210,7 @@ def main() -> None:
     got = across_calibrations()
     by_place(got, args.registry)
     by_properties(got, args.registry)
+    with_use_over_alone()
 
 
 if __name__ == "__main__":
