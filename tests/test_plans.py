@@ -408,3 +408,25 @@ def test_informative_plans_name_what_they_lack():
     with pytest.raises(AnytipError, match="criterion 'x'"):
         select_presses(presses, 40.0, strategy="informative",
                        information=made_up_information(len(presses), "x"))
+
+
+def test_a_factor_units_test_patches_do_not_depend_on_how_many_units_are_held_out(tmp_path, monkeypatch):
+    """The same validation and factor units beside one or two held-out units: their test cells, and
+    so their plans and what they teach the fleet factor, are the same; the held-out unit they share
+    keeps its cells too."""
+    import anytip.train.shared_split as shared_split
+    from anytip.data.splits import UnitSplit
+
+    registry = Registry(tmp_path / "r")
+    simulate_into(registry, FleetConfig(), 5, seed=2, protocols=("short", "quick"))
+    arrays = load_arrays(registry, registry.list_runs())
+    a, b, c, d, e = arrays.units
+    cells = []
+    for held_out in ((d,), (d, e)):
+        split = UnitSplit((a,), (b,), held_out, (c,))
+        monkeypatch.setattr(shared_split, "split_units", lambda *_, s=split, **__: s)
+        sd = shared_split.prepare_seed(arrays, shared_split.Roles(1, 1, None, 0.25, 0.1), None, False, seed=0)
+        cells.append({u: set(ev.test_cells.tolist()) for u, ev in sd.evals.items()})
+    for unit in (b, c, d):
+        assert cells[0][unit] == cells[1][unit] and cells[0][unit]
+    assert set(cells[1]) == {b, c, d, e}

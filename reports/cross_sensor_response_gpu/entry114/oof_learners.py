@@ -56,6 +56,7 @@ def main() -> None:
     parser.add_argument("--registry", type=Path, required=True)
     parser.add_argument("--response-model", type=Path, required=True)
     parser.add_argument("--out", type=Path, required=True)
+    parser.add_argument("--folds", type=int, default=FOLDS, help="press folds; 0: the in-sample check alone")
     args = parser.parse_args()
     start_s = time.perf_counter()
     ctx, opts, arrays, seed, was = FOLD_OF(args.run, args.registry, args.out, [])
@@ -76,23 +77,28 @@ def main() -> None:
         whole = calibrated(ctx, arrays, sd, fit, (source, start), recipe, jobs, seed)
         fold_jobs, left_out = [], []
         for u, b, plan in jobs:
-            for f in range(FOLDS):
-                smaller, check = fold_plan(plan, FOLDS, f)
+            for f in range(args.folds):
+                smaller, check = fold_plan(plan, args.folds, f)
                 fold_jobs.append((u, b, smaller))
                 left_out.append(check)
-        folds = calibrated(ctx, arrays, sd, fit, (source, start), recipe, fold_jobs, seed)
-        checks = predict_rows(folds.nets.model, folds.nets.in_scaler, folds.nets.out_scaler, arrays, left_out)
+        checks = []
+        if fold_jobs:
+            folds = calibrated(ctx, arrays, sd, fit, (source, start), recipe, fold_jobs, seed)
+            nets = folds.nets
+            checks = predict_rows(nets.model, nets.in_scaler, nets.out_scaler, arrays, left_out)
         fitted = predict_rows(whole.nets.model, whole.nets.in_scaler, whole.nets.out_scaler, arrays,
                               [plan.rows for _, _, plan in jobs])  # network m on job m's plan
         for m, (u, _, plan) in enumerate(jobs):
             in_sample = residual_halfwidth(fitted[m] - arrays.targets[plan.rows], level)
-            oof = np.concatenate([checks[m * FOLDS + f] - arrays.targets[left_out[m * FOLDS + f]]
-                                  for f in range(FOLDS)])
             out[u] = {"in_sample": dict(zip(names, map(float, in_sample), strict=True)),
-                      "oof": dict(zip(names, map(float, residual_halfwidth(oof, level)), strict=True)),
                       "recorded": recorded[u], "presses": int(plan.presses)}
+            if args.folds:
+                k = args.folds
+                oof = np.concatenate([checks[m * k + f] - arrays.targets[left_out[m * k + f]]
+                                      for f in range(k)])
+                out[u]["oof"] = dict(zip(names, map(float, residual_halfwidth(oof, level)), strict=True))
         ctx.say(f"seed {seed}: {len(jobs)} learners, {len(fold_jobs)} fold calibrations")
-    write_json(args.out / "learners.json", {"run": str(args.run), "seed": seed, "folds": FOLDS,
+    write_json(args.out / "learners.json", {"run": str(args.run), "seed": seed, "folds": args.folds,
                                             "units": out, "wall_s": round(time.perf_counter() - start_s, 1)})
     print(f"seed {seed}: {len(out)} learners in {time.perf_counter() - start_s:.0f} s")
 

@@ -40,6 +40,9 @@ class Stream(NamedTuple):
 
 
 TEST_PATCHES = Stream("test patches or rows of unit u", 100_003)
+# a factor unit's own, by its place among the factor units, so that its test patches (and with them its plan
+# and what it teaches the fleet factor) do not depend on how many units a fold holds out
+FACTOR_TEST_PATCHES = Stream("test patches of factor unit i", 100_003, 50_000)
 VALIDATION_PATCHES = Stream("validation patches of a calibrated unit u", 100_003, 7919)
 CALIBRATION_PATCHES = Stream("conformal calibration patches of unit u", 100_003, 77)
 VALIDATION_ROWS = Stream("validation rows of unit u", 7919)

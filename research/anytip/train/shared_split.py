@@ -21,7 +21,7 @@ import torch
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan, Presses, designed_rows, find_presses, test_session_rows
-from anytip.data.seeds import TEST_PATCHES, VALIDATION_ROWS, stream_seed
+from anytip.data.seeds import FACTOR_TEST_PATCHES, TEST_PATCHES, VALIDATION_ROWS, stream_seed
 from anytip.data.splits import UnitSplit, held_out_patches, split_units
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedShared
@@ -89,7 +89,11 @@ class Roles:
 def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | None,
                  interleave: bool, seed: int, device: torch.device | str = "cpu",
                  extra: FleetArrays | None = None) -> SeedData:
-    """Unit roles, test patches of validation and held-out units, training tensors.
+    """Unit roles, test patches of validation, held-out and factor units, training tensors.
+
+    Validation and held-out units draw their test patches by their place in that order; factor units
+    by their place among the factor units (`seeds.FACTOR_TEST_PATCHES`), so what they learn does not
+    change with how many units a fold holds out.
 
     `extra`: units of another registry that only train (same channels and targets, no unit
     in common); their tensors follow the split's training units in `train`."""
@@ -98,11 +102,12 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
     main, designed, session = (main_rows(arrays, calibration_protocol), designed_rows(arrays),
                                test_session_rows(arrays))
     evals = {}
-    for k, unit in enumerate([*split.val, *split.test, *split.factor]):
+    draws = [*(stream_seed(TEST_PATCHES, seed, k) for k in range(len(split.val) + len(split.test))),
+             *(stream_seed(FACTOR_TEST_PATCHES, seed, i) for i in range(len(split.factor)))]
+    for unit, draw in zip([*split.val, *split.test, *split.factor], draws, strict=True):
         mine = np.flatnonzero(arrays.unit == arrays.units.index(unit))
         own = unit_main_rows(arrays, unit, main)
-        held = held_out_patches(arrays.patch[own], roles.patch_test_fraction,
-                                stream_seed(TEST_PATCHES, seed, k))
+        held = held_out_patches(arrays.patch[own], roles.patch_test_fraction, draw)
         test_cells = np.unique(arrays.patch[own][held])
         exclude = np.zeros(arrays.n_rows, bool)
         exclude[mine] = np.isin(arrays.patch[mine], test_cells)
