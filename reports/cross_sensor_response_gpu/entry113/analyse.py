@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from anytip.rundir import read_json
-from anytip.uncertainty.fleet_margin import IN_BAND_SHARE, MARGIN_GRID, Learner, meeting
+from anytip.uncertainty.fleet_margin import Learner, margin_over
 
 G = Path("reports/cross_sensor_response_gpu")
 OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
@@ -91,13 +91,10 @@ def left_out(fold: list[Learner], rule: str) -> np.ndarray:
 
 
 def margin(fold: list[Learner], base: np.ndarray) -> tuple[float, int, float]:
-    """The learners' margin on left-out widths `base` (today's rule), and at margin 1 the left-out
-    unit-outputs below the floor and the share in the band."""
-    floor, low, high = (stack(fold, f) for f in ("at_floor", "at_low", "at_high"))
-    below = {m: int((base * m < floor).sum()) for m in MARGIN_GRID}
-    band = {m: float(((base * m >= low) & (base * m <= high)).mean()) for m in MARGIN_GRID}
-    ok = meeting(below, band, IN_BAND_SHARE)
-    return (min(ok) if ok else 1.0), below[1.0], band[1.0]
+    """The learners' margin on left-out widths `base` (today's rule, `fleet_margin.margin_over`), and at
+    margin 1 the left-out unit-outputs below the floor and the share in the band."""
+    got = margin_over(base, *(stack(fold, f) for f in ("at_floor", "at_low", "at_high")))
+    return got.margin, got.below[1.0], got.in_band[1.0]
 
 
 def spread(fold: list[Learner], base: np.ndarray) -> float:

@@ -8,10 +8,11 @@ held-out units this prints:
 1. the common part's correlation over units between calibrations: entry 50 (`cover`, the GPU's 1,040-unit
    response models), entry 106 (`cover_informative`, the CPU's 128-unit models; plan alone and with
    ordinary use) and entry 108 (entry 106's calibrations tested in the other session);
-2. the place of each unit's test cells (rebuilt as `shared_split.prepare_seed` draws them, checked against
-   the recorded test-row count): a fleet map of how hard a cell is (the pooled start network's mean squared
-   error there over the fold's other held-out units) and the unit's own (its errors there), each as the log
-   RMS ratio of its test cells to its other cells, against the excess (needs the registry: --registry);
+2. the place of each unit's test cells (as `shared_split.prepare_seed` draws them for the run's recorded
+   roles, checked against the recorded test-row count): a fleet map of how hard a cell is (the pooled start
+   network's mean squared error there over the fold's other held-out units) and the unit's own (its errors
+   there), each as the log RMS ratio of its test cells to its other cells, against the excess (needs the
+   registry: --registry);
 3. the simulator's recorded unit properties (from each unit's first run file): each one's correlation with
    the common part, and a ridge regression on all of them scored leaving each unit out (R^2);
 4. a signal known before the test: the with-use network's half-width on the plan's rows over the plan-alone
@@ -33,10 +34,10 @@ from typing import Any
 import h5py
 import numpy as np
 
-from anytip.data.seeds import TEST_PATCHES, stream_seed
-from anytip.data.splits import held_out_patches
+import anytip.train.shared_split as shared_split
+from anytip.data.splits import UnitSplit
 from anytip.models.io import load_models
-from anytip.pipelines.cross_sensor import roles_of
+from anytip.pipelines.cross_sensor import prepare
 from anytip.train.shared_split import main_rows, predict_rows, unit_main_rows
 
 G = Path("reports/cross_sensor_response_gpu")
@@ -52,13 +53,18 @@ CALIBRATIONS = {"50 cover, plan": ("entry50", "response@cover"),
 RIDGE = (1.0, 10.0, 100.0)
 
 
-def excess(sub: str, method: str) -> dict[str, np.ndarray]:
-    """Each held-out unit's excess per output (5,), after each output's mean over units."""
-    rows = [r for k in (0, 1) for r in E113["held_out"](G / sub / f"fleet88_seed{k}", method)]
+def row_excess(rows: list[dict[str, Any]]) -> np.ndarray:
+    """(units, outputs): each held-out row's excess, after each output's mean over the rows."""
     at = E113["row_array"]
     e = np.log(np.sqrt(at(rows, "needed85_halfwidth") * at(rows, "needed95_halfwidth"))
                / at(rows, "margin_halfwidth"))
-    return {r["unit"]: v for r, v in zip(rows, e - e.mean(0), strict=True)}
+    return e - e.mean(0)
+
+
+def excess(sub: str, method: str) -> dict[str, np.ndarray]:
+    """Each held-out unit's excess per output (5,), after each output's mean over units."""
+    rows = [r for k in (0, 1) for r in E113["held_out"](G / sub / f"fleet88_seed{k}", method)]
+    return {r["unit"]: v for r, v in zip(rows, row_excess(rows), strict=True)}
 
 
 def corr(a: np.ndarray, b: np.ndarray) -> float:
@@ -86,9 +92,10 @@ def place_ratios(registry: Path) -> tuple[dict[str, np.ndarray], dict[str, np.nd
     for k in (0, 1):
         run = G / CALIBRATIONS["106 cover_informative, plan"][0] / f"fleet88_seed{k}"
         ctx, opts, arrays, seed, was = FOLD_OF(run, registry, Path("build/entry114_place"), [])
-        fraction = roles_of(ctx, opts).patch_test_fraction
+        split = UnitSplit(*(tuple(was.get(role, ())) for role in ("train", "val", "test", "factor")))
+        shared_split.split_units = lambda *_, s=split, **__: s  # the run's recorded roles
+        evals = prepare(ctx, arrays, opts, seed).evals  # each unit's test cells as the run drew them
         main = main_rows(arrays, opts.calibration_protocol)
-        order = [*was["val"], *was["test"], *was.get("factor", [])]
         recorded = {r["unit"]: r["interval_test_rows"] for r in E113["held_out"](run, PLAN)}
         pooled = load_models(run / "models" / f"response_seed{seed}_start.safetensors")
         units = list(was["test"])
@@ -97,11 +104,9 @@ def place_ratios(registry: Path) -> tuple[dict[str, np.ndarray], dict[str, np.nd
         cells = {}
         for j, u in enumerate(units):
             own = unit_main_rows(arrays, u, main)
-            draw = stream_seed(TEST_PATCHES, seed, order.index(u))
-            held = held_out_patches(arrays.patch[own], fraction, draw)
-            if int(held.sum()) != recorded[u]:
-                raise SystemExit(f"{u}: {int(held.sum())} test rows rebuilt, {recorded[u]} recorded")
-            cells[u] = np.unique(arrays.patch[own][held])
+            if len(evals[u].test_rows) != recorded[u]:
+                raise SystemExit(f"{u}: {len(evals[u].test_rows)} test rows rebuilt, {recorded[u]} recorded")
+            cells[u] = evals[u].test_cells
             pred = predict_rows(pooled.model, pooled.in_scaler, pooled.out_scaler, arrays, [own])[0]
             np.add.at(sse[j], arrays.patch[own], (pred - arrays.labels[own]) ** 2)
             np.add.at(count[j], arrays.patch[own], 1)
@@ -196,9 +201,7 @@ def with_use_over_alone() -> None:
         rows = {m: [by[m][u] for u in units] for m in by}
         signal = np.log(at(rows[USE], "halfwidth") / at(rows[PLAN], "halfwidth"))
         for m, label in ((PLAN, "plan alone"), (USE, "with use")):
-            e = np.log(np.sqrt(at(rows[m], "needed85_halfwidth") * at(rows[m], "needed95_halfwidth"))
-                       / at(rows[m], "margin_halfwidth"))
-            e = e - e.mean(0)
+            e = row_excess(rows[m])
             per = " ".join(f"{corr(signal[:, d], e[:, d]):+.2f}" for d in range(len(OUTPUTS)))
             print(f"   {name} {label}: {corr(signal.mean(1), e.mean(1)):+.2f}; {per}")
 

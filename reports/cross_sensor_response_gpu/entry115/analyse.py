@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import norm
 
-from anytip.uncertainty.fleet_margin import IN_BAND_SHARE, MARGIN_GRID, Learner, left_out_widths
+from anytip.uncertainty.fleet_margin import IN_BAND_SHARE, MARGIN_GRID, Learner, left_out_widths, margin_over
 
 G = Path("reports/cross_sensor_response_gpu")
 E113 = runpy.run_path(str(G / "entry113/analyse.py"))  # SETS, KINDS, learners, held_out, row_array, target
@@ -28,32 +28,31 @@ KINDS = E113["KINDS"]
 HELD_OUT = 440  # fleet88's held-out unit-outputs
 
 
-def left_out_logs(fold: list[Learner]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """log(at_floor, at_low, at_high / width) of each left-out learner-output, width its own times the
-    factor of the others, flattened."""
-    base, floor, low, high = left_out_widths(fold)
-    return tuple(np.log(x / base).ravel() for x in (floor, low, high))
+def left_out(folds: list[list[Learner]]) -> tuple[np.ndarray, ...]:
+    """The folds' left-out half-widths (`fleet_margin.left_out_widths`: each learner's own times the
+    factor of the others) and those at the floor and the band's edges, each flattened and joined."""
+    parts = [left_out_widths(fold) for fold in folds]
+    return tuple(np.concatenate([p[i].ravel() for p in parts]) for i in range(4))
 
 
 def tail_table(kind: str) -> str:
-    """Rule 1 for one kind on entry 112's learners."""
-    parts = [left_out_logs(E113["learners"](run, k, kind)) for k, run in enumerate(SETS["112"])]
-    floor, low, high = (np.concatenate([p[i] for p in parts]) for i in range(3))
-    mu, sd = floor.mean(), floor.std(ddof=1)
-    lines = [f"  {kind or 'plan '}: log(at_floor / width) mean {mu:.3f}, sd {sd:.3f}, over {len(floor)}"]
+    """Rule 1 for one kind on entry 112's learners (the grid's counts from `fleet_margin.margin_over`)."""
+    base, floor, low, high = left_out([E113["learners"](run, k, kind) for k, run in enumerate(SETS["112"])])
+    z = np.log(floor / base)
+    mu, sd = z.mean(), z.std(ddof=1)
+    grid = margin_over(base, floor, low, high)
+    lines = [f"  {kind or 'plan '}: log(at_floor / width) mean {mu:.3f}, sd {sd:.3f}, over {len(z)}"]
     for m in MARGIN_GRID:
-        lm = np.log(m)
-        expected = HELD_OUT * norm.sf((lm - mu) / sd)
-        lines.append(f"    margin {m:g}: learners below {int((floor > lm).sum())}, in band "
-                     f"{((low <= lm) & (lm <= high)).mean():.0%}; normal tail, below of {HELD_OUT} "
-                     f"{expected:.2f}, none below {np.exp(-expected):.2f}")
+        expected = HELD_OUT * norm.sf((np.log(m) - mu) / sd)
+        lines.append(f"    margin {m:g}: learners below {grid.below[m]}, in band {grid.in_band[m]:.0%}; "
+                     f"normal tail, below of {HELD_OUT} {expected:.2f}, none below {np.exp(-expected):.2f}")
     return "\n".join(lines)
 
 
 def largest_margin(fold: list[Learner]) -> float | None:
     """The largest grid margin whose left-out learners keep `IN_BAND_SHARE` in the band; None if none."""
-    floor, low, high = left_out_logs(fold)
-    ok = [m for m in MARGIN_GRID if ((low <= np.log(m)) & (np.log(m) <= high)).mean() >= IN_BAND_SHARE]
+    band = margin_over(*left_out([fold])).in_band
+    ok = [m for m in MARGIN_GRID if band[m] >= IN_BAND_SHARE]
     return max(ok) if ok else None
 
 

@@ -82,7 +82,15 @@ def leave_one_out_margin(learners: Sequence[Learner], in_band_share: float = IN_
     learners (a factor of at least two others), else the margin is 1 and the tables are empty."""
     if len(learners) < 3:
         return MarginChoice(1.0, {}, {})
-    base, floor, low, high = left_out_widths(learners)
+    return margin_over(*left_out_widths(learners), in_band_share, grid)
+
+
+def margin_over(base: np.ndarray, floor: np.ndarray, low: np.ndarray, high: np.ndarray,
+                in_band_share: float = IN_BAND_SHARE, grid: Sequence[float] = MARGIN_GRID) -> MarginChoice:
+    """The margin rule on given half-widths (any shape, all alike): `base`, each unit-output's half-width
+    before the margin, and those at which its coverage is the floor, the band's lower and upper edge;
+    per grid value the unit-outputs below the floor and the share in the band, and the smallest value
+    that meets the rule (1 where none does)."""
     below, in_band = {}, {}
     for m in grid:
         width = base * m
