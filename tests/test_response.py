@@ -558,7 +558,7 @@ def test_calibrate_caches_the_source_rows_own_responses_and_recomputes_a_bad_one
     response model: a second calibration reads them and trains the same network bit for bit; a
     cache of another shape is named, computed again and replaced; a cache that cannot be written
     leaves a note and the calibration goes on."""
-    import anytip.calibrate as calibrate_module
+    import anytip.calibrate.response as calibrate_module
 
     run = tmp_path / "run"
     shutil.copytree(response_run, run)
@@ -692,13 +692,13 @@ def test_calibrate_by_response_names_what_it_lacks(response_run, fleet, tmp_path
 
 
 def test_calibrate_reads_a_response_models_record_by_strategy_in_either_layout():
-    from anytip.calibrate import _strategy_table
+    from anytip.calibrate.records import strategy_table
 
     new = {"val_loss_by_strategy": {"cover": {"120": 0.05, "600": 0.03}, "spread": {"120": 0.09}}}
-    assert _strategy_table(new, "val_loss", "cover") == {120.0: 0.05, 600.0: 0.03}
+    assert strategy_table(new, "val_loss", "cover") == {120.0: 0.05, 600.0: 0.03}
     old = {"val_loss_by_budget": {"120 s cover": 0.05, "120 s spread": 0.09, "30 s cover": 0.2}}
-    assert _strategy_table(old, "val_loss", "spread") == {120.0: 0.09}
-    assert _strategy_table(old, "residual", "cover") == {}  # older files recorded no residuals
+    assert strategy_table(old, "val_loss", "spread") == {120.0: 0.09}
+    assert strategy_table(old, "residual", "cover") == {}  # older files recorded no residuals
 
 
 def test_rescoring_a_run_with_its_own_options_gives_its_rows_back(response_run, fleet, tmp_path):

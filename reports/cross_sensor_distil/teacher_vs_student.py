@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-import anytip.calibrate as cal
+import anytip.calibrate.response as cal
 from anytip.cli import main
 from anytip.models.io import load_models
 from anytip.train.metrics import predict

@@ -1,0 +1,94 @@
+"""`calibrate_unit`: the arguments checked, the unit's runs and the shared model read, its plan chosen, and
+the calibration handed to the adapter or to response transfer."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from anytip.calibrate.adapter import calibrate_by_adapter_unit
+from anytip.calibrate.intervals import interval_records
+from anytip.calibrate.plan_choice import DEFAULT_SECONDS, choose_plan, response_plan, rig_of
+from anytip.calibrate.records import benchmarked_in, find_shared
+from anytip.calibrate.response import UseRequest, calibrate_by_response_unit, choose_response
+from anytip.calibrate.result import Calibrated
+from anytip.data.arrays import load_arrays
+from anytip.data.calibration import calibration_stream
+from anytip.data.registry import Registry
+from anytip.errors import AnytipError
+from anytip.models.io import load_shared
+
+METHODS = ("auto", "adapter", "response")
+
+MAX_USE_S = 600.0  # seconds of ordinary use after mounting a calibration may read (the issue's allowance)
+
+
+def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | Path,
+                   budget_samples: int | None = None, budget_seconds: float | None = None,
+                   adapter: str | None = None, seed: int | None = None,
+                   interval_level: float | None = 0.9, method: str = "auto",
+                   use_seconds: float = 0.0, factor_from: Sequence[str | Path] = (),
+                   plan_strategy: str | None = None) -> Calibrated:
+    """Fit, fold and save one unit's model; see the package docstring (`anytip.calibrate`).
+    `interval_level`: the nominal coverage of the intervals from the plan (None: none). `method`:
+    `adapter` (the shared model's adapter, folded), `response` (response transfer; a run with a response
+    model) or `auto` (response where the run's validation units scored it below the chosen shared model at
+    this budget). `use_seconds`: contact seconds of the unit's ordinary use read without labels (response
+    transfer alone reads them: with the plan, or alone at budget 0). `factor_from`: more runs of the same
+    benchmark (a registry's other unit folds) whose response models' learning units learn the intervals'
+    fleet factor and margin with the run's own (`pooled_learners`). `plan_strategy`: the press selection
+    response transfer calibrates by, as asked (a choice made on more validation units than the run's;
+    research log entry 100), instead of `response_strategy`'s."""
+    if method not in METHODS:
+        raise AnytipError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
+    if not 0 <= use_seconds <= MAX_USE_S:
+        raise AnytipError(f"--ordinary-use must lie in [0, {MAX_USE_S:g}] seconds, got {use_seconds}")
+    if interval_level is not None and not 0 < interval_level < 1:
+        raise AnytipError(f"--interval-level must lie strictly between 0 and 1, got {interval_level}")
+    if budget_samples is not None and budget_seconds is not None:
+        raise AnytipError("give --budget-samples or --budget-seconds, not both")
+    if benchmarked_in(model) == "seconds":
+        wanted = DEFAULT_SECONDS if budget_seconds is None else budget_seconds
+    else:
+        wanted = (1000 if budget_samples is None else budget_samples) if budget_seconds is None else None
+    shared_path, choice = find_shared(model, adapter, seed, wanted)
+    shared = load_shared(shared_path)
+    meta = shared.meta
+    records = registry.list_runs(unit=unit)
+    if not records:
+        raise AnytipError(f"registry {registry.root} holds no runs of unit {unit!r}")
+    want = meta.get("sensor_model")
+    if want and any(r.sensor_model != want for r in records):
+        models = sorted({r.sensor_model for r in records})
+        raise AnytipError(f"unit {unit} is a {models} sensor; the shared model {shared_path} was "
+                          f"trained on {want!r}")
+    arrays = load_arrays(registry, records)
+    stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"),
+                                interleave=bool(meta.get("calibration_interleave", False)))
+    plan, budget, clipped = choose_plan(meta, arrays, stream, budget_samples, budget_seconds)
+    notes = [f"shared model {shared_path.name}: {choice}"] + ([clipped] if clipped else [])
+    if unit in meta.get("unit_ids", []):
+        notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
+                     "calibration check is not an unseen-unit result")
+    response, why = choose_response(model, seed, meta, budget, method, adapter, use_seconds)
+    notes += [why] if why else []
+    if response is not None:
+        use = None
+        if use_seconds > 0:
+            rig = rig_of(meta)
+            use = UseRequest(use_seconds, meta.get("calibration_protocol"),
+                             bool(meta.get("calibration_interleave", False)), rig.effective_hz)
+        pooled = interval_records(factor_from, response)
+        strategy, planned = response_plan(response, meta, (arrays, stream), plan, budget, use is not None,
+                                          notes, plan_strategy)
+        return calibrate_by_response_unit(response, registry, arrays, stream, planned, budget, Path(out),
+                                          notes, interval_level, strategy, use, pooled,
+                                          meta.get("calibration_protocol"))
+    if factor_from:
+        raise AnytipError("--factor-from is read by response transfer alone: the adapter's intervals have "
+                          "their own fleet factor")
+    if plan_strategy is not None:
+        raise AnytipError("--plan-strategy is read by response transfer alone: the adapter calibrates on the "
+                          "plans its benchmark chose")
+    return calibrate_by_adapter_unit((shared, shared_path), arrays, stream, plan, budget, Path(out), notes,
+                                     interval_level)
