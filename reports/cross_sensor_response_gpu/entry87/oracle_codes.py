@@ -6,6 +6,9 @@ Knowledge no calibration has: a ceiling, never a method. Usage, from the reposit
 
     python reports/cross_sensor_response_gpu/entry87/oracle_codes.py ROWS RUN --registry REG \\
         --out OUT [rescore_response.py's options]
+
+With `--same-rows` after ROWS it runs `entry101/same_rows.py` instead (a registry simulated again from the
+run's own command; entry 119).
 """
 
 import runpy
@@ -20,6 +23,9 @@ from anytip.train.response import fit_codes
 if len(sys.argv) < 3 or not sys.argv[1].isdigit():
     sys.exit(__doc__)
 ROWS = int(sys.argv.pop(1))
+SAME_ROWS = len(sys.argv) > 1 and sys.argv[1] == "--same-rows"
+if SAME_ROWS:
+    sys.argv.pop(1)
 planned = pipe.calibrated
 
 
@@ -37,5 +43,7 @@ def oracle(ctx, arrays, sd, fit, carry, recipe, jobs, seed, codes=None, extra=No
 
 
 pipe.calibrated = oracle
-sys.argv[0] = "scripts/rescore_response.py"
-runpy.run_path("scripts/rescore_response.py", run_name="__main__")
+script = ("reports/cross_sensor_response_gpu/entry101/same_rows.py" if SAME_ROWS
+          else "scripts/rescore_response.py")
+sys.argv[0] = script
+runpy.run_path(script, run_name="__main__")
