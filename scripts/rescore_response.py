@@ -23,7 +23,9 @@ be trained again, on the run's own training units (and its `extra_units`), with 
         --set options.response.steps=20000
 
 A retrained model is saved as soon as it is trained: the same command on an OUT that an
-interruption left without metrics.json reuses it, as `anytip run` does in place.
+interruption left without metrics.json reuses it, as `anytip run` does in place. Retraining takes
+the spec's `threads` (`--set threads=N`); a rescoring alone runs on one thread, so that folds can
+run side by side.
 
 `--response-model FILE` (`{seed}` replaced by the seed) takes each seed's response model from
 elsewhere: one trained on the seed's training units and on units this machine does not hold (many
@@ -112,6 +114,8 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
         overrides = [*overrides, "options.extra_units=null"]
     spec = load_spec(run / "config.yaml", [*overrides, "options.adapters=[]"])
     spec = spec.model_copy(update={"description": f"{said} {spec.description}".strip()})
+    if retrain:  # training a response model again takes the spec's threads, as `anytip run` gave it
+        torch.set_num_threads(spec.threads)
     old = read_json(run / "provenance.json")
     ctx = Context(spec, Registry(registry, create=False), out, torch.device("cpu"), False,
                   {"spec_file": str(run / "config.yaml")})
@@ -262,6 +266,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--response-model", help="each seed's response model from this file ({seed} is "
                         "replaced by the seed) instead of the run's")
     args = parser.parse_args(argv)
+    threads = torch.get_num_threads()  # given back on return: a caller in the same process keeps its own
     torch.set_num_threads(1)
     try:
         out = rescore(args.run, args.registry, args.out, args.overrides, args.retrain, args.response_model,
@@ -270,6 +275,8 @@ def main(argv: list[str] | None = None) -> int:
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
+    finally:
+        torch.set_num_threads(threads)
     return 0
 
 
