@@ -59,6 +59,15 @@ def bootstrap_gmean(x: np.ndarray, n: int = 10_000, seed: int = 0) -> tuple[floa
     return float(np.exp(logs.mean())), *np.exp(np.quantile(means, [0.025, 0.975]))
 
 
+def paired_force(new: list[dict[str, Any]], old: list[dict[str, Any]], method: str, budget: float,
+                 against: str | None = None) -> tuple[float, float, float]:
+    """Each held-out unit's force RMSE of `method` at `budget` in `new` over its row of `against` (default the
+    same method) in `old`: geometric mean over units with a 95% bootstrap interval."""
+    before = {r["unit"]: r for r in old if r["method"] == (against or method) and r["budget_s"] == budget}
+    got = [r for r in new if r["method"] == method and r.get("budget_s") == budget]
+    return bootstrap_gmean(np.array([r["force_rmse_n"] / before[r["unit"]]["force_rmse_n"] for r in got]))
+
+
 def intervals(rows: list[dict[str, Any]]) -> str:
     """The interval target on these rows: the fleet factor times its margin as `anytip calibrate` applies
     them (`<output>_margin_coverage`), or the fleet factor's alone where rows predate margins; share in
@@ -97,8 +106,7 @@ def main() -> None:
                 if not got:
                     continue
                 s = line_of(new, method, budget)
-                paired = np.array([r["force_rmse_n"] / before[r["unit"]]["force_rmse_n"] for r in got])
-                g, lo, hi = bootstrap_gmean(paired)
+                g, lo, hi = paired_force(new, old, method, budget, "response@cover")
                 print(f"   {budget:g} s {method}: {s}; against the run's "
                       f"response@cover x{g:.3f} [{lo:.3f}, {hi:.3f}]; intervals {intervals(got)}")
             print(f"   {budget:g} s the run's response@cover: {line_of(old, 'response@cover', budget)}; "

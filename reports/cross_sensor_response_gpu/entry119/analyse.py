@@ -27,10 +27,7 @@ def main() -> None:
             print(f"{name}: not run")
             continue
         oracle, plan = E118["rows_of"](out), E118["rows_of"](G / "entry118" / name)
-        before = {r["unit"]: r for r in plan if r["method"] == METHOD and r["budget_s"] == 120.0}
-        got = [r for r in oracle if r["method"] == METHOD and r["budget_s"] == 120.0]
-        paired = np.array([r["force_rmse_n"] / before[r["unit"]]["force_rmse_n"] for r in got])
-        g, lo, hi = E118["bootstrap_gmean"](paired)
+        g, lo, hi = E118["paired_force"](oracle, plan, METHOD, 120.0)
         print(f"== {name}, 120 s, the plan alone\n   oracle codes: {E118['line_of'](oracle, METHOD, 120.0)}\n"
               f"   the plan's codes (entry 118): {E118['line_of'](plan, METHOD, 120.0)}\n"
               f"   paired, force: x{g:.3f} [{lo:.3f}, {hi:.3f}] (log {np.log(g):+.3f})")

@@ -13,8 +13,6 @@ from __future__ import annotations
 import runpy
 from pathlib import Path
 
-import numpy as np
-
 G = Path("reports/cross_sensor_response_gpu")
 E118 = runpy.run_path(str(G / "entry118/analyse.py"))  # rows_of, gate, line_of, bootstrap_gmean, intervals
 
@@ -26,9 +24,7 @@ def main() -> None:
     for budget in (120.0, 600.0):
         for method in E118["METHODS"]:
             got = [r for r in new if r["method"] == method and r["budget_s"] == budget]
-            before = {r["unit"]: r for r in old if r["method"] == method and r["budget_s"] == budget}
-            paired = np.array([r["force_rmse_n"] / before[r["unit"]]["force_rmse_n"] for r in got])
-            g, lo, hi = E118["bootstrap_gmean"](paired)
+            g, lo, hi = E118["paired_force"](new, old, method, budget)
             print(f"{budget:g} s {method}\n   code 32: {E118['line_of'](new, method, budget)}; "
                   f"intervals {E118['intervals'](got)}\n   code 16: {E118['line_of'](old, method, budget)}\n"
                   f"   paired, force: x{g:.3f} [{lo:.3f}, {hi:.3f}]")
