@@ -15,12 +15,9 @@ case $1 in
   fleet24_seed1) run=reports/cross_sensor_response_start/fleet24_seed1; registry=data/fleet24 ;;
   *) echo "unknown run $1" >&2; exit 2 ;;
 esac
+. reports/cross_sensor_response_gpu/entry118/recipe.sh
 refs=(); [ -d "$run/models/per_unit_seed1_lr0" ] && refs=(--references "$run/models")
 python reports/cross_sensor_response_gpu/entry101/same_rows.py "$run" --registry $registry \
   --out reports/cross_sensor_response_gpu/entry118/$1 "${refs[@]}" \
-  --set "options.budgets=[120, 600]" --set "options.plan_strategies=[cover_informative]" \
-  --set options.response.code_prior=registry --set options.response.plan_criterion=v \
-  --set options.response.code_iterations=40 --set options.response.code_tolerance=1e-4 \
-  --set options.response.residual_length=1 --set options.response.residual_ratio=10 \
-  --set "options.response.label_free={with_plans: true, zero_shot: false}" \
+  "${RECIPE[@]}" --set "options.budgets=[120, 600]" \
   --set "options.intervals={folds: 5, level: 0.9, transfer_check: false}"

@@ -10,11 +10,8 @@ case $1 in
   fleet24_seed1) run=reports/cross_sensor_response_start/fleet24_seed1; registry=data/fleet24 ;;
   *) echo "unknown run $1" >&2; exit 2 ;;
 esac
+. reports/cross_sensor_response_gpu/entry118/recipe.sh
 python reports/cross_sensor_response_gpu/entry87/oracle_codes.py 16384 --same-rows "$run" --registry $registry \
   --out reports/cross_sensor_response_gpu/entry119/$1 \
-  --set "options.budgets=[120]" --set "options.plan_strategies=[cover_informative]" \
-  --set options.response.code_prior=registry --set options.response.plan_criterion=v \
-  --set options.response.code_iterations=40 --set options.response.code_tolerance=1e-4 \
-  --set options.response.residual_length=1 --set options.response.residual_ratio=10 \
-  --set "options.response.label_free={with_plans: true, zero_shot: false}" \
+  "${RECIPE[@]}" --set "options.budgets=[120]" \
   --set "options.intervals=null"
