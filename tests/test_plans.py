@@ -343,6 +343,22 @@ def test_press_folds_hold_out_every_press_exactly_once():
     assert len(check) == 0 and np.array_equal(fit, plan.rows)
 
 
+def test_a_plan_without_a_folds_presses_keeps_whole_presses_and_their_bounds():
+    """without_presses(k, fold): the smaller plan holds split_presses' fitting rows, press by press
+    (its bounds cut them where the whole plan's did), and its effective count shrinks with its rows."""
+    arrays = fleet()
+    plan = select_presses(find_presses(arrays, "U1"), 90.0, RigTiming(move_s=2.0, remount_s=30.0), "spread", 1)
+    smaller, check = plan.without_presses(3, 1)
+    assert np.array_equal(smaller.rows, plan.split_presses(3, 1)[0])
+    assert np.array_equal(check, plan.split_presses(3, 1)[1])
+    assert smaller.presses == plan.presses - len(range(1, plan.presses, 3))
+    whole = {tuple(plan.rows[a:b]) for a, b in zip(plan.bounds[:-1], plan.bounds[1:], strict=True)}
+    kept = [tuple(smaller.rows[a:b]) for a, b in zip(smaller.bounds[:-1], smaller.bounds[1:], strict=True)]
+    assert len(kept) == smaller.presses and set(kept) <= whole
+    assert smaller.n_effective == pytest.approx(plan.n_effective * len(smaller.rows) / len(plan.rows))
+    assert smaller.calib_seconds == plan.calib_seconds  # the rig spent the whole plan's time
+
+
 def axis_information(axes: list[int], strength: list[float], region: tuple[float, float],
                      criterion: str) -> CodeInformation:
     """One barometer, a code of 2: press p tells code dimension axes[p] with strength[p]."""

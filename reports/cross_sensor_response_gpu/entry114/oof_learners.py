@@ -16,7 +16,6 @@ OUT/learners.json. Usage, from the repository root:
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import runpy
 import time
 from pathlib import Path
@@ -24,7 +23,6 @@ from pathlib import Path
 import numpy as np
 
 import anytip.train.shared_split as shared_split
-from anytip.data.plans import Plan
 from anytip.data.splits import UnitSplit
 from anytip.models.io import load_response
 from anytip.pipelines.cross_sensor import prepare
@@ -36,18 +34,6 @@ from anytip.uncertainty.conformal import residual_halfwidth
 
 FOLD_OF = runpy.run_path("reports/cross_sensor_response_gpu/entry98/more_val.py")["fold_of"]
 FOLDS = 5  # as the adapters' press folds (`options.intervals.folds`)
-
-
-def fold_plan(plan: Plan, every: int, fold: int) -> tuple[Plan, np.ndarray]:
-    """The plan without its fold's presses (press k in fold k mod every), and the left-out rows."""
-    pieces = [plan.rows[a:b] for a, b in zip(plan.bounds[:-1], plan.bounds[1:], strict=True)]
-    keep = [p for k, p in enumerate(pieces) if k % every != fold]
-    out = [p for k, p in enumerate(pieces) if k % every == fold]
-    rows = np.concatenate(keep)
-    bounds = np.concatenate([[0], np.cumsum([len(p) for p in keep])]).astype(np.int64)
-    smaller = dataclasses.replace(plan, rows=rows, presses=len(keep), bounds=bounds,
-                                  n_effective=plan.n_effective * len(rows) / len(plan.rows))
-    return smaller, np.concatenate(out)
 
 
 def main() -> None:
@@ -78,7 +64,7 @@ def main() -> None:
         fold_jobs, left_out = [], []
         for u, b, plan in jobs:
             for f in range(args.folds):
-                smaller, check = fold_plan(plan, args.folds, f)
+                smaller, check = plan.without_presses(args.folds, f)
                 fold_jobs.append((u, b, smaller))
                 left_out.append(check)
         checks = []

@@ -28,6 +28,7 @@ prior is scaled by that count, not by rows.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import zlib
 from collections.abc import Callable, Iterator
@@ -156,12 +157,23 @@ class Plan:
         (fold+1)-th, (fold+every+1)-th, ...) held out whole, for a calibration's own validation;
         folds 0..every-1 hold out each press once. No check rows for fewer than 2 presses, or
         where the fold starts past the last press."""
+        fit, check = self.without_presses(every, fold)
+        return fit.rows, check
+
+    def without_presses(self, every: int, fold: int = 0) -> tuple[Plan, np.ndarray]:
+        """(the plan without its check presses, their rows): `split_presses`' rule, the smaller plan
+        with its presses and bounds, and its effective sample count scaled by the rows it keeps (its
+        robot and contact seconds are the whole plan's: what the rig spent)."""
         pieces = [self.rows[a:b] for a, b in zip(self.bounds[:-1], self.bounds[1:], strict=True)]
         check = [k for k in range(len(pieces)) if k % every == fold]
         if len(pieces) < 2 or not check:
-            return self.rows, self.rows[:0]
+            return self, self.rows[:0]
         fit = [p for k, p in enumerate(pieces) if k not in check]
-        return np.concatenate(fit), np.concatenate([pieces[k] for k in check])
+        rows = np.concatenate(fit)
+        bounds = np.concatenate([[0], np.cumsum([len(p) for p in fit])]).astype(np.int64)
+        smaller = dataclasses.replace(self, rows=rows, presses=len(fit), bounds=bounds,
+                                      n_effective=self.n_effective * len(rows) / len(self.rows))
+        return smaller, np.concatenate([pieces[k] for k in check])
 
 
 def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = None) -> Presses:
