@@ -1,8 +1,9 @@
 """Research log entry 121's reading: other16's designed plan with today's recipe, `cover_informative` beside
-it in the same runs. Rule 1 (each run's `cover_informative` rows and references equal entry 101's run of the
-same fold and draw), rule 2 (the designed plan's ratios at 120 s, each unit's draws averaged, with and
-without ordinary use) and rule 3 (designed over `cover_informative`, paired per unit). Reads the draws whose
-four folds ran. Usage, from the repository root:
+it in the same runs. Rule 1 as amended: the references' rows and each shared method's plans equal entry
+101's run of the same fold and draw; the shared methods' RMSEs move by the code's drift since then, which is
+reported. Rule 2: the designed plan's ratios at 120 s, each unit's draws averaged, with and without ordinary
+use. Rule 3: designed over `cover_informative`, paired per unit. Reads the draws whose four folds ran.
+Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry121/analyse.py
 """
@@ -19,7 +20,9 @@ HERE = Path(__file__).parent
 BEFORE = HERE.parent / "entry101"
 KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
 FOLDS = (0, 1, 2, 3)
-SHARED = ("response@cover_informative", "response+use@cover_informative", "per_unit")
+SHARED = ("response@cover_informative", "response+use@cover_informative")
+METHODS = tuple(f"{use}@{plan}" for use in ("response+use", "response")
+                for plan in ("designed", "cover_informative"))
 
 
 def run_dir(root: Path, d: int, k: int) -> Path:
@@ -34,63 +37,61 @@ def record(root: Path, d: int, k: int) -> dict[str, Any]:
     return read_json(run_dir(root, d, k) / "provenance.json")["cross_sensor"][f"seed{k}"]
 
 
-def largest_difference(new: list[float], old: list[float]) -> float:
-    a, b = np.asarray(new, float), np.asarray(old, float)
-    return float(np.max(np.abs(a - b) / np.maximum(np.abs(b), 1e-300))) if len(a) else 0.0
+def same_data(d: int, k: int) -> None:
+    """Rule 1: the references' rows and the shared methods' plans against entry 101's run, and how far
+    the shared methods' RMSEs moved (the code's drift)."""
+    def plans(root: Path) -> list[tuple[Any, ...]]:
+        return sorted((r["method"], r["unit"], r["seed"], r["calib_samples"], r["calib_seconds"])
+                      for r in rows(root, d, k) if r["method"] in SHARED)
+
+    def references(root: Path) -> list[tuple[Any, ...]]:
+        return sorted(tuple(sorted(r.items())) for r in rows(root, d, k) if r["method"] == "per_unit")
+
+    def rmses(root: Path) -> np.ndarray:
+        return np.array([r[key] for r in sorted(rows(root, d, k), key=lambda r: (r["method"], r["unit"]))
+                         if r["method"] in SHARED for key in KEYS.values()])
+
+    equal = plans(HERE) == plans(BEFORE) and references(HERE) == references(BEFORE)
+    new, old = rmses(HERE), rmses(BEFORE)
+    drift = float(np.max(np.abs(new / old - 1)))
+    print(f"rule 1, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}; "
+          f"the shared methods' {len(new)} RMSEs move by up to {drift:.3f} relative")
 
 
-def same_as_before(d: int, k: int) -> None:
-    """Rule 1: the shared methods' held-out rows and validation losses against entry 101's run."""
-    def held(root: Path) -> list[tuple[Any, ...]]:
-        return sorted((r["method"], budget, r["unit"], r["seed"], key, r[key])
-                      for r in rows(root, d, k) if r["method"] in SHARED
-                      for budget in [r.get("calib_seconds")] for key in KEYS.values())
-
-    def losses(root: Path) -> list[tuple[str, str, str, float]]:
-        got = record(root, d, k)["val_loss_units"]
-        return sorted((m, b, u, v) for m in SHARED if m in got for b, per in got[m].items() for u, v in per.items())
-
-    new, old = held(HERE), held(BEFORE)
-    vnew, vold = losses(HERE), losses(BEFORE)
-    same_keys = [r[:5] for r in new] == [r[:5] for r in old] and [r[:3] for r in vnew] == [r[:3] for r in vold]
-    if not same_keys:
-        print(f"rule 1, draw {d}, fold {k}: the shared rows DIFFER in which rows they hold")
-        return
-    diff = max(largest_difference([r[5] for r in new], [r[5] for r in old]),
-               largest_difference([r[3] for r in vnew], [r[3] for r in vold]))
-    verdict = "equal" if diff == 0 else f"largest relative difference {diff:.2g}"
-    print(f"rule 1, draw {d}, fold {k}: {len(new)} held-out values and {len(vnew)} validation losses {verdict}")
+def unit_figure(root: Path, draws: list[int], method: str) -> dict[str, dict[str, float]]:
+    """Per output kind, per unit: the ratio at 120 s with the unit's draws averaged."""
+    got = [r for d in draws for k in FOLDS for r in rows(root, d, k)]
+    return {label: unit_ratios(got, key)[(method, 120.0)] for label, key in KEYS.items()}
 
 
-def figure(draws: list[int], method: str) -> dict[str, dict[str, float]]:
-    """Rule 2: per unit, the ratio at 120 s with its draws averaged; prints mean and interval."""
-    got = [r for d in draws for k in FOLDS for r in rows(HERE, d, k)]
-    per = {}
-    for label, key in KEYS.items():
-        per[label] = unit_ratios(got, key)[(method, 120.0)]
+def line(per: dict[str, dict[str, float]]) -> str:
+    parts = []
+    for label in KEYS:
         m, lo, hi = mean_interval(list(per[label].values()))
-        print(f"  {method} {label}: {m:.3f}x [{lo:.2f}, {hi:.2f}] over {len(per[label])} units")
-    return per
+        parts.append(f"{label} {m:.3f}x [{lo:.2f}, {hi:.2f}]")
+    return ", ".join(parts) + f" over {len(per['force'])} units"
 
 
 def main() -> None:
     draws = [d for d in (0, 1, 2) if all((run_dir(HERE, d, k) / "metrics.json").is_file() for k in FOLDS)]
     for d in draws:
         for k in FOLDS:
-            same_as_before(d, k)
+            same_data(d, k)
     print(f"rule 2, draws {draws}, 120 s:")
-    per = {m: figure(draws, m) for use in ("response+use", "response")
-           for m in (f"{use}@designed", f"{use}@cover_informative")}
+    per = {m: unit_figure(HERE, draws, m) for m in METHODS}
+    for m in METHODS:
+        print(f"  {m}: {line(per[m])}")
+    for m in SHARED:
+        print(f"  entry 101's {m}, the same draws: {line(unit_figure(BEFORE, draws, m))}")
     print("rule 3, designed over cover_informative, paired per unit:")
     for use in ("response+use", "response"):
-        for label in KEYS:
-            d, c = per[f"{use}@designed"][label], per[f"{use}@cover_informative"][label]
-            print(f"  {use} {label}: x{paired_text([d[u] / c[u] for u in c])}")
+        d, c = per[f"{use}@designed"], per[f"{use}@cover_informative"]
+        paired = {label: paired_text([d[label][u] / c[label][u] for u in c[label]]) for label in KEYS}
+        print(f"  {use}: " + ", ".join(f"{label} x{text}" for label, text in paired.items()))
     for d in draws:
-        val = {m: np.mean([record(HERE, d, k)["val_loss"][m]["120"] for k in FOLDS])
-               for m in ("response@designed", "response@cover_informative", "response+use@designed",
-                         "response+use@cover_informative")}
-        print(f"validation, draw {d}: " + ", ".join(f"{m} {v:.5f}" for m, v in val.items()))
+        val = {m: np.mean([record(HERE, d, k)["val_loss"][m]["120"] for k in FOLDS]) for m in METHODS}
+        means = ", ".join(f"{m} {v:.5f}" for m, v in val.items())
+        print(f"validation, draw {d}, mean over the folds: {means}")
 
 
 if __name__ == "__main__":
