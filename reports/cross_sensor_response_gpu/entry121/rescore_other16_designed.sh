@@ -4,7 +4,9 @@
 # ordinary use; entry 83's options) on data/other16p, other16 with each unit's designed 120 s calibration
 # added (plan120), `cover_informative` and `designed` side by side, into
 # entry121/other16_severe_d$2/other16_seed$1. The registry is simulated again (entry 101's same_rows.py).
-k=$1; d=$2
+# A later entry may give another directory under cross_sensor_response_gpu/ as $3 and more `--set` options
+# after it (the last wins).
+k=$1; d=$2; out=${3:-entry121}; shift $(( $# < 3 ? $# : 3 ))
 . reports/cross_sensor_response_gpu/entry83/other16.sh
 RESCORE_SCRIPT=reports/cross_sensor_response_gpu/entry101/same_rows.py \
 python reports/cross_sensor_response_gpu/entry83/start_draw.py $d 60 \
@@ -17,4 +19,4 @@ python reports/cross_sensor_response_gpu/entry83/start_draw.py $d 60 \
   --set options.response.inverse_epochs=60 \
   --set "options.plan_strategies=[cover_informative, designed]" --set options.response.plan_criterion=v \
   --set options.response.residual_length=1 --set options.response.residual_ratio=10 \
-  --out reports/cross_sensor_response_gpu/entry121/other16_severe_d$d/other16_seed$k
+  --out reports/cross_sensor_response_gpu/$out/other16_severe_d$d/other16_seed$k "$@"
