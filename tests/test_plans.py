@@ -347,7 +347,8 @@ def test_a_plan_without_a_folds_presses_keeps_whole_presses_and_their_bounds():
     """without_presses(k, fold): the smaller plan holds split_presses' fitting rows, press by press
     (its bounds cut them where the whole plan's did), and its effective count shrinks with its rows."""
     arrays = fleet()
-    plan = select_presses(find_presses(arrays, "U1"), 90.0, RigTiming(move_s=2.0, remount_s=30.0), "spread", 1)
+    rig = RigTiming(move_s=2.0, remount_s=30.0)
+    plan = select_presses(find_presses(arrays, "U1"), 90.0, rig, "spread", 1)
     smaller, check = plan.without_presses(3, 1)
     assert np.array_equal(smaller.rows, plan.split_presses(3, 1)[0])
     assert np.array_equal(check, plan.split_presses(3, 1)[1])
