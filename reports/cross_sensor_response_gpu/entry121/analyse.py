@@ -58,13 +58,19 @@ def same_data(d: int, k: int) -> None:
           f"the shared methods' {len(new)} RMSEs move by up to {drift:.3f} relative")
 
 
-def unit_figure(root: Path, draws: list[int], method: str) -> dict[str, dict[str, float]]:
-    """Per output kind, per unit: the ratio at 120 s with the unit's draws averaged."""
-    got = [r for d in draws for k in FOLDS for r in rows(root, d, k)]
+def at_120(got: list[dict[str, Any]], method: str) -> dict[str, dict[str, float]]:
+    """Per output kind, per unit: the method's ratio at 120 s in rows `got`, the unit's seeds and
+    draws averaged (entry 122 reads it too)."""
     return {label: unit_ratios(got, key)[(method, 120.0)] for label, key in KEYS.items()}
 
 
+def unit_figure(root: Path, draws: list[int], method: str) -> dict[str, dict[str, float]]:
+    """`at_120` over the draws' runs under root."""
+    return at_120([r for d in draws for k in FOLDS for r in rows(root, d, k)], method)
+
+
 def line(per: dict[str, dict[str, float]]) -> str:
+    """Each output kind's mean over units with its 95% interval (entry 122 reads it too)."""
     parts = []
     for label in KEYS:
         m, lo, hi = mean_interval(list(per[label].values()))

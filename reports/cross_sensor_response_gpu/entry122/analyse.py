@@ -7,15 +7,17 @@ which is reported. Rule 2: the designed plan's ratios at 120 s with ordinary use
     python reports/cross_sensor_response_gpu/entry122/analyse.py
 """
 
+import runpy
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import mean_interval, paired_text, unit_ratios
+from anytip.report.cross_sensor import paired_text
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
+READING = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))  # its at_120 and line
 BEFORE = {"use": HERE.parent / "entry105" / "fleet88_cpu_use_on",
           "alone": HERE.parent / "entry102" / "fleet88_cpu_on"}
 KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
@@ -56,16 +58,10 @@ def same_data(k: int) -> None:
 
 
 def unit_figure(root: Path, method: str) -> dict[str, dict[str, float]]:
-    got = [r for k in FOLDS for r in rows(root, k)]
-    return {label: unit_ratios(got, key)[(method, 120.0)] for label, key in KEYS.items()}
+    return READING["at_120"]([r for k in FOLDS for r in rows(root, k)], method)
 
 
-def line(per: dict[str, dict[str, float]]) -> str:
-    parts = []
-    for label in KEYS:
-        m, lo, hi = mean_interval(list(per[label].values()))
-        parts.append(f"{label} {m:.3f}x [{lo:.2f}, {hi:.2f}]")
-    return ", ".join(parts) + f" over {len(per['force'])} units"
+line = READING["line"]
 
 
 def main() -> None:
