@@ -78,6 +78,16 @@ def line(per: dict[str, dict[str, float]]) -> str:
     return ", ".join(parts) + f" over {len(per['force'])} units"
 
 
+def designed_over_informative(per: dict[str, dict[str, dict[str, float]]]) -> None:
+    """Rule 3 (entry 122's too): designed over `cover_informative` per unit, with and without use, from
+    `at_120`'s figures of each method in `per`."""
+    print("rule 3, designed over cover_informative, paired per unit:")
+    for use in ("response+use", "response"):
+        d, c = per[f"{use}@designed"], per[f"{use}@cover_informative"]
+        paired = {label: paired_text([d[label][u] / c[label][u] for u in c[label]]) for label in KEYS}
+        print(f"  {use}: " + ", ".join(f"{label} x{text}" for label, text in paired.items()))
+
+
 def main() -> None:
     draws = [d for d in (0, 1, 2) if all((run_dir(HERE, d, k) / "metrics.json").is_file() for k in FOLDS)]
     for d in draws:
@@ -89,11 +99,7 @@ def main() -> None:
         print(f"  {m}: {line(per[m])}")
     for m in SHARED:
         print(f"  entry 101's {m}, the same draws: {line(unit_figure(BEFORE, draws, m))}")
-    print("rule 3, designed over cover_informative, paired per unit:")
-    for use in ("response+use", "response"):
-        d, c = per[f"{use}@designed"], per[f"{use}@cover_informative"]
-        paired = {label: paired_text([d[label][u] / c[label][u] for u in c[label]]) for label in KEYS}
-        print(f"  {use}: " + ", ".join(f"{label} x{text}" for label, text in paired.items()))
+    designed_over_informative(per)
     for d in draws:
         val = {m: np.mean([record(HERE, d, k)["val_loss"][m]["120"] for k in FOLDS]) for m in METHODS}
         means = ", ".join(f"{m} {v:.5f}" for m, v in val.items())

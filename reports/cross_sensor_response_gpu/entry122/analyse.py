@@ -13,11 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import paired_text
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
-READING = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))  # its at_120 and line
+READING = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))  # its at_120, line and rule 3
 BEFORE = {"use": HERE.parent / "entry105" / "fleet88_cpu_use_on",
           "alone": HERE.parent / "entry102" / "fleet88_cpu_on"}
 KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
@@ -73,11 +72,7 @@ def main() -> None:
         print(f"  {m}: {line(per[m])}")
     print(f"  entry 105's response+use@cover_informative: {line(unit_figure(BEFORE['use'], METHODS[1]))}")
     print(f"  entry 102's response@designed: {line(unit_figure(BEFORE['alone'], METHODS[2]))}")
-    print("rule 3, designed over cover_informative, paired per unit:")
-    for use in ("response+use", "response"):
-        d, c = per[f"{use}@designed"], per[f"{use}@cover_informative"]
-        paired = {label: paired_text([d[label][u] / c[label][u] for u in c[label]]) for label in KEYS}
-        print(f"  {use}: " + ", ".join(f"{label} x{text}" for label, text in paired.items()))
+    READING["designed_over_informative"](per)
     val = {m: np.mean([record(HERE, k)["val_loss"][m]["120"] for k in FOLDS]) for m in METHODS}
     print("validation, mean over the folds: " + ", ".join(f"{m} {v:.5f}" for m, v in val.items()))
 
