@@ -18,6 +18,17 @@ KEYS, FOLDS, METHODS = ON["KEYS"], ON["FOLDS"], ON["METHODS"]
 ARMS = {"on": HERE.parent / "entry121", "off": HERE}
 
 
+def off_over_on(off: dict[str, dict[str, float]], on: dict[str, dict[str, float]]) -> str:
+    """Per output kind, off over on paired per unit, and off's mean with its interval, from two arms'
+    per-unit ratios (entry 121's `at_120`; entry 124 reads it too)."""
+    cells = []
+    for label in KEYS:
+        mean, lo, hi = mean_interval(list(off[label].values()))
+        paired = paired_text([off[label][u] / on[label][u] for u in on[label]])
+        cells.append(f"{label} x{paired} (off {mean:.3f}x [{lo:.2f}, {hi:.2f}])")
+    return "; ".join(cells)
+
+
 def main() -> None:
     ran = [(root, k) for root in ARMS.values() for k in FOLDS]
     draws = [d for d in (0, 1, 2)
@@ -25,13 +36,7 @@ def main() -> None:
     print(f"draws {draws}, 120 s, off over on per unit:")
     for m in METHODS:
         per = {arm: ON["unit_figure"](root, draws, m) for arm, root in ARMS.items()}
-        cells = []
-        for label in KEYS:
-            off, on = per["off"][label], per["on"][label]
-            mean, lo, hi = mean_interval(list(off.values()))
-            paired = paired_text([off[u] / on[u] for u in on])
-            cells.append(f"{label} x{paired} (off {mean:.3f}x [{lo:.2f}, {hi:.2f}])")
-        print(f"  {m}: " + "; ".join(cells))
+        print(f"  {m}: {off_over_on(per['off'], per['on'])}")
     for d in draws:
         means = {arm: {m: np.mean([ON["record"](root, d, k)["val_loss"][m]["120"] for k in FOLDS])
                        for m in METHODS} for arm, root in ARMS.items()}
