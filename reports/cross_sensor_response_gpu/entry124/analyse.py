@@ -23,22 +23,23 @@ METHOD = "response+use@designed"
 KEYS, METHODS = FLEET88["KEYS"], FLEET88["METHODS"]
 
 
-def fleet88_losses(root: Path) -> dict[str, float]:
-    """Each fleet88 validation unit's loss of METHOD at 120 s (both folds)."""
-    return {u: v for k in FLEET88["FOLDS"]
+def fleet88_losses(root: Path) -> dict[tuple[int, str], float]:
+    """Each fleet88 validation unit's loss of METHOD at 120 s, per fold (both folds)."""
+    return {(k, u): v for k in FLEET88["FOLDS"]
             for u, v in FLEET88["record"](root, k)["val_loss_units"][METHOD]["120"].items()}
 
 
-def other16_logs() -> dict[str, float]:
-    """Each other16 validation unit's log(off / on) of METHOD at 120 s, its three draws averaged."""
-    logs: dict[str, list[float]] = {}
+def other16_logs() -> dict[tuple[int, str], float]:
+    """Each other16 validation unit's log(off / on) of METHOD at 120 s, per fold (a unit may validate two
+    folds: SIM23-004 does, in folds 0 and 2), its three draws averaged."""
+    logs: dict[tuple[int, str], list[float]] = {}
     for d in (0, 1, 2):
         for k in OTHER16["FOLDS"]:
             off = OTHER16["record"](GPU / "entry123", d, k)["val_loss_units"][METHOD]["120"]
             on = OTHER16["record"](GPU / "entry121", d, k)["val_loss_units"][METHOD]["120"]
             for u in on:
-                logs.setdefault(u, []).append(float(np.log(off[u] / on[u])))
-    return {u: float(np.mean(v)) for u, v in logs.items()}
+                logs.setdefault((k, u), []).append(float(np.log(off[u] / on[u])))
+    return {key: float(np.mean(v)) for key, v in logs.items()}
 
 
 def choice() -> None:
