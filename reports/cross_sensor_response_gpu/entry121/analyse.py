@@ -8,6 +8,7 @@ Usage, from the repository root:
     python reports/cross_sensor_response_gpu/entry121/analyse.py
 """
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -37,25 +38,32 @@ def record(root: Path, d: int, k: int) -> dict[str, Any]:
     return read_json(run_dir(root, d, k) / "provenance.json")["cross_sensor"][f"seed{k}"]
 
 
-def same_data(d: int, k: int) -> None:
-    """Rule 1: the references' rows and the shared methods' plans against entry 101's run, and how far
-    the shared methods' RMSEs moved (the code's drift)."""
-    def plans(root: Path) -> list[tuple[Any, ...]]:
+def data_check(new: list[dict[str, Any]], old: list[dict[str, Any]], shared: Sequence[str]
+               ) -> tuple[bool, int, float]:
+    """Rule 1's reading of two runs' rows (entry 122's too): whether their references' rows and the `shared`
+    methods' plans are equal, how many RMSEs of those methods they hold, and the most any moved (relative)."""
+    def plans(got: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
         return sorted((r["method"], r["unit"], r["seed"], r["calib_samples"], r["calib_seconds"])
-                      for r in rows(root, d, k) if r["method"] in SHARED)
+                      for r in got if r["method"] in shared)
 
-    def references(root: Path) -> list[tuple[Any, ...]]:
-        return sorted(tuple(sorted(r.items())) for r in rows(root, d, k) if r["method"] == "per_unit")
+    def references(got: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
+        return sorted(tuple(sorted(r.items())) for r in got if r["method"] == "per_unit")
 
-    def rmses(root: Path) -> np.ndarray:
-        return np.array([r[key] for r in sorted(rows(root, d, k), key=lambda r: (r["method"], r["unit"]))
-                         if r["method"] in SHARED for key in KEYS.values()])
+    def rmses(got: list[dict[str, Any]]) -> np.ndarray:
+        return np.array([r[key] for r in sorted(got, key=lambda r: (r["method"], r["unit"]))
+                         if r["method"] in shared for key in KEYS.values()])
 
-    equal = plans(HERE) == plans(BEFORE) and references(HERE) == references(BEFORE)
-    new, old = rmses(HERE), rmses(BEFORE)
-    drift = float(np.max(np.abs(new / old - 1)))
+    equal = plans(new) == plans(old) and references(new) == references(old)
+    moved = rmses(new) / rmses(old) - 1
+    return equal, len(moved), float(np.max(np.abs(moved)))
+
+
+def same_data(d: int, k: int) -> None:
+    """Rule 1 against entry 101's run of the same draw and fold: the data's identity, and how far the
+    shared methods' RMSEs moved (the code's drift)."""
+    equal, n, drift = data_check(rows(HERE, d, k), rows(BEFORE, d, k), SHARED)
     print(f"rule 1, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}; "
-          f"the shared methods' {len(new)} RMSEs move by up to {drift:.3f} relative")
+          f"the shared methods' {n} RMSEs move by up to {drift:.3f} relative")
 
 
 def at_120(got: list[dict[str, Any]], method: str) -> dict[str, dict[str, float]]:

@@ -16,7 +16,8 @@ import numpy as np
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
-READING = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))  # its at_120, line and rule 3
+# entry 121's data_check, at_120, line and rule 3
+READING = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))
 BEFORE = {"use": HERE.parent / "entry105" / "fleet88_cpu_use_on",
           "alone": HERE.parent / "entry102" / "fleet88_cpu_on"}
 KEYS = {"force": "force_rmse_n", "angle": "angle_rmse_rad"}
@@ -37,23 +38,9 @@ def same_data(k: int) -> None:
     """Rule 1 against entry 105's run, and the code's drift in the methods both runs hold."""
     old = rows(BEFORE["use"], k)
     shared = sorted({r["method"] for r in old} & set(METHODS))
-
-    def plans(got: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
-        return sorted((r["method"], r["unit"], r["seed"], r["calib_samples"], r["calib_seconds"])
-                      for r in got if r["method"] in shared)
-
-    def references(got: list[dict[str, Any]]) -> list[tuple[Any, ...]]:
-        return sorted(tuple(sorted(r.items())) for r in got if r["method"] == "per_unit")
-
-    def rmses(got: list[dict[str, Any]]) -> np.ndarray:
-        return np.array([r[key] for r in sorted(got, key=lambda r: (r["method"], r["unit"]))
-                         if r["method"] in shared for key in KEYS.values()])
-
-    new = rows(HERE, k)
-    equal = plans(new) == plans(old) and references(new) == references(old)
-    drift = float(np.max(np.abs(rmses(new) / rmses(old) - 1)))
+    equal, n, drift = READING["data_check"](rows(HERE, k), old, shared)
     print(f"rule 1, fold {k}: references and plans of {', '.join(shared)} {'equal' if equal else 'DIFFER'}; "
-          f"their {len(rmses(new))} RMSEs move by up to {drift:.3f} relative")
+          f"their {n} RMSEs move by up to {drift:.3f} relative")
 
 
 def unit_figure(root: Path, method: str) -> dict[str, dict[str, float]]:
