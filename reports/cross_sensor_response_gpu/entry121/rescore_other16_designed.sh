@@ -5,12 +5,12 @@
 # added (plan120), `cover_informative` and `designed` side by side, into
 # entry121/other16_severe_d$2/other16_seed$1. The registry is simulated again (entry 101's same_rows.py).
 # A later entry may give another directory under cross_sensor_response_gpu/ as $3 and more `--set` options
-# after it (the last wins).
+# after it (the last wins), and another registry as REGISTRY (default data/other16p; entry 126).
 k=$1; d=$2; out=${3:-entry121}; shift $(( $# < 3 ? $# : 3 ))
 . reports/cross_sensor_response_gpu/entry83/other16.sh
 RESCORE_SCRIPT=reports/cross_sensor_response_gpu/entry101/same_rows.py \
 python reports/cross_sensor_response_gpu/entry83/start_draw.py $d 60 \
-  reports/cross_sensor_response_start/other16_seed$k --registry data/other16p \
+  reports/cross_sensor_response_start/other16_seed$k --registry "${REGISTRY:-data/other16p}" \
   --added-protocol plan120 --set "data.protocol=[full, short, quick, plan120]" \
   --response-model "$TWICE_THE_SPREAD" \
   --set options.response.rows_per_step=32768 --set "options.budgets=[0, 120]" \
