@@ -1,0 +1,6 @@
+#!/bin/bash
+# Research log entry 127: entry 121's other16 rescoring of fold $1 in start draw $2 on data/other16p, every job
+# with ordinary use given the joint codes of its unit's other plan (designed <-> cover_informative), into
+# entry127/other16_severe_d$2/other16_seed$1. Run from the root of a worktree of the entry's commit with
+# variant.patch applied.
+exec bash reports/cross_sensor_response_gpu/entry121/rescore_other16_designed.sh "$1" "$2" entry127
