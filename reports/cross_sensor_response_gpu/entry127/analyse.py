@@ -1,0 +1,44 @@
+"""Research log entry 127's reading: entry 121's other16 rescorings with every job with ordinary use given its
+unit's other plan's joint codes (designed <-> `cover_informative`). Gate: the references' rows and every
+plan-alone row equal entry 121's. Reading: swapped over entry 121's per unit for every method, each unit's draws
+averaged, and the validation units' means per draw. Usage, from the repository root:
+
+    python reports/cross_sensor_response_gpu/entry127/analyse.py
+"""
+
+import runpy
+from pathlib import Path
+
+HERE = Path(__file__).parent
+BEFORE = HERE.parent / "entry121"
+BASE = runpy.run_path(str(BEFORE / "analyse.py"))
+PAIRED = runpy.run_path(str(HERE.parent / "entry123" / "analyse.py"))
+ALONE = ("response@designed", "response@cover_informative")
+
+
+def gate(root: Path, d: int, k: int) -> bool:
+    """The references' rows and the plan-alone rows of draw d, fold k under root equal entry 121's."""
+    equal, n, moved = BASE["data_check"](BASE["rows"](root, d, k), BASE["rows"](BEFORE, d, k), ALONE)
+    ok = equal and moved == 0.0
+    print(f"gate, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, the plans alone's "
+          f"{n} RMSEs move by up to {moved:.2g}: {'passed' if ok else 'FAILED'}")
+    return ok
+
+
+def read(root: Path, label: str, what: str) -> None:
+    """The gate on every run under root, then, if it passed, root's arm (`label`) over entry 121's per unit
+    (entry 128 reads it too)."""
+    ran = [(d, k) for d in (0, 1, 2) for k in BASE["FOLDS"]
+           if (BASE["run_dir"](root, d, k) / "metrics.json").is_file()]
+    if all([gate(root, d, k) for d, k in ran]):
+        PAIRED["paired_arms"]({label: root, "121": BEFORE}, what)
+    else:
+        print("gate failed: no row with ordinary use is read")
+
+
+def main() -> None:
+    read(HERE, "swapped", "swapped codes over their own")
+
+
+if __name__ == "__main__":
+    main()
