@@ -1,8 +1,8 @@
-"""Research log entry 126's reading: other16's designed plan with its second orientation pressed 600 s after
-power-up (`data/other16s`), against entry 121's cold plan. Rule 1: every reference's rows, `cover_informative`'s
-plans and RMSEs, and the designed plans' robot seconds and row counts equal entry 121's. Rules 2-3: split over
-cold per unit for every method, each unit's draws averaged, and the validation units' means per draw. Usage,
-from the repository root:
+"""Research log entry 126's reading: other16's designed plan with its second orientation pressed 600 s
+after power-up (`data/other16s`), against entry 121's cold plan. Rule 1: every reference's rows,
+`cover_informative`'s plans and RMSEs, and the designed plans' robot seconds and row counts equal entry 121's.
+Rules 2-3: split over cold per unit for every method, each unit's draws averaged, and the validation units'
+means per draw. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry126/analyse.py
 """
@@ -19,14 +19,15 @@ PAIRED = runpy.run_path(str(HERE.parent / "entry123" / "analyse.py"))
 DESIGNED = ("response@designed", "response+use@designed")
 
 
-# The designed plans' robot seconds are sums of time stamps' differences; the warm run's stamps lie 600 s later,
-# where float64 rounds each to 1.1e-13 s, so the sums may differ in the 13th digit (rule 1 as amended). This
-# bound is the rounding of a few hundred stamps with ample room, and far under one 5 ms sample.
+# The designed plans' robot seconds are sums of time stamps' differences; the warm run's stamps lie 600 s
+# later, where float64 rounds each to 1.1e-13 s, so the sums may differ in the 13th digit (rule 1 as amended).
+# This bound is the rounding of a few hundred stamps with ample room, and far under one 5 ms sample.
 SECONDS_BOUND = 1e-9
 
 
 def designed_plans(rows: list[dict]) -> list[tuple]:
-    return sorted((r["method"], r["unit"], r["seed"], r["calib_samples"]) for r in rows if r["method"] in DESIGNED)
+    return sorted((r["method"], r["unit"], r["seed"], r["calib_samples"])
+                  for r in rows if r["method"] in DESIGNED)
 
 
 def designed_seconds(rows: list[dict]) -> list[float]:
@@ -43,8 +44,9 @@ def gate(d: int, k: int) -> bool:
     plans_equal = plans_equal and seconds <= SECONDS_BOUND
     ok = shared_equal and plans_equal and moved == 0.0
     print(f"rule 1, draw {d}, fold {k}: references and cover_informative's plans "
-          f"{'equal' if shared_equal else 'DIFFER'}, its {n} RMSEs move by up to {moved:.2g}; designed plans' rows "
-          f"{'equal' if plans_equal else 'DIFFER'} (seconds within {seconds:.1g} s): {'passed' if ok else 'FAILED'}")
+          f"{'equal' if shared_equal else 'DIFFER'}, its {n} RMSEs move by up to {moved:.2g}; "
+          f"designed plans' rows {'equal' if plans_equal else 'DIFFER'} (seconds within {seconds:.1g} s): "
+          f"{'passed' if ok else 'FAILED'}")
     return ok
 
 

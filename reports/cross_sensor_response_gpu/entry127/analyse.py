@@ -1,7 +1,7 @@
-"""Research log entry 127's reading: entry 121's other16 rescorings with every job with ordinary use given its
-unit's other plan's joint codes (designed <-> `cover_informative`). Gate: the references' rows and every
-plan-alone row equal entry 121's. Reading: swapped over entry 121's per unit for every method, each unit's draws
-averaged, and the validation units' means per draw. Usage, from the repository root:
+"""Research log entry 127's reading: entry 121's other16 rescorings with every job with ordinary use given
+its unit's other plan's joint codes (designed <-> `cover_informative`). Gate: the references' rows and every
+plan-alone row equal entry 121's. Reading: swapped over entry 121's per unit for every method, each unit's
+draws averaged, and the validation units' means per draw. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry127/analyse.py
 """
@@ -20,8 +20,8 @@ def gate(root: Path, d: int, k: int) -> bool:
     """The references' rows and the plan-alone rows of draw d, fold k under root equal entry 121's."""
     equal, n, moved = BASE["data_check"](BASE["rows"](root, d, k), BASE["rows"](BEFORE, d, k), ALONE)
     ok = equal and moved == 0.0
-    print(f"gate, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, the plans alone's "
-          f"{n} RMSEs move by up to {moved:.2g}: {'passed' if ok else 'FAILED'}")
+    print(f"gate, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, "
+          f"the plans alone's {n} RMSEs move by up to {moved:.2g}: {'passed' if ok else 'FAILED'}")
     return ok
 
 

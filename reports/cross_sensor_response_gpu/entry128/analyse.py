@@ -1,7 +1,7 @@
-"""Research log entry 128's reading: entry 121's other16 rescorings with every job with ordinary use trained
-on its transferred rows alone (its plan's labeled rows left out of its network), read as entry 127's: the gate
-(references and plan-alone rows equal entry 121's), then rows out over entry 121's per unit for every method and
-the validation units' means per draw. Usage, from the repository root:
+"""Research log entry 128's reading: entry 121's other16 rescorings with every job with ordinary use
+trained on its transferred rows alone (its plan's labeled rows left out of its network), read as entry 127's:
+the gate (references and plan-alone rows equal entry 121's), then rows out over entry 121's per unit for every
+method and the validation units' means per draw. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry128/analyse.py
 """
