@@ -10,9 +10,8 @@ import runpy
 from pathlib import Path
 
 HERE = Path(__file__).parent
-BEFORE = HERE.parent / "entry121"
-BASE = runpy.run_path(str(BEFORE / "analyse.py"))
-PAIRED = runpy.run_path(str(HERE.parent / "entry123" / "analyse.py"))
+SPLIT = runpy.run_path(str(HERE.parent / "entry126" / "analyse.py"))  # entries 121 and 123's readings, loaded
+BEFORE, BASE, PAIRED = SPLIT["COLD"], SPLIT["BEFORE"], SPLIT["PAIRED"]
 ALONE = ("response@designed", "response@cover_informative")
 
 
