@@ -23,48 +23,54 @@ METHOD = "response+use@designed"
 KEYS, METHODS = FLEET88["KEYS"], FLEET88["METHODS"]
 
 
-def fleet88_losses(root: Path) -> dict[tuple[int, str], float]:
-    """Each fleet88 validation unit's loss of METHOD at 120 s, per fold (both folds)."""
+def fleet88_losses(root: Path, method: str = METHOD) -> dict[tuple[int, str], float]:
+    """Each fleet88 validation unit's loss of `method` at 120 s, per fold (both folds)."""
     return {(k, u): v for k in FLEET88["FOLDS"]
-            for u, v in FLEET88["record"](root, k)["val_loss_units"][METHOD]["120"].items()}
+            for u, v in FLEET88["record"](root, k)["val_loss_units"][method]["120"].items()}
 
 
-def other16_logs() -> dict[tuple[int, str], float]:
-    """Each other16 validation unit's log(off / on) of METHOD at 120 s, per fold (a unit may validate two
+def other16_logs(new: Path = GPU / "entry123", old: Path = GPU / "entry121") -> dict[tuple[int, str], float]:
+    """Each other16 validation unit's log(new / old) of METHOD at 120 s, per fold (a unit may validate two
     folds: SIM23-004 does, in folds 0 and 2), its three draws averaged."""
     logs: dict[tuple[int, str], list[float]] = {}
     for d in (0, 1, 2):
         for k in OTHER16["FOLDS"]:
-            off = OTHER16["record"](GPU / "entry123", d, k)["val_loss_units"][METHOD]["120"]
-            on = OTHER16["record"](GPU / "entry121", d, k)["val_loss_units"][METHOD]["120"]
+            off = OTHER16["record"](new, d, k)["val_loss_units"][METHOD]["120"]
+            on = OTHER16["record"](old, d, k)["val_loss_units"][METHOD]["120"]
             for u in on:
                 logs.setdefault((k, u), []).append(float(np.log(off[u] / on[u])))
     return {key: float(np.mean(v)) for key, v in logs.items()}
 
 
-def choice() -> None:
-    off, on = fleet88_losses(HERE), fleet88_losses(GPU / "entry122")
+def choice(fleet88: Path = HERE, other16: Path = GPU / "entry123", arm: str = "off", by: float = 0.0) -> bool:
+    """Rule 1: arm `arm` (fleet88's run under `fleet88`, other16's under `other16`) against the recipe in
+    place (entries 122 and 121): (a) fleet88's validation mean lower by more than `by`; (b) both registries'
+    log ratios' 95% t-interval below 0 (entry 131 reads it too)."""
+    off, on = fleet88_losses(fleet88), fleet88_losses(GPU / "entry122")
     m_off, m_on = np.mean(list(off.values())), np.mean(list(on.values()))
-    print(f"rule 1a, fleet88's {len(on)} validation units, {METHOD}: off {m_off:.5f}, on {m_on:.5f} "
-          f"({100 * (m_off / m_on - 1):+.2f}%): {'lower off' if m_off < m_on else 'not lower off'}")
-    logs = [float(np.log(off[u] / on[u])) for u in on] + list(other16_logs().values())
+    lower = m_off < m_on * (1 - by)
+    print(f"rule 1a, fleet88's {len(on)} validation units, {METHOD}: {arm} {m_off:.5f}, on {m_on:.5f} "
+          f"({100 * (m_off / m_on - 1):+.2f}%): {f'lower {arm}' if lower else f'not lower {arm}'}")
+    logs = [float(np.log(off[u] / on[u])) for u in on] + list(other16_logs(other16).values())
     mean, sem = float(np.mean(logs)), float(stats.sem(logs))
     lo, hi = stats.t.interval(0.95, len(logs) - 1, loc=mean, scale=sem)
-    print(f"rule 1b, {len(logs)} validation units of both registries: mean log(off / on) {mean:+.4f} "
+    print(f"rule 1b, {len(logs)} validation units of both registries: mean log({arm} / on) {mean:+.4f} "
           f"[{lo:+.4f}, {hi:+.4f}] (x{np.exp(mean):.3f} [{np.exp(lo):.3f}, {np.exp(hi):.3f}]): "
           f"{'below 0' if hi < 0 else 'not below 0'}")
-    print(f"the choice: {'taken' if m_off < m_on and hi < 0 else 'not taken'}")
+    print(f"the choice: {'taken' if lower and hi < 0 else 'not taken'}")
+    return bool(lower and hi < 0)
 
 
-def held_out() -> None:
-    print("rule 2, fleet88's held-out units, 120 s, off over on per unit:")
+def held_out(fleet88: Path = HERE, arm: str = "off") -> None:
+    """Rule 2: fleet88's held-out units, `arm` under `fleet88` over entry 122 per unit for every method."""
+    print(f"rule 2, fleet88's held-out units, 120 s, {arm} over on per unit:")
     for m in METHODS:
-        off, on = FLEET88["unit_figure"](HERE, m), FLEET88["unit_figure"](GPU / "entry122", m)
-        print(f"  {m}: {PAIRING['off_over_on'](off, on)}")
-    before = FLEET88["unit_figure"](GPU / "entry105" / "fleet88_cpu_use_off", METHODS[1])
-    print(f"  entry 105's off arm, {METHODS[1]}: {FLEET88['line'](before)}")
+        off, on = FLEET88["unit_figure"](fleet88, m), FLEET88["unit_figure"](GPU / "entry122", m)
+        print(f"  {m}: {PAIRING['off_over_on'](off, on, arm)}")
 
 
 if __name__ == "__main__":
     choice()
     held_out()
+    before = FLEET88["unit_figure"](GPU / "entry105" / "fleet88_cpu_use_off", METHODS[1])
+    print(f"  entry 105's off arm, {METHODS[1]}: {FLEET88['line'](before)}")

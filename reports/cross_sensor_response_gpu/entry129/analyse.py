@@ -1,6 +1,6 @@
 """Research log entry 129's reading: entry 121's other16 rescorings with 40 steps of the joint fit with
-ordinary use, read as entry 127's: the gate (references and plan-alone rows equal entry 121's), then 40 over 10
-steps per unit for every method and the validation units' means per draw. Usage, from the repository root:
+ordinary use, read as entry 127's: the gate (references and plan-alone rows equal entry 121's), then 40 over
+10 steps per unit for every method and the validation units' means per draw. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry129/analyse.py
 """
