@@ -267,6 +267,35 @@ def test_a_plans_correction_carries_a_misfit_its_codes_cannot_to_the_transferred
     assert torch.equal(off, transfer(fit, source, codes))
 
 
+def test_a_centred_correction_leaves_the_plan_sessions_offset_out(made_up):
+    """A plan whose rows read the unit's response with given codes plus an offset per barometer (its own
+    session's, against codes fitted with its ordinary use): the correction as it was learnt (`kept`) carries
+    that offset to rows near its presses; `centred` learns the residuals less their mean, so a pure offset
+    gives none. `calibrate_by_response` centres where the codes are given and the recipe says so, and
+    nowhere else."""
+    data, _, fit = made_up
+    g = torch.Generator().manual_seed(11)
+    y = labels(300, g)
+    codes = 0.3 * torch.randn(C, fit.model.config.code_dim, generator=g)
+    offset = torch.tensor([200.0, -150.0, 80.0, 300.0])
+    x = fit.model(y, codes).detach() + offset
+    recipe = replace(FAST_FIT, residual_length=1.0, residual_ratio=0.01, residual_rows=300)
+    scale = (y.double().mean(0), y.double().std(0))
+    kept = plan_correction(fit, x, y, codes, y[:50], scale, recipe)
+    assert (kept.mean(0) / offset > 0.5).all()
+    assert plan_correction(fit, x, y, codes, y[:50], scale, recipe, centred=True).abs().max() < 1e-3
+    source = source_rows(fit, data, 50, seed=0)
+    probe = x[None, :30]
+
+    def predicted(level: str, given: torch.Tensor | None) -> torch.Tensor:
+        nets, _ = calibrate_by_response(fit, source, [x], [y], [30.0], MLPConfig(sizes=(C, 16, 5)),
+                                        replace(recipe, residual_level=level), codes=given)
+        return predict(nets.model, nets.in_scaler, nets.out_scaler, probe)[0]
+
+    assert not torch.equal(predicted("kept", codes[None]), predicted("centred", codes[None]))
+    assert torch.equal(predicted("kept", None), predicted("centred", None))
+
+
 def float32_kernel_bound(misfit: PlanMisfit, queries: torch.Tensor, length: float) -> torch.Tensor:
     """(q, C): how far `plan_correction`'s float32 evaluation at `queries` (q, D) may lie from its float64
     one, by float32 rounding (u = 2^-24) of each step: the standardised contacts a and points p rounded
@@ -371,11 +400,11 @@ def test_a_saved_recipe_reads_as_it_was_run_and_a_bad_value_is_named():
     old = ResponseRecipe.from_saved({"steps": 10, "code_steps": 300, "code_rows": 1024, "code_lr": 0.03,
                                      "somebody_elses_key": 1})
     assert (old.code_fit, old.inverse_batch, old.steps) == ("adam", 256, 10)  # before the choice existed
-    assert old.code_prior == "diagonal"
+    assert old.code_prior == "diagonal" and old.residual_level == "kept"  # saved before entry 131
     assert ResponseRecipe.from_saved(asdict(ResponseRecipe())) == ResponseRecipe()
     for key, value in [("code_fit", "newton"), ("code_prior", "wide"), ("inverse_batch", 0),
                        ("lr", float("nan")), ("steps", "9"), ("code_rows", True), ("residual_ratio", 0.0),
-                       ("residual_length", -1.0)]:
+                       ("residual_length", -1.0), ("residual_level", "halved")]:
         with pytest.raises(ValueError, match=f"recipe.{key}"):
             ResponseRecipe.from_saved({key: value})
 

@@ -244,6 +244,11 @@ class ResponseOptions(BaseModel):
         "correction)")
     residual_rows: int = Field(default=ResponseRecipe.residual_rows, ge=1, le=4096,
                                description="plan rows, evenly spaced, that process is fitted on")
+    residual_level: Literal["kept", "centred"] = Field(
+        default=ResponseRecipe.residual_level,
+        description="where a unit's codes come from its plan and its ordinary use together, that process "
+        "learns the plan's residuals as they are (kept) or less each barometer's mean (centred: the plan "
+        "session's own offset reaches no transferred row; research log entries 130-131)")
     source_rows: int = Field(default=ResponseRecipe.source_rows, ge=1, le=10_000_000)
     transfer_from: Literal["all", "registry"] = Field(
         default=ResponseRecipe.transfer_from,

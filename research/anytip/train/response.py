@@ -55,6 +55,11 @@ CODE_FITS = ("gauss_newton", "adam")  # how a new unit's codes are fitted (fit_c
 TRANSFER_FROM = ("all", "registry")
 # where a new unit's network starts: random weights, or the network of the source rows pooled
 INVERSE_STARTS = ("scratch", "pooled")
+# what the plan's residual correction does with each barometer's mean residual over the plan where the unit's
+# codes were not fitted on the plan alone (given: the joint fit with ordinary use): keeps it (entry 101), or
+# takes it out, so that the plan session's own offset against those codes reaches no transferred row
+# (`centred`; research log entries 130-131)
+RESIDUAL_LEVELS = ("kept", "centred")
 RESPONSE_VAL_FRACTION = 0.1  # of a new unit's transferred rows: its network's early stopping
 
 
@@ -80,7 +85,9 @@ class ResponseRecipe:
     `residual_length` > 0: each transferred row also carries the unit's own misfit at its contact, as
     a Gaussian process learns it from the plan's residuals (`plan_correction`: kernel length
     `residual_length` in standard deviations of the contact, noise-to-signal `residual_ratio`, at most
-    `residual_rows` plan rows; 0, the default: none; research log entry 101)."""
+    `residual_rows` plan rows; 0, the default: none; research log entry 101). `residual_level`: where
+    the unit's codes are given (fitted with its ordinary use), the correction learns from the plan's residuals
+    as they are (`kept`) or less each barometer's mean (`centred`, `RESIDUAL_LEVELS`)."""
 
     steps: int = 5000
     rows_per_step: int = 4096
@@ -99,6 +106,7 @@ class ResponseRecipe:
     residual_length: float = 0.0
     residual_ratio: float = 1.0
     residual_rows: int = 1024
+    residual_level: str = "centred"
     source_rows: int = 8000
     transfer_from: str = "all"
     inverse_epochs: int = 40
@@ -109,9 +117,10 @@ class ResponseRecipe:
     @classmethod
     def from_saved(cls, saved: dict[str, Any]) -> ResponseRecipe:
         """The recipe a saved response model records (unknown keys ignored). A model saved before a
-        choice existed ran its first value: Adam codes (`code_fit`), batches of 256 rows."""
+        choice existed ran its first value: Adam codes (`code_fit`), batches of 256 rows, the plan's
+        mean residual kept in its correction (`residual_level`)."""
         known = {k: v for k, v in saved.items() if k in cls.__dataclass_fields__}
-        recipe = cls(**({"code_fit": "adam", "inverse_batch": 256} | known))
+        recipe = cls(**({"code_fit": "adam", "inverse_batch": 256, "residual_level": "kept"} | known))
         for key, default in asdict(cls()).items():
             value = getattr(recipe, key)
             kind = float if isinstance(default, float) else type(default)
@@ -133,6 +142,9 @@ class ResponseRecipe:
         if recipe.inverse_start not in INVERSE_STARTS:
             raise ValueError(f"recipe.inverse_start: {recipe.inverse_start!r} is not one of "
                              f"{', '.join(INVERSE_STARTS)}")
+        if recipe.residual_level not in RESIDUAL_LEVELS:
+            raise ValueError(f"recipe.residual_level: {recipe.residual_level!r} is not one of "
+                             f"{', '.join(RESIDUAL_LEVELS)}")
         if recipe.transfer_from not in TRANSFER_FROM:
             raise ValueError(f"recipe.transfer_from: {recipe.transfer_from!r} is not one of "
                              f"{', '.join(TRANSFER_FROM)}")
@@ -517,15 +529,18 @@ class PlanMisfit(NamedTuple):
 
 
 def plan_misfit(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, scale: tuple[Tensor, Tensor],
-                recipe: ResponseRecipe) -> PlanMisfit:
+                recipe: ResponseRecipe, centred: bool = False) -> PlanMisfit:
     """What `plan_correction` learns from a unit's plan: a zero-mean Gaussian process per barometer
     through the plan's residuals about the unit's response with `codes` (C, k) at its rows X (n, C) Pa,
-    Y (n, D), on at most `recipe.residual_rows` of them evenly spaced, solved in float64."""
+    Y (n, D), on at most `recipe.residual_rows` of them evenly spaced (less each barometer's mean over
+    them where `centred`), solved in float64."""
     take = evenly_spaced(len(Y), recipe.residual_rows).to(Y.device)
     mean, std = (t.to(fit.device, torch.float64) for t in scale)
     points = (Y[take].to(fit.device, torch.float64) - mean) / std
     fitted = respond(fit.model, Y[take].to(fit.device), codes.to(fit.device))
     resid = (X[take].to(fit.device) - fitted).double()
+    if centred:
+        resid = resid - resid.mean(0)
     noise = recipe.residual_ratio * torch.eye(len(points), dtype=torch.float64, device=fit.device)
     gram = _kernel(points, points, recipe.residual_length) + noise
     return PlanMisfit(points, torch.cholesky_solve(resid, torch.linalg.cholesky(gram)), mean, std)
@@ -542,15 +557,16 @@ def _kernel(a: Tensor, p: Tensor, length: float) -> Tensor:
 
 def plan_correction(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, queries: Tensor,
                     scale: tuple[Tensor, Tensor], recipe: ResponseRecipe,
-                    query_dtype: torch.dtype = torch.float32) -> Tensor:
+                    query_dtype: torch.dtype = torch.float32, centred: bool = False) -> Tensor:
     """(q, C) Pa: a unit's misfit at contacts `queries` (q, D) as its plan tells it: the posterior mean
     of the Gaussian process `plan_misfit` fits to the plan's residuals. Kernel: squared exponential
     of length `recipe.residual_length` over contacts standardised by `scale` (mean, std, each (D,));
     noise variance `recipe.residual_ratio` times the kernel's. Far from every press the correction
     falls to zero (research log entry 101). The query rows' kernel and its product with the weights
     are evaluated in `query_dtype`: float32 takes half of float64's time over the source rows, the
-    correction's whole cost (research log entry 109); `tests/test_response.py` bounds the difference."""
-    misfit = plan_misfit(fit, X, Y, codes, scale, recipe)
+    correction's whole cost (research log entry 109); `tests/test_response.py` bounds the difference.
+    `centred`: the process learns the residuals less each barometer's mean (`plan_misfit`)."""
+    misfit = plan_misfit(fit, X, Y, codes, scale, recipe, centred)
     near, weights = misfit.points.to(query_dtype), misfit.weights.to(query_dtype)
     out = [_kernel(((queries[a:a + RESIDUAL_CHUNK].to(fit.device, torch.float64) - misfit.mean) / misfit.std)
                    .to(query_dtype), near, recipe.residual_length) @ weights
@@ -559,16 +575,16 @@ def plan_correction(fit: ResponseFit, X: Tensor, Y: Tensor, codes: Tensor, queri
 
 
 def transferred(fit: ResponseFit, source: SourceRows, codes: Tensor, X: Tensor, Y: Tensor,
-                recipe: ResponseRecipe, drawn: Tensor | None = None) -> Tensor:
+                recipe: ResponseRecipe, drawn: Tensor | None = None, centred: bool = False) -> Tensor:
     """(S, C) Pa: the source rows as the unit of `codes` (C, k) would have read them (`transfer`; with
     each row's codes `drawn` (S, C, k) where given), plus the misfit its plan's rows X (n, C) Pa,
     Y (n, D) show about its response with `codes` (`plan_correction`, contacts standardised over the
-    source rows) where the recipe asks for it."""
+    source rows, the residuals `centred` or not) where the recipe asks for it."""
     rows = transfer(fit, source, codes if drawn is None else drawn)
     if recipe.residual_length <= 0 or not len(Y):
         return rows
     scale = (source.Y.double().mean(0), source.Y.double().std(0).clamp_min(1e-12))
-    return rows + plan_correction(fit, X, Y, codes, source.Y, scale, recipe)
+    return rows + plan_correction(fit, X, Y, codes, source.Y, scale, recipe, centred=centred)
 
 
 def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor], Y: list[Tensor],
@@ -584,7 +600,7 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
     Job m: codes fitted on its calibration rows X[m] (n_m, C) Pa, Y[m] (n_m, D), worth
     n_effective[m] rows (or given as `codes`); its network trained on the transferred source rows
     (each row's codes drawn from their posterior where `recipe.code_draw_scale` > 0 and they are
-    fitted here),
+    fitted here; the plan's correction centred where they are given and `recipe.residual_level` says so),
     its own calibration rows and its `extra[m]` rows (pressures (e, C) Pa, contacts (e, D)) where
     given (`unit_networks`), from `start` (`start_network`) where the recipe's `inverse_start` is
     `pooled`. The jobs of one key of `groups` (one per job; None: one group) train as one batched
@@ -596,6 +612,7 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
         raise ValueError(f"inverse_start {recipe.inverse_start!r} with{'out' if start is None else ''} "
                          "a start network")
     covariance = None
+    centred = codes is not None and recipe.residual_level == "centred"  # codes not the plan's own
     if codes is None:
         codes = fit_codes(fit, X, Y, n_effective, recipe, seed)
         if recipe.code_draw_scale > 0:
@@ -609,7 +626,7 @@ def calibrate_by_response(fit: ResponseFit, source: SourceRows, X: list[Tensor],
                            len(source.Y), unit_seed(seed, m, "response code draws"))
 
     def job_rows(m: int) -> tuple[Tensor, Tensor]:
-        carried = transferred(fit, source, codes[m], X[m], Y[m], recipe, drawn(m))
+        carried = transferred(fit, source, codes[m], X[m], Y[m], recipe, drawn(m), centred)
         xs, ys = [carried, X[m].to(fit.device)], [source.Y, Y[m].to(fit.device)]
         if more[m] is not None:
             xs.append(more[m][0].to(fit.device))
