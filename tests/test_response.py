@@ -34,6 +34,7 @@ from anytip.train.response import (
     PlanMisfit,
     ResponseFit,
     ResponseRecipe,
+    SourceRows,
     calibrate_by_response,
     code_covariance,
     drawn_codes,
@@ -267,6 +268,16 @@ def test_a_plans_correction_carries_a_misfit_its_codes_cannot_to_the_transferred
     assert torch.equal(off, transfer(fit, source, codes))
 
 
+def unit_network_output(fit: ResponseFit, source: SourceRows, X: list[torch.Tensor], Y: list[torch.Tensor],
+                        n_effective: list[float], recipe: ResponseRecipe, probe: torch.Tensor,
+                        codes: torch.Tensor | None = None) -> torch.Tensor:
+    """(n, D): the first job's network of `calibrate_by_response` (a small 16-wide shape) at `probe`
+    (1, n, C) Pa, its codes fitted on its plan or given."""
+    nets, _ = calibrate_by_response(fit, source, X, Y, n_effective, MLPConfig(sizes=(C, 16, 5)), recipe,
+                                    codes=codes)
+    return predict(nets.model, nets.in_scaler, nets.out_scaler, probe)[0]
+
+
 def test_a_centred_correction_leaves_the_plan_sessions_offset_out(made_up):
     """A plan whose rows read the unit's response with given codes plus an offset per barometer (its own
     session's, against codes fitted with its ordinary use): the correction as it was learnt (`kept`) carries
@@ -288,9 +299,8 @@ def test_a_centred_correction_leaves_the_plan_sessions_offset_out(made_up):
     probe = x[None, :30]
 
     def predicted(level: str, given: torch.Tensor | None) -> torch.Tensor:
-        nets, _ = calibrate_by_response(fit, source, [x], [y], [30.0], MLPConfig(sizes=(C, 16, 5)),
-                                        replace(recipe, residual_level=level), codes=given)
-        return predict(nets.model, nets.in_scaler, nets.out_scaler, probe)[0]
+        return unit_network_output(fit, source, [x], [y], [30.0], replace(recipe, residual_level=level),
+                                   probe, given)
 
     assert not torch.equal(predicted("kept", codes[None]), predicted("centred", codes[None]))
     assert torch.equal(predicted("kept", None), predicted("centred", None))
@@ -387,9 +397,8 @@ def test_codes_drawn_for_the_transferred_rows_follow_their_posterior_and_only_wh
     probe = new.unit(0).X_val[:30][None]
 
     def predicted(scale: float, codes: torch.Tensor | None = None) -> torch.Tensor:
-        nets, _ = calibrate_by_response(fit, source, X, Y, [4.0], MLPConfig(sizes=(C, 16, 5)),
-                                        replace(FAST_FIT, code_draw_scale=scale), codes=codes)
-        return predict(nets.model, nets.in_scaler, nets.out_scaler, probe)[0]
+        return unit_network_output(fit, source, X, Y, [4.0], replace(FAST_FIT, code_draw_scale=scale), probe,
+                                   codes)
 
     assert not torch.equal(predicted(1.0), predicted(0.0))
     given = fit_codes(fit, X, Y, [4.0], FAST_FIT)

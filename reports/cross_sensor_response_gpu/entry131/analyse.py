@@ -15,7 +15,7 @@ import numpy as np
 HERE = Path(__file__).parent
 GPU = HERE.parent
 OFF = runpy.run_path(str(GPU / "entry124" / "analyse.py"))
-FLEET88, BASE = OFF["FLEET88"], runpy.run_path(str(GPU / "entry121" / "analyse.py"))
+FLEET88, BASE = OFF["FLEET88"], OFF["OTHER16"]  # entries 122 and 121's readings, as entry 124 loaded them
 ALONE = ("response@designed", "response@cover_informative")
 
 
