@@ -1,0 +1,43 @@
+"""Research log entry 132's reading: entry 121's other16 rescorings, every job with ordinary use starting its
+joint fit elsewhere (arm `rounds`: the search's rounds from the plan's own codes; arm `free`: the label-free
+search from the encoder's codes), against entry 130's run of today's recipe. Gate: the references' rows and
+every plan-alone row equal entry 130's. Reading: each arm over entry 130 per unit for every method, each
+unit's draws averaged, and the validation units' means per draw. Usage, from the repository root:
+
+    python reports/cross_sensor_response_gpu/entry132/analyse.py
+"""
+
+import runpy
+from pathlib import Path
+
+HERE = Path(__file__).parent
+RECIPE = HERE.parent / "entry130"  # today's recipe: entry 121's driver gives its runs back bit for bit
+BASE = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))
+PAIRED = runpy.run_path(str(HERE.parent / "entry123" / "analyse.py"))
+ALONE = ("response@designed", "response@cover_informative")
+
+
+def gate(root: Path, d: int, k: int) -> bool:
+    """The references' rows and the plan-alone rows of draw d, fold k under root equal entry 130's."""
+    equal, n, moved = BASE["data_check"](BASE["rows"](root, d, k), BASE["rows"](RECIPE, d, k), ALONE)
+    ok = equal and moved == 0.0
+    print(f"gate, {root.name}, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, "
+          f"the plans alone's {n} RMSEs move by up to {moved:.2g}: {'passed' if ok else 'FAILED'}")
+    return ok
+
+
+def main() -> None:
+    for arm in ("rounds", "free"):
+        root = HERE / arm
+        ran = [(d, k) for d in (0, 1, 2) for k in BASE["FOLDS"]
+               if (BASE["run_dir"](root, d, k) / "metrics.json").is_file()]
+        if not ran:
+            continue
+        if all([gate(root, d, k) for d, k in ran]):
+            PAIRED["paired_arms"]({arm: root, "130": RECIPE}, f"{arm} over entry 130")
+        else:
+            print(f"gate failed: no row of arm {arm} with ordinary use is read")
+
+
+if __name__ == "__main__":
+    main()
