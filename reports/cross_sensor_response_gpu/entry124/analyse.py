@@ -42,16 +42,18 @@ def other16_logs(new: Path = GPU / "entry123", old: Path = GPU / "entry121") -> 
     return {key: float(np.mean(v)) for key, v in logs.items()}
 
 
-def choice(fleet88: Path = HERE, other16: Path = GPU / "entry123", arm: str = "off", by: float = 0.0) -> bool:
+def choice(fleet88: Path = HERE, other16: Path = GPU / "entry123", arm: str = "off", by: float = 0.0,
+           recipe: tuple[Path, Path] = (GPU / "entry122", GPU / "entry121")) -> bool:
     """Rule 1: arm `arm` (fleet88's run under `fleet88`, other16's under `other16`) against the recipe in
-    place (entries 122 and 121): (a) fleet88's validation mean lower by more than `by`; (b) both registries'
-    log ratios' 95% t-interval below 0 (entry 131 reads it too)."""
-    off, on = fleet88_losses(fleet88), fleet88_losses(GPU / "entry122")
+    place (`recipe`: its fleet88 and other16 runs, entries 122 and 121 here): (a) fleet88's validation mean
+    lower by more than `by`; (b) both registries' log ratios' 95% t-interval below 0 (entries 131 and 133
+    read it too)."""
+    off, on = fleet88_losses(fleet88), fleet88_losses(recipe[0])
     m_off, m_on = np.mean(list(off.values())), np.mean(list(on.values()))
     lower = m_off < m_on * (1 - by)
     print(f"rule 1a, fleet88's {len(on)} validation units, {METHOD}: {arm} {m_off:.5f}, on {m_on:.5f} "
           f"({100 * (m_off / m_on - 1):+.2f}%): {f'lower {arm}' if lower else f'not lower {arm}'}")
-    logs = [float(np.log(off[u] / on[u])) for u in on] + list(other16_logs(other16).values())
+    logs = [float(np.log(off[u] / on[u])) for u in on] + list(other16_logs(other16, recipe[1]).values())
     mean, sem = float(np.mean(logs)), float(stats.sem(logs))
     lo, hi = stats.t.interval(0.95, len(logs) - 1, loc=mean, scale=sem)
     print(f"rule 1b, {len(logs)} validation units of both registries: mean log({arm} / on) {mean:+.4f} "
@@ -61,11 +63,12 @@ def choice(fleet88: Path = HERE, other16: Path = GPU / "entry123", arm: str = "o
     return bool(lower and hi < 0)
 
 
-def held_out(fleet88: Path = HERE, arm: str = "off") -> None:
-    """Rule 2: fleet88's held-out units, `arm` under `fleet88` over entry 122 per unit for every method."""
+def held_out(fleet88: Path = HERE, arm: str = "off", recipe: Path = GPU / "entry122") -> None:
+    """Rule 2: fleet88's held-out units, `arm` under `fleet88` over the recipe's run under `recipe` (entry
+    122 here) per unit for every method."""
     print(f"rule 2, fleet88's held-out units, 120 s, {arm} over on per unit:")
     for m in METHODS:
-        off, on = FLEET88["unit_figure"](fleet88, m), FLEET88["unit_figure"](GPU / "entry122", m)
+        off, on = FLEET88["unit_figure"](fleet88, m), FLEET88["unit_figure"](recipe, m)
         print(f"  {m}: {PAIRING['off_over_on'](off, on, arm)}")
 
 
