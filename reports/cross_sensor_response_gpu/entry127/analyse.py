@@ -15,11 +15,12 @@ BEFORE, BASE, PAIRED = SPLIT["COLD"], SPLIT["BEFORE"], SPLIT["PAIRED"]
 ALONE = ("response@designed", "response@cover_informative")
 
 
-def gate(root: Path, d: int, k: int) -> bool:
-    """The references' rows and the plan-alone rows of draw d, fold k under root equal entry 121's."""
-    equal, n, moved = BASE["data_check"](BASE["rows"](root, d, k), BASE["rows"](BEFORE, d, k), ALONE)
+def gate(root: Path, d: int, k: int, recipe: Path = BEFORE, label: str = "") -> bool:
+    """The references' rows and the plan-alone rows of draw d, fold k under root equal the recipe's run under
+    `recipe` (entry 121's here; entries 132 and 135 give entry 130's, and a label for the printed line)."""
+    equal, n, moved = BASE["data_check"](BASE["rows"](root, d, k), BASE["rows"](recipe, d, k), ALONE)
     ok = equal and moved == 0.0
-    print(f"gate, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, "
+    print(f"gate, {label}draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, "
           f"the plans alone's {n} RMSEs move by up to {moved:.2g}: {'passed' if ok else 'FAILED'}")
     return ok
 

@@ -18,11 +18,14 @@ OFF = runpy.run_path(str(GPU / "entry124" / "analyse.py"))
 FLEET88, BASE = OFF["FLEET88"], OFF["OTHER16"]  # entries 122 and 121's readings, as entry 124 loaded them
 ALONE = ("response@designed", "response@cover_informative")
 
+RECIPE = (GPU / "entry122", GPU / "entry121")  # the recipe in place before: its fleet88 and other16 runs
 
-def gate() -> bool:
+
+def gate(root: Path = HERE, recipe: Path = RECIPE[0]) -> bool:
+    """The references' rows and every plan-alone row of both folds under root equal the recipe's run."""
     ok = True
     for k in FLEET88["FOLDS"]:
-        new, old = (FLEET88["rows"](root, k) for root in (HERE, GPU / "entry122"))
+        new, old = (FLEET88["rows"](r, k) for r in (root, recipe))
         equal, n, moved = BASE["data_check"](new, old, ALONE)
         ok &= equal and moved == 0.0
         print(f"gate, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, the plans alone's {n} "
@@ -30,18 +33,21 @@ def gate() -> bool:
     return ok
 
 
-def main() -> None:
-    if not gate():
+def main(root: Path = HERE, other16: Path = GPU / "entry130", arm: str = "centred",
+         recipe: tuple[Path, Path] = RECIPE) -> None:
+    """The gate, the choice (fleet88's run under root, other16's arm under other16, against `recipe`) and the
+    held-out units (entry 133 reads it too)."""
+    if not gate(root, recipe[0]):
         print("gate failed: no row with ordinary use is read")
         return
-    taken = OFF["choice"](HERE, GPU / "entry130", "centred", by=0.02)
-    cover = [np.mean(list(OFF["fleet88_losses"](root, "response+use@cover_informative").values()))
-             for root in (HERE, GPU / "entry122")]
+    taken = OFF["choice"](root, other16, arm, by=0.02, recipe=recipe)
+    cover = [np.mean(list(OFF["fleet88_losses"](r, "response+use@cover_informative").values()))
+             for r in (root, recipe[0])]
     higher = cover[0] > cover[1]
-    print(f"rule 1a, response+use@cover_informative: centred {cover[0]:.5f}, on {cover[1]:.5f}: "
+    print(f"rule 1a, response+use@cover_informative: {arm} {cover[0]:.5f}, on {cover[1]:.5f}: "
           f"{'higher' if higher else 'not higher'}; "
           f"the choice with it: {'taken' if taken and not higher else 'not taken'}")
-    OFF["held_out"](HERE, "centred")
+    OFF["held_out"](root, arm, recipe[0])
 
 
 if __name__ == "__main__":

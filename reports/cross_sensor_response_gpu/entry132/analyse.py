@@ -12,18 +12,13 @@ from pathlib import Path
 
 HERE = Path(__file__).parent
 RECIPE = HERE.parent / "entry130"  # today's recipe: entry 121's driver gives its runs back bit for bit
-BASE = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))
-PAIRED = runpy.run_path(str(HERE.parent / "entry123" / "analyse.py"))
-ALONE = ("response@designed", "response@cover_informative")
+SWAP = runpy.run_path(str(HERE.parent / "entry127" / "analyse.py"))  # its gate; entries 121, 123 loaded
+BASE, PAIRED = SWAP["BASE"], SWAP["PAIRED"]
 
 
 def gate(root: Path, d: int, k: int) -> bool:
     """The references' rows and the plan-alone rows of draw d, fold k under root equal entry 130's."""
-    equal, n, moved = BASE["data_check"](BASE["rows"](root, d, k), BASE["rows"](RECIPE, d, k), ALONE)
-    ok = equal and moved == 0.0
-    print(f"gate, {root.name}, draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, "
-          f"the plans alone's {n} RMSEs move by up to {moved:.2g}: {'passed' if ok else 'FAILED'}")
-    return ok
+    return SWAP["gate"](root, d, k, RECIPE, f"{root.name}, ")
 
 
 def main() -> None:

@@ -1,5 +1,5 @@
-"""Research log entry 135's reading: entry 127's swap of joint codes (designed <-> `cover_informative`, every job
-with ordinary use) on today's recipe, against entry 130's run of it. Gate: the references' rows and every
+"""Research log entry 135's reading: entry 127's swap of joint codes (designed <-> `cover_informative`, every
+job with ordinary use) on today's recipe, against entry 130's run of it. Gate: the references' rows and every
 plan-alone row equal entry 130's. Reading: swapped over entry 130 per unit for every method, each unit's draws
 averaged, and the validation units' means per draw. Usage, from the repository root:
 
