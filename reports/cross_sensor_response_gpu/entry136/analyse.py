@@ -1,0 +1,16 @@
+"""Research log entry 136's reading: every joint fit with ordinary use run again with its plan's rows less
+their session's level, on today's recipe, against entry 130's run of it. Gate: the references' rows and every
+plan-alone row equal entry 130's. Reading: the level taken out over entry 130 per unit for every method, each
+unit's draws averaged, and the validation units' means per draw. Usage, from the repository root:
+
+    python reports/cross_sensor_response_gpu/entry136/analyse.py
+"""
+
+import runpy
+from pathlib import Path
+
+HERE = Path(__file__).parent
+READ = runpy.run_path(str(HERE.parent / "entry135" / "analyse.py"))
+
+if __name__ == "__main__":
+    READ["read"](HERE, "level out")
