@@ -7,19 +7,10 @@
 # calibration's `wall_s` (fit and fold) and the whole command's seconds.
 rounds=${1:-3}; shift; units=${*:-SIM40-000 SIM40-001 SIM40-002}
 G=reports/cross_sensor_response_gpu
+TIMING_DIR=time_calibrate116; . $G/entry116/time_one.sh
 for r in $(seq $rounds); do
   for unit in $units; do
-    for arm in alone use; do
-      if [ $arm = alone ]; then run=$G/entry101/fleet88_cpu/fleet88_seed0; extra=""
-      else run=$G/entry106/fleet88_cpu_use/fleet88_seed0; extra="--ordinary-use 600"; fi
-      out=build/time_calibrate116/${arm}_${unit}_$r
-      rm -rf $out; mkdir -p $(dirname $out)
-      start=$(date +%s.%N)
-      OMP_NUM_THREADS=1 taskset -c 1 anytip calibrate --model $run --unit $unit --registry data/fleet88 \
-        --budget-seconds 120 --method response --plan-strategy cover_informative $extra --out $out > $out.log 2>&1 \
-        || { cat $out.log; exit 1; }
-      end=$(date +%s.%N)
-      python -c "import json; c=json.load(open('$out/calibration.json')); print('$arm $unit round $r', 'wall_s %.2f' % c['wall_s'], 'command_s %.1f' % ($end - $start))"
-    done
+    time_one alone $unit $r $G/entry101/fleet88_cpu/fleet88_seed0
+    time_one use $unit $r $G/entry106/fleet88_cpu_use/fleet88_seed0 --ordinary-use 600
   done
 done

@@ -17,7 +17,7 @@ ALONE = ("response@designed", "response@cover_informative")
 
 def gate(root: Path, d: int, k: int, recipe: Path = BEFORE, label: str = "") -> bool:
     """The references' rows and the plan-alone rows of draw d, fold k under root equal the recipe's run under
-    `recipe` (entry 121's here; entries 132 and 135 give entry 130's, and a label for the printed line)."""
+    `recipe` (entry 121's here; entry 132 gives entry 130's, and a label for the printed line)."""
     equal, n, moved = BASE["data_check"](BASE["rows"](root, d, k), BASE["rows"](recipe, d, k), ALONE)
     ok = equal and moved == 0.0
     print(f"gate, {label}draw {d}, fold {k}: references and plans {'equal' if equal else 'DIFFER'}, "
@@ -25,13 +25,14 @@ def gate(root: Path, d: int, k: int, recipe: Path = BEFORE, label: str = "") -> 
     return ok
 
 
-def read(root: Path, label: str, what: str) -> None:
-    """The gate on every run under root, then, if it passed, root's arm (`label`) over entry 121's per unit
-    (entry 128 reads it too)."""
+def read(root: Path, label: str, what: str, recipe: Path = BEFORE, versus: str = "121", gate_label: str = ""
+         ) -> None:
+    """The gate on every run under root, then, if it passed, root's arm (`label`) over the recipe's run under
+    `recipe` (entry 121's, `versus`) per unit (entries 128, 130 and 132 read it too)."""
     ran = [(d, k) for d in (0, 1, 2) for k in BASE["FOLDS"]
            if (BASE["run_dir"](root, d, k) / "metrics.json").is_file()]
-    if all([gate(root, d, k) for d, k in ran]):
-        PAIRED["paired_arms"]({label: root, "121": BEFORE}, what)
+    if all([gate(root, d, k, recipe, gate_label) for d, k in ran]):
+        PAIRED["paired_arms"]({label: root, versus: recipe}, what)
     else:
         print("gate failed: no row with ordinary use is read")
 

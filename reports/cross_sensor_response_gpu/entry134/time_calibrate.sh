@@ -16,18 +16,10 @@ model = json.load(open(path))
 model["meta"]["recipe"]["residual_level"] = "centred"
 json.dump(model, open(path, "w"))
 PY
+TIMING_DIR=time_calibrate134; . $G/entry116/time_one.sh
 for r in $(seq $rounds); do
   for unit in $units; do
-    for arm in kept centred; do
-      if [ $arm = kept ]; then run=$kept; else run=$centred; fi
-      out=build/time_calibrate134/${arm}_${unit}_$r
-      rm -rf $out; mkdir -p $(dirname $out)
-      start=$(date +%s.%N)
-      OMP_NUM_THREADS=1 taskset -c 1 anytip calibrate --model $run --unit $unit --registry data/fleet88 \
-        --budget-seconds 120 --method response --plan-strategy cover_informative --ordinary-use 600 \
-        --out $out > $out.log 2>&1 || { cat $out.log; exit 1; }
-      end=$(date +%s.%N)
-      python -c "import json; c=json.load(open('$out/calibration.json')); print('$arm $unit round $r', 'wall_s %.2f' % c['wall_s'], 'command_s %.1f' % ($end - $start))"
-    done
+    time_one kept $unit $r $kept --ordinary-use 600
+    time_one centred $unit $r $centred --ordinary-use 600
   done
 done

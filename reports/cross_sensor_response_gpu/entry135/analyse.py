@@ -10,19 +10,7 @@ import runpy
 from pathlib import Path
 
 HERE = Path(__file__).parent
-START = runpy.run_path(str(HERE.parent / "entry132" / "analyse.py"))  # its gate against entry 130
-
-
-def read(root: Path, label: str) -> None:
-    """The gate on every run under root, then, if it passed, root's arm (`label`) over entry 130's per unit
-    (entry 136 reads it too)."""
-    ran = [(d, k) for d in (0, 1, 2) for k in START["BASE"]["FOLDS"]
-           if (START["BASE"]["run_dir"](root, d, k) / "metrics.json").is_file()]
-    if all([START["gate"](root, d, k) for d, k in ran]):
-        START["PAIRED"]["paired_arms"]({label: root, "130": START["RECIPE"]}, f"{label} over entry 130")
-    else:
-        print("gate failed: no row with ordinary use is read")
-
+START = runpy.run_path(str(HERE.parent / "entry132" / "analyse.py"))  # its reading against entry 130
 
 if __name__ == "__main__":
-    read(HERE, "swapped")
+    START["read_arm"](HERE, "swapped")

@@ -10,7 +10,7 @@ import runpy
 from pathlib import Path
 
 HERE = Path(__file__).parent
-READ = runpy.run_path(str(HERE.parent / "entry135" / "analyse.py"))
+START = runpy.run_path(str(HERE.parent / "entry132" / "analyse.py"))  # its reading against entry 130
 
 if __name__ == "__main__":
-    READ["read"](HERE, "level out")
+    START["read_arm"](HERE, "level out")
