@@ -413,7 +413,8 @@ def test_a_saved_recipe_reads_as_it_was_run_and_a_bad_value_is_named():
     assert ResponseRecipe.from_saved(asdict(ResponseRecipe())) == ResponseRecipe()
     for key, value in [("code_fit", "newton"), ("code_prior", "wide"), ("inverse_batch", 0),
                        ("lr", float("nan")), ("steps", "9"), ("code_rows", True), ("residual_ratio", 0.0),
-                       ("residual_length", -1.0), ("residual_level", "halved")]:
+                       ("residual_length", -1.0), ("residual_level", "halved"), ("plan_criterion", "w"),
+                       ("inverse_start", "warm"), ("transfer_from", "nowhere")]:
         with pytest.raises(ValueError, match=f"recipe.{key}"):
             ResponseRecipe.from_saved({key: value})
 

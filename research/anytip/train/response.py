@@ -131,23 +131,12 @@ class ResponseRecipe:
                                  f"{kind.__name__}")
         if recipe.residual_ratio <= 0:
             raise ValueError(f"recipe.residual_ratio: {recipe.residual_ratio!r} is not a positive float")
-        if recipe.code_fit not in CODE_FITS:
-            raise ValueError(f"recipe.code_fit: {recipe.code_fit!r} is not one of {', '.join(CODE_FITS)}")
-        if recipe.code_prior not in CODE_PRIORS:
-            raise ValueError(f"recipe.code_prior: {recipe.code_prior!r} is not one of "
-                             f"{', '.join(CODE_PRIORS)}")
-        if recipe.plan_criterion not in CRITERIA:
-            raise ValueError(f"recipe.plan_criterion: {recipe.plan_criterion!r} is not one of "
-                             f"{', '.join(CRITERIA)}")
-        if recipe.inverse_start not in INVERSE_STARTS:
-            raise ValueError(f"recipe.inverse_start: {recipe.inverse_start!r} is not one of "
-                             f"{', '.join(INVERSE_STARTS)}")
-        if recipe.residual_level not in RESIDUAL_LEVELS:
-            raise ValueError(f"recipe.residual_level: {recipe.residual_level!r} is not one of "
-                             f"{', '.join(RESIDUAL_LEVELS)}")
-        if recipe.transfer_from not in TRANSFER_FROM:
-            raise ValueError(f"recipe.transfer_from: {recipe.transfer_from!r} is not one of "
-                             f"{', '.join(TRANSFER_FROM)}")
+        choices = {"code_fit": CODE_FITS, "code_prior": CODE_PRIORS, "plan_criterion": CRITERIA,
+                   "inverse_start": INVERSE_STARTS, "residual_level": RESIDUAL_LEVELS,
+                   "transfer_from": TRANSFER_FROM}
+        for key, allowed in choices.items():
+            if getattr(recipe, key) not in allowed:
+                raise ValueError(f"recipe.{key}: {getattr(recipe, key)!r} is not one of {', '.join(allowed)}")
         return recipe
 
 
