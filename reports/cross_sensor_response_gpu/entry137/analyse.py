@@ -24,16 +24,16 @@ DESIGNED = ("response@designed", "response+use@designed")
 RECIPE = "entry 131"
 
 
-def folds() -> list[int]:
-    """The folds every arm ran in full."""
+def folds(arms: tuple[str, ...] = tuple(ARMS)) -> list[int]:
+    """The folds every arm of `arms` ran in full."""
     return [k for k in FLEET88["FOLDS"]
-            if all((root / f"fleet88_seed{k}" / "metrics.json").is_file() for root in ARMS.values())]
+            if all((ARMS[a] / f"fleet88_seed{k}" / "metrics.json").is_file() for a in arms)]
 
 
-def gate(ks: list[int]) -> bool:
+def gate(ks: list[int], arms: tuple[str, ...] = ("code32", "draw1")) -> bool:
     """References and designed plans equal entry 131's; `cover_informative`'s plans within 120 s."""
     ok = True
-    for arm in ("code32", "draw1"):
+    for arm in arms:
         for k in ks:
             new = FLEET88["rows"](ARMS[arm], k)
             equal, _, _ = READING["data_check"](new, FLEET88["rows"](ARMS[RECIPE], k), DESIGNED)
@@ -97,6 +97,24 @@ def main() -> None:
     validation(ks)
     force = {arm: got["response@designed"][arm]["force"] for arm in ARMS}
     print(f"the reading, response@designed, force: {verdict(force)}")
+    wider()
+
+
+def wider() -> None:
+    """Beside the reading (the amendment): `code32` over entry 131 on every fold both ran, and per fold."""
+    ks = folds(("code32", RECIPE))
+    if len(ks) < 2 or not gate(ks[1:], ("code32",)):
+        return
+    print(f"beside it, code32 over entry 131 per unit, folds {ks}:")
+    for m in FLEET88["METHODS"]:
+        for kind in READING["KEYS"]:
+            both = paired(per_unit("code32", m, ks)[kind], per_unit(RECIPE, m, ks)[kind])[0]
+            cells = [f"folds {ks} x{both}"]
+            for k in ks:
+                mine, theirs = per_unit("code32", m, [k])[kind], per_unit(RECIPE, m, [k])[kind]
+                cells.append(f"fold {k} x{paired(mine, theirs)[0]} "
+                             f"({mean_interval(list(mine.values()))[0]:.3f}x)")
+            print(f"  {m}, {kind}: " + "; ".join(cells))
 
 
 if __name__ == "__main__":
