@@ -108,13 +108,20 @@ def wider() -> None:
     print(f"beside it, code32 over entry 131 per unit, folds {ks}:")
     for m in FLEET88["METHODS"]:
         for kind in READING["KEYS"]:
-            both = paired(per_unit("code32", m, ks)[kind], per_unit(RECIPE, m, ks)[kind])[0]
-            cells = [f"folds {ks} x{both}"]
+            mine = per_unit("code32", m, ks)[kind]
+            mean, lo, hi = mean_interval(list(mine.values()))
+            cells = [f"folds {ks} x{paired(mine, per_unit(RECIPE, m, ks)[kind])[0]} "
+                     f"({mean:.3f}x [{lo:.2f}, {hi:.2f}])"]
             for k in ks:
                 mine, theirs = per_unit("code32", m, [k])[kind], per_unit(RECIPE, m, [k])[kind]
                 cells.append(f"fold {k} x{paired(mine, theirs)[0]} "
                              f"({mean_interval(list(mine.values()))[0]:.3f}x)")
             print(f"  {m}, {kind}: " + "; ".join(cells))
+    for k in ks:
+        means = {arm: {m: np.mean(list(FLEET88["record"](ARMS[arm], k)["val_loss_units"][m]["120"].values()))
+                       for m in FLEET88["METHODS"]} for arm in ("code32", RECIPE)}
+        print(f"  fold {k}'s validation units, code32 / entry 131: " + ", ".join(
+            f"{m} {means['code32'][m]:.5f} / {means[RECIPE][m]:.5f}" for m in FLEET88["METHODS"]))
 
 
 if __name__ == "__main__":
