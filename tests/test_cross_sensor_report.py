@@ -11,6 +11,8 @@ from anytip.report.cross_sensor import (
     choice_margins,
     chosen_methods,
     mean_interval,
+    paired_interval,
+    paired_text,
     summary,
     targets,
     unit_ratios,
@@ -128,3 +130,11 @@ def test_a_unit_validating_in_several_seeds_is_one_pair():
     m = choice_margins(val, val_units={f"seed{k}": same for k in range(3)})[(120.0, "")]
     assert (m.n, m.over) == (2, "validation units")  # six records, two units: no interval
     assert np.isnan(m.lower)
+
+
+def test_paired_ratios_are_a_geometric_mean_and_their_text_its_figures():
+    mean, lo, hi = paired_interval([0.5, 2.0, 0.5, 2.0])
+    assert mean == pytest.approx(1.0) and lo < 1.0 < hi  # x0.5 and x2 cancel in log
+    assert paired_interval([1.1] * 5) == pytest.approx((1.1, 1.1, 1.1))
+    assert paired_text([0.9, 0.95, 1.0, 0.92]) == "{:.3f} [{:.3f}, {:.3f}]".format(
+        *paired_interval([0.9, 0.95, 1.0, 0.92]))

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from anytip.report.cross_sensor import mean_interval, paired_text
+from anytip.report.cross_sensor import mean_interval, paired_interval, paired_text
 
 HERE = Path(__file__).parent
 GPU = HERE.parent
@@ -51,19 +51,22 @@ def per_unit(arm: str, method: str, ks: list[int]) -> dict[str, dict[str, float]
 
 def paired(a: dict[str, float], b: dict[str, float]) -> tuple[str, float, float]:
     """a over b per unit: its text, and the bounds of the geometric mean's interval."""
-    text = paired_text([a[u] / b[u] for u in b])
-    lo, hi = (float(v) for v in text.split("[")[1].rstrip("]").split(", "))
-    return text, lo, hi
+    ratios = [a[u] / b[u] for u in b]
+    _, lo, hi = paired_interval(ratios)
+    return paired_text(ratios), lo, hi
+
+
+def validation_mean(arm: str, method: str, ks: list[int]) -> float:
+    """The arm's validation units' mean loss of `method` at 120 s over folds ks."""
+    return float(np.mean([v for k in ks for v in
+                          FLEET88["record"](ARMS[arm], k)["val_loss_units"][method]["120"].values()]))
 
 
 def validation(ks: list[int]) -> None:
     """Each arm's validation units' mean loss per method at 120 s."""
     print("validation units, mean loss at 120 s:")
     for m in FLEET88["METHODS"]:
-        means = {arm: np.mean([v for k in ks for v in
-                               FLEET88["record"](root, k)["val_loss_units"][m]["120"].values()])
-                 for arm, root in ARMS.items()}
-        print(f"  {m}: " + ", ".join(f"{arm} {v:.5f}" for arm, v in means.items()))
+        print(f"  {m}: " + ", ".join(f"{arm} {validation_mean(arm, m, ks):.5f}" for arm in ARMS))
 
 
 def verdict(force: dict[str, dict[str, dict[str, float]]]) -> str:
@@ -118,10 +121,9 @@ def wider() -> None:
                              f"({mean_interval(list(mine.values()))[0]:.3f}x)")
             print(f"  {m}, {kind}: " + "; ".join(cells))
     for k in ks:
-        means = {arm: {m: np.mean(list(FLEET88["record"](ARMS[arm], k)["val_loss_units"][m]["120"].values()))
-                       for m in FLEET88["METHODS"]} for arm in ("code32", RECIPE)}
         print(f"  fold {k}'s validation units, code32 / entry 131: " + ", ".join(
-            f"{m} {means['code32'][m]:.5f} / {means[RECIPE][m]:.5f}" for m in FLEET88["METHODS"]))
+            f"{m} {validation_mean('code32', m, [k]):.5f} / {validation_mean(RECIPE, m, [k]):.5f}"
+            for m in FLEET88["METHODS"]))
 
 
 if __name__ == "__main__":

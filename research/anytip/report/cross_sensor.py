@@ -88,10 +88,16 @@ def mean_interval(values: list[float], level: float = 0.95, n_boot: int = 4000) 
     return float(v.mean()), float(lo), float(hi)
 
 
-def paired_text(ratios: list[float]) -> str:
-    """Per-unit ratios of one method or model over another on the same units, as the geometric mean
-    and its 95% bootstrap interval over units: `mean [lower, upper]`."""
+def paired_interval(ratios: list[float]) -> tuple[float, float, float]:
+    """Per-unit ratios of one method or model over another on the same units: their geometric mean
+    and its 95% bootstrap interval over units, (mean, lower, upper)."""
     m, lo, hi = (float(np.exp(v)) for v in mean_interval([float(np.log(r)) for r in ratios]))
+    return m, lo, hi
+
+
+def paired_text(ratios: list[float]) -> str:
+    """`paired_interval` as text: `mean [lower, upper]`."""
+    m, lo, hi = paired_interval(ratios)
     return f"{m:.3f} [{lo:.3f}, {hi:.3f}]"
 
 

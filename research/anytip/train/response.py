@@ -135,8 +135,8 @@ class ResponseRecipe:
                    "inverse_start": INVERSE_STARTS, "residual_level": RESIDUAL_LEVELS,
                    "transfer_from": TRANSFER_FROM}
         for key, allowed in choices.items():
-            if getattr(recipe, key) not in allowed:
-                raise ValueError(f"recipe.{key}: {getattr(recipe, key)!r} is not one of {', '.join(allowed)}")
+            if (value := getattr(recipe, key)) not in allowed:
+                raise ValueError(f"recipe.{key}: {value!r} is not one of {', '.join(allowed)}")
         return recipe
 
 
