@@ -182,6 +182,9 @@ def test_row_with_extra_column(log):
     (57, 9, "1013.2hPa", "'1013.2hPa' is not a number"),
     (3, 24, "", "empty cell"),
     (11, 12, "nan", "pressure is NaN or infinite"),
+    (9, 8, "0", "pressure 0 Pa"),
+    (13, 10, "-35.5", "pressure -35.5 Pa"),
+    (14, 7, "3.4e38", "pressure 3.4e+38 Pa"),
     (40, 0, "0.01", "time decreases"),
     (6, 25, "2", "in_contact must be 0 or 1"),
 ])

@@ -209,6 +209,26 @@ def test_an_infinite_duration_is_refused(tmp_path):
         read_run(path)
 
 
+@pytest.mark.parametrize("value", [0.0, -40.0, 2.0**24, 3.4e38])
+def test_a_pressure_no_barometer_reads_is_refused_on_import(tmp_path, capsys, value):
+    """A tared log, a failed read's sentinel: outside (0, 2**24) Pa, named by row and column."""
+    path = write_spec_run(tmp_path / "sentinel.h5")
+    with h5py.File(path, "r+") as f:
+        f["pressure"][210, 5] = value
+    err = refused(capsys, "--registry", str(tmp_path / "reg"), "data", "import", str(path),
+                  names="sentinel.h5: dataset 'pressure' holds")
+    assert "row 210, column 5" in err
+    assert not (tmp_path / "reg").exists() or not Registry(tmp_path / "reg").list_runs()
+
+
+def test_a_pressure_inside_the_range_is_read(tmp_path):
+    path = write_spec_run(tmp_path / "edge.h5")
+    with h5py.File(path, "r+") as f:
+        f["pressure"][210, 5] = np.nextafter(np.float32(2.0**24), np.float32(0))
+        f["pressure"][211, 5] = np.float32(1e-3)
+    assert read_run(path).n_rows == 400
+
+
 @pytest.mark.parametrize(("override", "names"), [
     ("seed=[unclosed", "--set"), ("seeds=[-1]", "seeds"), ("training.epochs=true", "training.epochs"),
     ("training.lr=.inf", "training.lr"), ("training.lr=.nan", "training.lr"),

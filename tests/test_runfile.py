@@ -259,6 +259,7 @@ def test_round_trip_changes_no_value(tmp_path):
 
 
 finite32 = st.floats(-1e6, 1e6, width=32, allow_subnormal=False)
+absolute32 = st.floats(0.5, 16000000.0, width=32)  # inside PRESSURE_RANGE_PA
 hdf5_text = st.text(st.characters(exclude_categories=("Cs",), exclude_characters="\x00"), max_size=20)
 
 
@@ -291,7 +292,7 @@ def small_runs(draw) -> CalibrationRun:
         source=draw(st.sampled_from(["rig", "simulated", "import"])),
         created="2024-05-01T12:00:00Z",
         time=np.cumsum(steps),
-        pressure=draw(hnp.arrays(np.float32, (n, c), elements=finite32)),
+        pressure=draw(hnp.arrays(np.float32, (n, c), elements=absolute32)),
         temperature=draw(hnp.arrays(np.float32, (n, c), elements=finite32)) if optional else None,
         in_contact=draw(hnp.arrays(np.bool_, n)) if optional else None,
         extra={"notes": draw(hdf5_text)} if optional else {},

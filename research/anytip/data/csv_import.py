@@ -23,7 +23,13 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from anytip.data.runfile import CalibrationRun, Target, parse_created
+from anytip.data.runfile import (
+    PRESSURE_PROBLEM,
+    CalibrationRun,
+    Target,
+    parse_created,
+    pressure_outside_range,
+)
 from anytip.errors import AnytipError
 from anytip.rundir import builtin
 from anytip.validation import describe_error, format_validation_error, load_yaml
@@ -307,6 +313,16 @@ class _Table:
         i = self.index[quantity][k]
         return f"{i} ({self.names[i]})"
 
+    def pressure(self, scale: float) -> np.ndarray:
+        """(N, C) float32 Pa: the logged pressures times `scale`, each checked to be an absolute reading."""
+        pressure = (self.column("pressure") * scale).astype(np.float32)
+        outside = pressure_outside_range(pressure)
+        if outside is not None:
+            row, k, value = outside
+            raise self.fail("pressure", row, k, f"pressure {value:.6g} Pa (after pressure_scale {scale:g}): "
+                                                f"{PRESSURE_PROBLEM}")
+        return pressure
+
     def to_run(self, cmap: ColumnMap, meta: dict[str, Any]) -> CalibrationRun:
         u = cmap.units
         for quantity in [q for q in self.index if q not in ("temperature", "in_contact")]:
@@ -326,7 +342,7 @@ class _Table:
                 raise self.fail("in_contact", int(bad[0]), 0, problem)
             in_contact = flag == 1
         common = dict(
-            time=time, pressure=(self.column("pressure") * u.pressure_scale).astype(np.float32),
+            time=time, pressure=self.pressure(u.pressure_scale),
             temperature=(self.column("temperature").astype(np.float32)
                          if "temperature" in self.index else None),
             in_contact=in_contact, **meta,

@@ -46,6 +46,12 @@ DTYPES = {
     "temperature": np.float32, "in_contact": np.bool_,
 }
 TARGET_DTYPE = np.float32
+# Absolute pressure is positive. Above 2**24 Pa (about 168 bar, far past any barometer's range) float32's
+# spacing exceeds 1 Pa, a barometer's resolution, so a tare could not recover the contact's change: a value
+# there (3.4e38, float32's largest, is a common failed-read sentinel) is a logger's fault, not a reading.
+PRESSURE_RANGE_PA = (0.0, float(2**24))
+PRESSURE_PROBLEM = ("raw absolute readings lie between 0 and 2**24 Pa (about 168 bar); "
+                    "a tared log, a unit other than Pa, or a failed read?")
 
 
 @dataclass(frozen=True)
@@ -385,12 +391,31 @@ def _validate_arrays(run: CalibrationRun, path: str | Path) -> None:
         if bad.any():
             row = int(np.argwhere(bad)[0][0])
             raise _problem(path, f"dataset {name!r} holds NaN or infinite values (first at row {row})")
+    outside = pressure_outside_range(run.pressure)
+    if outside is not None:
+        row, column, value = outside
+        raise _problem(path, f"dataset 'pressure' holds {value:.6g} Pa at row {row}, column {column}: "
+                             f"{PRESSURE_PROBLEM}")
     if not np.isfinite(run.time).all():
         raise _problem(path, "dataset 'time' holds NaN or infinite values")
     steps = np.diff(run.time)
     if (steps < 0).any():
         row = int(np.argmax(steps < 0)) + 1
         raise _problem(path, f"dataset 'time' decreases at row {row}")
+
+
+def pressure_outside_range(pressure: np.ndarray) -> tuple[int, int, float] | None:
+    """(row, column, value) of the first finite reading outside PRESSURE_RANGE_PA, or None.
+
+    pressure: (N, C) Pa, absolute. Non-finite values are left to the finite check.
+    """
+    low, high = PRESSURE_RANGE_PA
+    values = np.asarray(pressure)
+    bad = np.isfinite(values) & ((values <= low) | (values >= high))
+    if not bad.any():
+        return None
+    row, column = (int(i) for i in np.argwhere(bad)[0])
+    return row, column, float(values[row, column])
 
 
 def _attr_value(value: Any) -> Any:
