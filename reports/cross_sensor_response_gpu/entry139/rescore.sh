@@ -1,0 +1,16 @@
+#!/bin/bash
+# Research log entry 139: entry 79's rescoring of entry 26's fold K of REGISTRY (other16 or fleet88) at 600 s,
+# the labels alone, with `cover` and the designed plan side by side, on the registry with each unit's designed
+# 600 s calibration added (data/other16q, data/fleet88q), into entry139/REGISTRY_seedK.
+#   bash reports/cross_sensor_response_gpu/entry139/rescore.sh other16 K
+#   bash reports/cross_sensor_response_gpu/entry139/rescore.sh fleet88 K
+set -euo pipefail
+reg=$1 k=$2
+export OMP_NUM_THREADS=1 PYTHONPATH=research
+run=reports/cross_sensor_response_start/${reg}_seed$k
+python scripts/rescore_response.py "$run" \
+  --registry "data/${reg}q" --out "reports/cross_sensor_response_gpu/entry139/${reg}_seed$k" \
+  --response-model "$run/models/response_seed{seed}.safetensors" \
+  --added-protocol plan600 --set "data.protocol=[full, short, quick, plan600]" \
+  --set "options.budgets=[600]" --set "options.plan_strategies=[cover, designed]" \
+  --set "options.intervals=null"
