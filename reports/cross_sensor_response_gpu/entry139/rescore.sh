@@ -4,11 +4,15 @@
 # 600 s calibration added (data/other16q, data/fleet88q), into entry139/REGISTRY_seedK.
 #   bash reports/cross_sensor_response_gpu/entry139/rescore.sh other16 K
 #   bash reports/cross_sensor_response_gpu/entry139/rescore.sh fleet88 K
+# other16s: other16 simulated without sessions (entry 62's configuration) with plan600 added (data/other16sq),
+# entry 26's other16 folds rescored on it, the rows paired only with each other (the references are other16's).
+#   bash reports/cross_sensor_response_gpu/entry139/rescore.sh other16s K
 set -euo pipefail
 reg=$1 k=$2
 export OMP_NUM_THREADS=1 PYTHONPATH=research
-run=reports/cross_sensor_response_start/${reg}_seed$k
-python scripts/rescore_response.py "$run" \
+run=reports/cross_sensor_response_start/${reg%s}_seed$k
+paired=(); [ "$reg" = other16s ] && paired=(--paired-only)
+python scripts/rescore_response.py "$run" "${paired[@]}" \
   --registry "data/${reg}q" --out "reports/cross_sensor_response_gpu/entry139/${reg}_seed$k" \
   --response-model "$run/models/response_seed{seed}.safetensors" \
   --added-protocol plan600 --set "data.protocol=[full, short, quick, plan600]" \
