@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
@@ -213,6 +215,24 @@ def test_designed_plans_take_the_presses_of_the_units_designed_runs(tmp_path):
     assert {arrays.runs[k].protocol for k in np.unique(arrays.run[plan.rows])} == {"plan30"}
     assert 0.85 * 30 < plan.calib_seconds <= 30.0  # the plan uses its budget, moves included
     assert plan_for(Budget(60.0, "seconds", "designed"), stream, presses).presses == 0  # no plan60 runs
+
+
+def test_a_designed_plans_presses_pay_their_recorded_leads_not_a_move_each():
+    """Presses run in recorded order: each pays the time since its run's previous recorded press ended (a
+    dropped one's time is not paid), the first of a run a move; selected presses pay a move each."""
+    arrays = fleet()
+    arrays.runs = [dataclasses.replace(r, protocol="plan60") for r in arrays.runs]
+    gap, contact = GAP_ROWS / RATE, PRESS_ROWS / RATE
+    dropped = np.zeros(len(arrays.run), bool)
+    dropped[find_presses(arrays, "U1").rows_of(3)] = True  # the third press after the first, run 0
+    presses = find_presses(arrays, "U1", exclude=dropped)
+    assert np.isnan(presses.lead_s[[0, PRESSES_PER_RUN - 1]]).all()
+    assert presses.lead_s[1:3] == pytest.approx([gap, gap]) and presses.lead_s[3] == pytest.approx(gap)
+    plan = plan_for(Budget(60.0, "seconds", "designed"), None, presses)
+    assert plan.presses == len(presses) == 2 * PRESSES_PER_RUN - 1
+    own = len(presses) * contact + 2 * RigTiming().move_s + np.nansum(presses.lead_s) + RigTiming().remount_s
+    assert plan.calib_seconds == pytest.approx(own) and own <= 60.0
+    assert select_presses(presses, 60.0, strategy="first").presses < len(presses)  # a 2 s move each
 
 
 def test_a_designed_calibrations_runs_are_a_plan_of_their_own_never_stream_test_or_training_rows(tmp_path):

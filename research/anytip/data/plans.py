@@ -11,7 +11,9 @@ where a location lies on the dome; nothing here knows the fingertip's patch grid
 Robot time (`calib_seconds`) counts all rig time the calibration uses:
 - each press's own duration (first to last contact row, plus one sample period);
 - one move before each press (`RigTiming.move_s`, 2 s where the plan does not know better:
-  the selected presses are not the neighbours the recorded protocol visited in turn);
+  the selected presses are not the neighbours the recorded protocol visited in turn). A designed
+  calibration's presses are taken in recorded order, so each pays its recorded lead instead: the
+  time since its run's previous press ended (`move_s` for a run's first press);
 - a re-mount for each change of orientation (`RigTiming.remount_s`, 30 s by default).
 Presses run grouped by orientation, so a plan with k orientations pays k - 1 re-mounts.
 
@@ -78,7 +80,9 @@ class Presses:
     rows (R,) int64 indices into the FleetArrays, press by press; start (P + 1,) offsets of
     each press in `rows`; run (P,) run index; orientation_deg (P,); duration_s (P,) contact
     seconds; summary (P, d) the press's mean targets, each target scaled by its spread over
-    all candidate rows (dimensionless); protocol (P,) object, its run's protocol name or None.
+    all candidate rows (dimensionless); protocol (P,) object, its run's protocol name or None;
+    lead_s (P,) seconds from the end of its run's previous recorded press to its first row (a dropped
+    press counts as recorded, so its own time is not paid by the next), NaN for a run's first press.
     """
 
     rows: np.ndarray
@@ -88,6 +92,7 @@ class Presses:
     duration_s: np.ndarray
     summary: np.ndarray
     protocol: np.ndarray
+    lead_s: np.ndarray
 
     def __len__(self) -> int:
         return len(self.run)
@@ -100,7 +105,14 @@ class Presses:
         idx = np.flatnonzero(keep)
         rows, start = _stack([self.rows_of(k) for k in idx])
         return Presses(rows, start, self.run[idx], self.orientation_deg[idx], self.duration_s[idx],
-                       self.summary[idx], self.protocol[idx])
+                       self.summary[idx], self.protocol[idx], self.lead_s[idx])
+
+    def moves(self, rig: RigTiming, recorded: bool = False) -> np.ndarray:
+        """(P,) seconds of the rig's move before each press: `rig.move_s`, or with `recorded` (presses
+        run in recorded order) each press's recorded lead, `move_s` where it has none."""
+        if not recorded:
+            return np.full(len(self), rig.move_s)
+        return np.where(np.isnan(self.lead_s), rig.move_s, self.lead_s)
 
 
 @dataclass(frozen=True)
@@ -192,6 +204,7 @@ def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = No
     period = period_of[run]
     cut = np.flatnonzero((np.diff(run) != 0) | (np.diff(t) > 1.5 * period[1:])) + 1
     bounds = np.concatenate([[0], cut, [len(mine)]]).astype(np.int64)
+    lead = _leads(run, t, period, bounds)
     keep = [k for k in range(len(bounds) - 1)
             if exclude is None or not exclude[mine[bounds[k]:bounds[k + 1]]].any()]
     pieces = [mine[bounds[k]:bounds[k + 1]] for k in keep]
@@ -202,7 +215,19 @@ def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = No
     duration = arrays.time[last] - arrays.time[first] + period_of[runs]
     orientation = np.array([arrays.runs[r].orientation_deg for r in runs], float)
     protocol = np.array([arrays.runs[r].protocol for r in runs], object)
-    return Presses(rows, start, runs, orientation, duration, _summaries(arrays, rows, start), protocol)
+    return Presses(rows, start, runs, orientation, duration, _summaries(arrays, rows, start), protocol,
+                   lead[keep] if keep else np.zeros(0))
+
+
+def _leads(run: np.ndarray, t: np.ndarray, period: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """(K,) seconds from the end of each piece's previous piece of the same run (its last row plus one
+    sample period) to its first row; NaN where the piece is its run's first. run, t, period (N,) per
+    row in recorded order; bounds (K + 1,) the pieces' offsets."""
+    first, last = bounds[:-1], bounds[1:] - 1
+    lead = np.full(len(first), np.nan)
+    same = run[first[1:]] == run[last[:-1]]
+    lead[1:][same] = (t[first[1:]] - t[last[:-1]] - period[last[:-1]])[same]
+    return lead
 
 
 def _stack(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -232,8 +257,9 @@ def _summaries(arrays: FleetArrays, rows: np.ndarray, start: np.ndarray) -> np.n
 
 def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming(),
                    strategy: Strategy = "spread", seed: int = 0,
-                   information: CodeInformation | None = None) -> Plan:
-    """Whole presses up to `budget_s` robot seconds (see the module docstring for the cost).
+                   information: CodeInformation | None = None, recorded_moves: bool = False) -> Plan:
+    """Whole presses up to `budget_s` robot seconds (see the module docstring for the cost; with
+    `recorded_moves`, for presses run in recorded order, each pays its recorded lead as its move).
 
     `spread`: farthest-point order in the press summaries, starting from the press nearest
     their mean (ties broken by a seeded draw); a press whose orientation is new must also
@@ -255,7 +281,8 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
         raise AnytipError(f"a calibration budget must be a finite number of seconds >= 0, got {budget_s}")
     if budget_s == 0 or len(presses) == 0:
         return Plan.empty()
-    cost = presses.duration_s + rig.move_s
+    moves = presses.moves(rig, recorded_moves)
+    cost = presses.duration_s + moves
     if strategy == "spread":
         chosen = _spread(presses, cost, budget_s, rig.remount_s, seed)
     elif strategy == "cover":
@@ -273,7 +300,7 @@ def select_presses(presses: Presses, budget_s: float, rig: RigTiming = RigTiming
     else:
         raise AnytipError(f"unknown plan strategy {strategy!r}; "
                           "use spread, cover, random, first, designed, informative or cover_informative")
-    return _plan(presses, chosen, rig)
+    return _plan(presses, chosen, rig, moves)
 
 
 def ordinary_use_seed(seed: int, unit: str) -> int:
@@ -445,8 +472,8 @@ def _in_order(presses: Presses, cost: np.ndarray, order: np.ndarray, budget_s: f
     return chosen
 
 
-def _plan(presses: Presses, chosen: list[int], rig: RigTiming) -> Plan:
-    """The chosen presses grouped by orientation (in order of first use), priced."""
+def _plan(presses: Presses, chosen: list[int], rig: RigTiming, moves: np.ndarray) -> Plan:
+    """The chosen presses grouped by orientation (in order of first use), priced; moves (P,) s before each."""
     if not chosen:
         return Plan.empty()
     orientations = tuple(dict.fromkeys(float(presses.orientation_deg[k]) for k in chosen))
@@ -454,7 +481,7 @@ def _plan(presses: Presses, chosen: list[int], rig: RigTiming) -> Plan:
                                             chosen.index(k)))
     rows, bounds = _stack([presses.rows_of(k) for k in ordered])
     contact = float(presses.duration_s[ordered].sum())
-    seconds = contact + rig.move_s * len(ordered) + rig.remount_s * (len(orientations) - 1)
+    seconds = contact + float(moves[ordered].sum()) + rig.remount_s * (len(orientations) - 1)
     return Plan(rows, len(ordered), seconds, contact, orientations,
                 min(float(len(rows)), contact * rig.effective_hz), bounds)
 
@@ -494,7 +521,7 @@ def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: R
         return stream_plan(stream, int(budget.amount))
     if budget.strategy == "designed":
         mine = presses.subset(presses.protocol == designed_name(budget.amount))
-        return select_presses(mine, budget.amount, rig, "first", seed)
+        return select_presses(mine, budget.amount, rig, "first", seed, recorded_moves=True)
     return select_presses(presses, budget.amount, rig, budget.strategy, seed, information)
 
 
