@@ -3,7 +3,14 @@
 import numpy as np
 import pytest
 
-from anytip.sensor.protocols import PROTOCOLS, Protocol, build_trajectory, patch_cells
+from anytip.sensor.protocols import (
+    LONG_PLAN_S,
+    PROTOCOLS,
+    Protocol,
+    build_trajectory,
+    design_protocol,
+    patch_cells,
+)
 
 
 def _bins(angles_rad):
@@ -88,3 +95,21 @@ def test_layers_per_patch_presses_each_patch_at_the_next_layers_of_the_cycle():
     assert two.to_json()["layers_per_patch"] == 2 and "layers_per_patch" not in PROTOCOLS["sweep"].to_json()
     with pytest.raises(ValueError, match="layer_cycle"):
         Protocol(name="x", layers_per_patch=2)
+
+
+@pytest.mark.parametrize(("seconds", "press_s", "per_patch"), [(120.0, 2.57, 1), (600.0, 3.93, 4)])
+def test_a_long_designed_plan_presses_each_patch_as_the_full_protocol_does(seconds, press_s, per_patch):
+    """Under LONG_PLAN_S one press per point, each after a move; from it on, a patch's four force levels
+    0.15 s apart, each press the full protocol's (research log entries 139 and 141). Both fit the budget."""
+    plan = design_protocol(seconds)
+    assert plan.duration_s + 30.0 * (len(plan.orientations_deg) - 1) <= seconds
+    assert plan.presses_per_patch == per_patch
+    press = plan.segment_samples().sum() / plan.sample_rate_hz
+    assert press == pytest.approx(press_s, abs=0.01)
+    traj = build_trajectory(plan, 0.0, np.random.default_rng(0))
+    peaks = np.array([-traj.force[traj.press == p, 2].min() for p in range(per_patch)])
+    np.testing.assert_allclose(peaks, plan.layers_n[:per_patch], rtol=0.1)
+    assert len(np.unique(traj.patch[traj.press < per_patch])) == 1  # one patch's presses in turn
+    if seconds >= LONG_PLAN_S:
+        assert {k: getattr(plan, k) for k in ("ramp_s", "hold_s", "shear_s", "gap_s", "directions")} == {
+            k: getattr(PROTOCOLS["full"], k) for k in ("ramp_s", "hold_s", "shear_s", "gap_s", "directions")}

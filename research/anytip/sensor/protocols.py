@@ -264,6 +264,13 @@ def build_trajectory(
 # with an 8-direction shear asterisk, on as few orientations as cover phi in [-135, 45] deg.
 DESIGNED_PRESS = dict(layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=True, directions=8, ramp_s=0.25,
                       hold_s=0.05, shear_s=0.12, gap_s=0.1, order="spread")
+# From LONG_PLAN_S on, the full protocol's press and patch instead: a patch's four force levels 0.15 s
+# apart, so each press starts from the last one's memory as the full protocol's test rows do (research log
+# entries 139 and 141: x0.95-0.97 held out at 600 s, chosen on 64 fresh validation units); shorter plans
+# need the points.
+FULL_PROTOCOL_PRESS = dict(layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=False, directions=8, ramp_s=0.4,
+                           hold_s=0.1, shear_s=0.18, gap_s=0.15, order="spread")
+LONG_PLAN_S = 600.0
 COVERING_ORIENTATIONS_DEG = (0.0, -90.0)  # phi in [-45, 45] and [-135, -45]: the whole region
 CENTRE_ORIENTATION_DEG = -45.0  # phi in [-90, 0]: the one orientation of a plan too short to re-mount
 
@@ -275,15 +282,18 @@ def design_protocol(seconds: float, move_s: float = 2.0, remount_s: float = 30.0
     re-mount between them takes at most a quarter of the budget, else the middle orientation alone;
     a budget that presses every cell of two orientations adds the third (as the full protocol).
     Each press: the next force level up to 25 N and a shear asterisk in 8 directions; the rig
-    takes `move_s` before each press (the protocol's rest between patches). As many patches
-    per orientation as fit after the re-mounts. Name: plan<seconds>.
+    takes `move_s` before each press (the protocol's rest between patches). From `LONG_PLAN_S` on,
+    each patch is pressed as the full protocol presses it: its four force levels in turn, 0.15 s apart
+    (`FULL_PROTOCOL_PRESS`). As many patches per orientation as fit after the re-mounts. Name:
+    plan<seconds>.
     """
     if not np.isfinite(seconds) or seconds <= 0:
         raise AnytipError(f"a calibration plan needs a finite duration > 0 s, got {seconds}")
     if not (np.isfinite(move_s) and move_s > 0 and np.isfinite(remount_s) and remount_s >= 0):
         raise AnytipError(f"a designed plan needs a move time > 0 s and a re-mount time >= 0 s, "
                           f"got {move_s} and {remount_s}")
-    probe = Protocol(name="probe", patches=1, patch_rest_s=move_s, **DESIGNED_PRESS)
+    press = FULL_PROTOCOL_PRESS if seconds >= LONG_PLAN_S else DESIGNED_PRESS
+    probe = Protocol(name="probe", patches=1, patch_rest_s=move_s, **press)
     per_patch = probe.rows_per_orientation() / probe.sample_rate_hz
 
     def patches_with(orientations: tuple[float, ...]) -> int:
@@ -298,7 +308,7 @@ def design_protocol(seconds: float, move_s: float = 2.0, remount_s: float = 30.0
         raise AnytipError(f"{seconds:g} s of robot time holds no press of the designed plan "
                           f"(one takes {per_patch:.1f} s with its move)")
     return Protocol(name=f"plan{seconds:g}", orientations_deg=orientations, patches=min(patches, 36),
-                    patch_rest_s=move_s, **DESIGNED_PRESS)
+                    patch_rest_s=move_s, **press)
 
 
 def waypoints(protocol: Protocol, remount_s: float, rng: np.random.Generator) -> np.ndarray:

@@ -1,0 +1,57 @@
+"""Research log entry 141's table: each validation unit's margin of the variant 600 s design over the
+design in place, log(loss with fleet88w6f's plan / loss with fleet88w6's), a unit's folds averaged, with a
+95% t-interval over units. Usage, from the repository root:
+
+    python reports/cross_sensor_response_gpu/entry141/analyse.py
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from anytip.report.cross_sensor import _t_interval
+
+HERE = Path("reports/cross_sensor_response_gpu/entry141")
+METHOD, BUDGET, PREFIX = "response@designed", "600", "SIM42-"
+
+
+def losses(registry: str) -> dict[int, dict[str, float]]:
+    """{fold: {unit: validation loss}} of the runs on `registry`."""
+    out = {}
+    for f in sorted(HERE.glob(f"{registry}_seed*/val_loss_units.json")):
+        got = json.loads(f.read_text())
+        out[got["seed"]] = got["val_loss_units"][METHOD][BUDGET]
+    return out
+
+
+def line(name: str, logs: np.ndarray) -> str:
+    lo, hi = _t_interval(logs)
+    verdict = "resolved" if lo > 0 or hi < 0 else "not resolved"
+    mean = np.expm1(logs.mean()) * 100
+    return (f"| {name} | {len(logs)} | {mean:+.1f}% | [{lo * 100:+.1f}, {hi * 100:+.1f}]% "
+            f"| {int((logs < 0).sum())} / {int((logs > 0).sum())} | {verdict} |")
+
+
+def main() -> None:
+    place, variant = losses("fleet88w6"), losses("fleet88w6f")
+    folds = sorted(set(place) & set(variant))
+    per_unit: dict[str, list[float]] = {}
+    for k in folds:
+        means = [np.mean(list(run[k].values())) for run in (place, variant)]
+        print(f"fold {k}: {len(place[k])} units; mean loss, the design in place {means[0]:.5f}, "
+              f"the variant {means[1]:.5f}")
+        for u, loss in place[k].items():
+            per_unit.setdefault(u, []).append(float(np.log(variant[k][u] / loss)))
+    units = sorted(per_unit)
+    logs = np.array([np.mean(per_unit[u]) for u in units])
+    new = np.array([u.startswith(PREFIX) for u in units])
+    print("\n| validation units | n | margin of the variant over the design in place (mean) | 95% interval "
+          "| favour the variant / the design in place | |\n|---|---|---|---|---|---|")
+    print(line(f"added ({PREFIX}*): rule 1", logs[new]))
+    print(line("the folds' own", logs[~new]))
+    print(line("all", logs))
+
+
+if __name__ == "__main__":
+    main()
