@@ -5,14 +5,17 @@ design in place, log(loss with fleet88w6f's plan / loss with fleet88w6's), a uni
     python reports/cross_sensor_response_gpu/entry141/analyse.py
 """
 
+import importlib.util
 import json
 from pathlib import Path
 
 import numpy as np
 
-from anytip.report.cross_sensor import _t_interval
-
 HERE = Path("reports/cross_sensor_response_gpu/entry141")
+_spec = importlib.util.spec_from_file_location("entry98_analyse", HERE.parent / "entry98" / "analyse.py")
+_entry98 = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_entry98)
+line = _entry98.line  # one table row: the margin's mean, its t-interval, the units favouring each side
 METHOD, BUDGET, PREFIX = "response@designed", "600", "SIM42-"
 
 
@@ -23,14 +26,6 @@ def losses(registry: str) -> dict[int, dict[str, float]]:
         got = json.loads(f.read_text())
         out[got["seed"]] = got["val_loss_units"][METHOD][BUDGET]
     return out
-
-
-def line(name: str, logs: np.ndarray) -> str:
-    lo, hi = _t_interval(logs)
-    verdict = "resolved" if lo > 0 or hi < 0 else "not resolved"
-    mean = np.expm1(logs.mean()) * 100
-    return (f"| {name} | {len(logs)} | {mean:+.1f}% | [{lo * 100:+.1f}, {hi * 100:+.1f}]% "
-            f"| {int((logs < 0).sum())} / {int((logs > 0).sum())} | {verdict} |")
 
 
 def main() -> None:
