@@ -1,11 +1,13 @@
 #!/bin/bash
 # Research log entry 140's tables (logs/analyse.log):  bash reports/cross_sensor_response_gpu/entry140/analyse.sh
+# With a directory of other16_seed{0..3} runs made the same way (entry 142's), its two tables alone.
 export PYTHONPATH=research
-e=reports/cross_sensor_response_gpu/entry140/other16_severe_d0
+e=${1:-reports/cross_sensor_response_gpu/entry140/other16_severe_d0}
 runs=$(echo $e/other16_seed{0,1,2,3})
 python scripts/fold_table.py $runs | grep -v '^|---'
 echo
 python scripts/fold_table.py $runs --strategies designed cover_informative | tail -1
+[ $# -gt 0 ] && exit 0
 echo "== against entry 139's 600 s rows (entry 26's recipe): today's recipe over it, per unit"
 python - <<'PY'
 import json, glob

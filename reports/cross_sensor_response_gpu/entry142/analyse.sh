@@ -2,10 +2,7 @@
 # Research log entry 142's tables (logs/analyse.log):  bash reports/cross_sensor_response_gpu/entry142/analyse.sh
 export PYTHONPATH=research
 e=reports/cross_sensor_response_gpu/entry142/other16_severe_d0
-runs=$(echo $e/other16_seed{0,1,2,3})
-python scripts/fold_table.py $runs | grep -v '^|---'
-echo
-python scripts/fold_table.py $runs --strategies designed cover_informative | tail -1
+bash reports/cross_sensor_response_gpu/entry140/analyse.sh $e
 echo "== over entry 140 (the design it replaced), per unit"
-python scripts/fold_table.py $runs --against $(echo reports/cross_sensor_response_gpu/entry140/other16_severe_d0/other16_seed{0,1,2,3}) \
-  | grep -v '^|'
+python scripts/fold_table.py $(echo $e/other16_seed{0,1,2,3}) \
+  --against $(echo reports/cross_sensor_response_gpu/entry140/other16_severe_d0/other16_seed{0,1,2,3}) | grep -v '^|'

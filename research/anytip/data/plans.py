@@ -215,8 +215,8 @@ def find_presses(arrays: FleetArrays, unit: str, exclude: np.ndarray | None = No
     duration = arrays.time[last] - arrays.time[first] + period_of[runs]
     orientation = np.array([arrays.runs[r].orientation_deg for r in runs], float)
     protocol = np.array([arrays.runs[r].protocol for r in runs], object)
-    return Presses(rows, start, runs, orientation, duration, _summaries(arrays, rows, start), protocol,
-                   lead[keep] if keep else np.zeros(0))
+    summary = _summaries(arrays, rows, start)
+    return Presses(rows, start, runs, orientation, duration, summary, protocol, lead[keep])
 
 
 def _leads(run: np.ndarray, t: np.ndarray, period: np.ndarray, bounds: np.ndarray) -> np.ndarray:

@@ -264,12 +264,11 @@ def build_trajectory(
 # with an 8-direction shear asterisk, on as few orientations as cover phi in [-135, 45] deg.
 DESIGNED_PRESS = dict(layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=True, directions=8, ramp_s=0.25,
                       hold_s=0.05, shear_s=0.12, gap_s=0.1, order="spread")
-# From LONG_PLAN_S on, the full protocol's press and patch instead: a patch's four force levels 0.15 s
-# apart, so each press starts from the last one's memory as the full protocol's test rows do (research log
-# entries 139 and 141: x0.95-0.97 held out at 600 s, chosen on 64 fresh validation units); shorter plans
-# need the points.
-FULL_PROTOCOL_PRESS = dict(layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=False, directions=8, ramp_s=0.4,
-                           hold_s=0.1, shear_s=0.18, gap_s=0.15, order="spread")
+# From LONG_PLAN_S on, the full protocol's press and patch instead (Protocol's defaults, the patches
+# spread): a patch's four force levels 0.15 s apart, so each press starts from the last one's memory as the
+# full protocol's test rows do (research log entries 139 and 141: x0.95-0.97 held out at 600 s, chosen on 64
+# fresh validation units); shorter plans need the points.
+FULL_PROTOCOL_PRESS = dict(order="spread")
 LONG_PLAN_S = 600.0
 COVERING_ORIENTATIONS_DEG = (0.0, -90.0)  # phi in [-45, 45] and [-135, -45]: the whole region
 CENTRE_ORIENTATION_DEG = -45.0  # phi in [-90, 0]: the one orientation of a plan too short to re-mount
