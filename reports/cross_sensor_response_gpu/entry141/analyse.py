@@ -3,10 +3,15 @@ design in place, log(loss with fleet88w6f's plan / loss with fleet88w6's), a uni
 95% t-interval over units. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry141/analyse.py
+    python reports/cross_sensor_response_gpu/entry141/analyse.py entry145 fleet88w3 300   # entry 145's
+
+A later entry gives its directory, the design in place's registry (the variant's is its name and f) and the
+budget in seconds.
 """
 
 import importlib.util
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +21,9 @@ _spec = importlib.util.spec_from_file_location("entry98_analyse", HERE.parent / 
 _entry98 = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(_entry98)
 line = _entry98.line  # one table row: the margin's mean, its t-interval, the units favouring each side
-METHOD, BUDGET, PREFIX = "response@designed", "600", "SIM42-"
+ENTRY, PLACE, BUDGET = (sys.argv[1:4] if len(sys.argv) > 3 else ("entry141", "fleet88w6", "600"))
+HERE = HERE.parent / ENTRY
+METHOD, PREFIX = "response@designed", "SIM42-"
 
 
 def losses(registry: str) -> dict[int, dict[str, float]]:
@@ -29,7 +36,7 @@ def losses(registry: str) -> dict[int, dict[str, float]]:
 
 
 def main() -> None:
-    place, variant = losses("fleet88w6"), losses("fleet88w6f")
+    place, variant = losses(PLACE), losses(f"{PLACE}f")
     folds = sorted(set(place) & set(variant))
     per_unit: dict[str, list[float]] = {}
     for k in folds:
