@@ -1,8 +1,8 @@
-"""Research log entry 143's reading: today's recipe at 600 s on fleet88 with the chosen 600 s design. Rule 1:
-the references' rows equal entry 122's, every plan costs at most 600 s, and the designed plans are entry 139's
-(`fleet88f`) up to the recorded-lead pricing. Rule 2: both plans at 600 s, alone and with ordinary use. Rule 3:
-designed over `cover_informative`, and today's recipe over entry 26's (entry 139), paired per unit. Usage, from
-the repository root:
+"""Research log entry 143's reading: today's recipe at 600 s on fleet88 with the chosen 600 s design.
+Rule 1: the references' rows equal entry 122's, every plan costs at most 600 s, and the designed plans are
+entry 139's (`fleet88f`) up to the recorded-lead pricing. Rule 2: both plans at 600 s, alone and with
+ordinary use. Rule 3: designed over `cover_informative`, and today's recipe over entry 26's (entry 139),
+paired per unit. Usage, from the repository root:
 
     python reports/cross_sensor_response_gpu/entry143/analyse.py
 """
@@ -33,13 +33,15 @@ def gate(k: int) -> None:
     got = rows(HERE, k)
     equal = references(got) == references(rows(E122, k))
     most = max(r["calib_seconds"] for r in got if r["method"] in METHODS)
-    mine = {r["unit"]: (r["calib_samples"], r["calib_seconds"]) for r in got if r["method"] == "response@designed"}
+    mine = {r["unit"]: (r["calib_samples"], r["calib_seconds"])
+            for r in got if r["method"] == "response@designed"}
     before = {r["unit"]: (r["calib_samples"], r["calib_seconds"])
               for r in read_json(E139 / f"fleet88f_seed{k}" / "metrics.json")["results"]
               if r["method"] == "response@designed"}
     more = [mine[u][0] - before[u][0] for u in mine]
-    print(f"rule 1, fold {k}: references {'equal' if equal else 'DIFFER'} to entry 122's; the plans cost at most "
-          f"{most:.1f} s; designed plans of {len(mine)} units against entry 139's: rows {min(more):+d} to "
+    print(f"rule 1, fold {k}: references {'equal' if equal else 'DIFFER'} to entry 122's; "
+          f"the plans cost at most {most:.1f} s; designed plans of {len(mine)} units against entry 139's: "
+          f"rows {min(more):+d} to "
           f"{max(more):+d}, robot seconds {min(m[1] for m in mine.values()):.1f}-"
           f"{max(m[1] for m in mine.values()):.1f} (entry 139: {min(b[1] for b in before.values()):.1f}-"
           f"{max(b[1] for b in before.values()):.1f})")
@@ -65,13 +67,15 @@ def main() -> None:
     for m in METHODS:
         print(f"  {m}: {line(per[m])}")
         bounds = {label: mean_interval(list(v.values()))[2] for label, v in per[m].items()}
-        print("    upper bounds to three places: " + ", ".join(f"{label} {b:.3f}" for label, b in bounds.items()))
+        print("    upper bounds to three places: "
+              + ", ".join(f"{label} {b:.3f}" for label, b in bounds.items()))
     print(f"  entry 139's response@designed (entry 26's recipe): {line(per_unit(e26, 'response@designed'))}")
     print(f"  entry 139's response@cover (entry 26's recipe): {line(per_unit(e26, 'response@cover'))}")
     READING["READING"]["designed_over_informative"](per)
     print("rule 3, today's recipe over entry 26's (entry 139's fleet88f rows), paired per unit:")
-    for m, theirs in (("response@designed", "response@designed"), ("response+use@designed", "response@designed"),
-                      ("response@cover_informative", "response@cover")):
+    pairs = (("response@designed", "response@designed"), ("response+use@designed", "response@designed"),
+             ("response@cover_informative", "response@cover"))
+    for m, theirs in pairs:
         parts = []
         for label, key in KEYS.items():
             a, b = rmse(mine, m, key), rmse(e26, theirs, key)
