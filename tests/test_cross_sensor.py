@@ -380,7 +380,9 @@ def test_plan_intervals_score_the_units_other_runs():
 def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):
     out = tmp_path / "plan.csv"
     assert main(["calibrate", "--plan", "120", "--out", str(out)]) == 0
-    assert "112.3 s of robot time" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "112.3 s of robot time" in said
+    assert "18 presses, one at each of 18 places, on 2 orientations" in said
     table = np.genfromtxt(out, delimiter=",", names=True)
     assert table.dtype.names == ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
     assert np.all(np.diff(table["time_s"]) >= 0) and table["time_s"][-1] <= 120
@@ -396,6 +398,8 @@ def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):
     assert set(np.genfromtxt(short, delimiter=",", names=True)["orientation_deg"]) == {-45.0}
     assert main(["calibrate", "--plan", "1", "--out", str(tmp_path / "p1.csv")]) == 2
     assert "holds no press" in capsys.readouterr().err
+    assert main(["calibrate", "--plan", "600", "--out", str(tmp_path / "p600.csv")]) == 0
+    assert "128 presses, 4 force levels at each of 32 places, on 2 orientations" in capsys.readouterr().out
 
 
 def test_a_finished_run_rewrites_its_report_from_its_records(seconds_run, tmp_path, capsys):
