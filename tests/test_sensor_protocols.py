@@ -97,10 +97,12 @@ def test_layers_per_patch_presses_each_patch_at_the_next_layers_of_the_cycle():
         Protocol(name="x", layers_per_patch=2)
 
 
-@pytest.mark.parametrize(("seconds", "press_s", "per_patch"), [(120.0, 2.57, 1), (600.0, 3.93, 4)])
+@pytest.mark.parametrize(("seconds", "press_s", "per_patch"),
+                         [(120.0, 2.57, 1), (450.0, 2.57, 1), (525.0, 3.93, 4), (600.0, 3.93, 4)])
 def test_a_long_designed_plan_presses_each_patch_as_the_full_protocol_does(seconds, press_s, per_patch):
-    """Under LONG_PLAN_S one press per point, each after a move; from it on, a patch's four force levels
-    0.15 s apart, each press the full protocol's (research log entries 139 and 141). Both fit the budget."""
+    """Under LONG_PLAN_S (525 s) one press per point, each after a move; from it on, a patch's four force
+    levels 0.15 s apart, each press the full protocol's (research log entries 139, 141 and 145). All fit the
+    budget."""
     plan = design_protocol(seconds)
     assert plan.duration_s + 30.0 * (len(plan.orientations_deg) - 1) <= seconds
     assert plan.presses_per_patch == per_patch

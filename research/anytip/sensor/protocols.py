@@ -267,10 +267,10 @@ DESIGNED_PRESS = dict(layers_n=(6.25, 12.5, 18.75, 25.0), layer_cycle=True, dire
 # From LONG_PLAN_S on, the full protocol's press and patch instead (Protocol's defaults, the patches
 # spread): a patch's four force levels 0.15 s apart, so each press starts from the last one's memory as the
 # full protocol's test rows do (research log entries 139 and 141: x0.95-0.97 held out at 600 s, chosen on 64
-# fresh validation units); shorter plans need the points (entry 145: the same units score the full
-# protocol's press 15% worse at 300 s and even at 450 s).
+# fresh validation units, and at 525 s by the same units, entry 145); shorter plans need the points (the
+# same units score the full protocol's press 15% worse at 300 s and even at 450 s).
 FULL_PROTOCOL_PRESS = dict(order="spread")
-LONG_PLAN_S = 600.0
+LONG_PLAN_S = 525.0
 COVERING_ORIENTATIONS_DEG = (0.0, -90.0)  # phi in [-45, 45] and [-135, -45]: the whole region
 CENTRE_ORIENTATION_DEG = -45.0  # phi in [-90, 0]: the one orientation of a plan too short to re-mount
 
