@@ -294,7 +294,7 @@ def _print_intervals(bands: dict[str, Any]) -> None:
 def write_plan(args: argparse.Namespace) -> int:
     """`anytip calibrate --plan SECONDS --out plan.csv`: the designed calibration as waypoints."""
     from anytip.data.plans import RigTiming, designed_plan_csv
-    from anytip.sensor.protocols import design_protocol, press_summary
+    from anytip.sensor.protocols import press_summary
 
     given = [f"--{k.replace('_', '-')}" for k in ("model", "unit", "budget_samples", "budget_seconds")
              if getattr(args, k) is not None]
@@ -303,11 +303,11 @@ def write_plan(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not args.force:
         raise AnytipError(f"--out {out}: exists; choose another or pass --force")
-    text, seconds = designed_plan_csv(args.plan, RigTiming(args.move_s, args.remount_s), args.seed or 0)
+    rig = RigTiming(args.move_s, args.remount_s)
+    text, seconds, protocol = designed_plan_csv(args.plan, rig, args.seed or 0)
     write_text(out, text)
-    pressed = press_summary(design_protocol(args.plan, args.move_s, args.remount_s))
-    print(f"wrote {out}: {pressed}; {text.count(chr(10)) - 1} waypoints, {seconds:.1f} s of robot time "
-          f"(moves {args.move_s:g} s, re-mounts {args.remount_s:g} s)")
+    print(f"wrote {out}: {press_summary(protocol)}; {text.count(chr(10)) - 1} waypoints, "
+          f"{seconds:.1f} s of robot time (moves {args.move_s:g} s, re-mounts {args.remount_s:g} s)")
     return 0
 
 

@@ -44,7 +44,7 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream
 from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
-from anytip.sensor.protocols import design_protocol, is_designed, is_test_session, waypoints
+from anytip.sensor.protocols import Protocol, design_protocol, is_designed, is_test_session, waypoints
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
@@ -545,13 +545,14 @@ def designed_name(seconds: float) -> str:
     return f"plan{seconds:g}"
 
 
-def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0) -> tuple[str, float]:
+def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(),
+                      seed: int = 0) -> tuple[str, float, Protocol]:
     """The designed calibration of `seconds` robot seconds (sensor.protocols.design_protocol)
-    as robot waypoints in CSV (columns WAYPOINT_COLUMNS; docs/cross_sensor.md), and the plan's
-    robot time in seconds, re-mounts included."""
+    as robot waypoints in CSV (columns WAYPOINT_COLUMNS; docs/cross_sensor.md), the plan's
+    robot time in seconds, re-mounts included, and the protocol it presses."""
     protocol = design_protocol(seconds, rig.move_s, rig.remount_s)
     table = waypoints(protocol, rig.remount_s, np.random.default_rng(seed))
     lines = [",".join(WAYPOINT_COLUMNS)]
     lines += [",".join(f"{v:.4f}" for v in row) for row in table]
     total = protocol.duration_s + rig.remount_s * (len(protocol.orientations_deg) - 1)
-    return "\n".join(lines) + "\n", total
+    return "\n".join(lines) + "\n", total, protocol

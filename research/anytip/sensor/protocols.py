@@ -314,12 +314,13 @@ def design_protocol(seconds: float, move_s: float = 2.0, remount_s: float = 30.0
 def press_summary(protocol: Protocol) -> str:
     """What a protocol presses, in words: its presses, places and orientations
     (e.g. '18 presses, one at each of 18 places, on 2 orientations')."""
-    places = protocol.patches * len(protocol.orientations_deg)
+    n_orient = len(protocol.orientations_deg)
+    places = protocol.patches * n_orient
     per_place = protocol.presses_per_patch
     how = "one" if per_place == 1 else f"{per_place} force levels"
-    n_orient = len(protocol.orientations_deg)
     return (f"{places * per_place} presses, {how} at each of {places} places, "
             f"on {n_orient} orientation{'s' if n_orient > 1 else ''}")
+
 
 def waypoints(protocol: Protocol, remount_s: float, rng: np.random.Generator) -> np.ndarray:
     """The protocol as robot waypoints, one row per segment end of every press:
