@@ -217,6 +217,23 @@ def test_designed_plans_take_the_presses_of_the_units_designed_runs(tmp_path):
     assert plan_for(Budget(60.0, "seconds", "designed"), stream, presses).presses == 0  # no plan60 runs
 
 
+def test_a_designed_plan_may_read_a_longer_design_cut_at_its_budget(tmp_path):
+    """`designed_s`: the budget's plan from the runs of a longer design, in recorded order up to the budget
+    (a design that still fills it once a unit's test patches are left out); its own design is not read."""
+    registry = Registry(tmp_path / "r")
+    simulate_into(registry, FleetConfig(), 1, seed=2, protocols=("short", "plan30", "plan45"))
+    arrays = load_arrays(registry, registry.list_runs())
+    unit = arrays.units[0]
+    presses, stream = find_presses(arrays, unit), calibration_stream(arrays, unit, None)
+    budget = Budget(30.0, "seconds", "designed")
+    own, longer = plan_for(budget, stream, presses), plan_for(budget, stream, presses, designed_s=45.0)
+    assert {arrays.runs[k].protocol for k in np.unique(arrays.run[longer.rows])} == {"plan45"}
+    assert 0.85 * 30 < longer.calib_seconds <= 30.0 and own.calib_seconds <= 30.0
+    full = design_protocol(45.0)
+    assert longer.presses < full.patches * len(full.orientations_deg)  # cut at the budget
+    assert plan_for(budget, stream, presses, designed_s=60.0).presses == 0  # no plan60 runs
+
+
 def test_a_designed_plans_presses_pay_their_recorded_leads_not_a_move_each():
     """Presses run in recorded order: each pays the time since its run's previous recorded press ended (a
     dropped one's time is not paid), the first of a run a move; selected presses pay a move each."""

@@ -512,15 +512,18 @@ def stream_plan(stream: CalibrationStream, n: int) -> Plan:
 
 
 def plan_for(budget: Budget, stream: CalibrationStream, presses: Presses, rig: RigTiming = RigTiming(),
-             seed: int = 0, information: CodeInformation | None = None) -> Plan:
+             seed: int = 0, information: CodeInformation | None = None,
+             designed_s: float | None = None) -> Plan:
     """The labeled rows a budget grants one unit: a stream prefix or a selection of presses.
-    Strategy `designed` takes, in recorded order, the presses of the unit's runs of the designed
-    protocol of that budget (`plan<seconds>`, sensor.protocols.design_protocol), as a lab that
-    ran the designed plan on the unit would; a unit without such runs gets an empty plan."""
+    Strategy `designed` takes, in recorded order up to the budget, the presses of the unit's runs
+    of the designed protocol of `designed_s` robot seconds (default the budget's; `plan<seconds>`,
+    sensor.protocols.design_protocol), as a lab that ran the designed plan on the unit would; a
+    unit without such runs gets an empty plan."""
     if budget.unit == "samples":
         return stream_plan(stream, int(budget.amount))
     if budget.strategy == "designed":
-        mine = presses.subset(presses.protocol == designed_name(budget.amount))
+        design = budget.amount if designed_s is None else designed_s
+        mine = presses.subset(presses.protocol == designed_name(design))
         return select_presses(mine, budget.amount, rig, "first", seed, recorded_moves=True)
     return select_presses(presses, budget.amount, rig, budget.strategy, seed, information)
 

@@ -45,7 +45,8 @@ def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int,
     """The labeled rows `budget` grants `unit` (a stream prefix or whole presses); `information`:
     what its presses tell a response model's codes (`informative` plans)."""
     ev = sd.evals[unit]
-    return plan_for(budget, ev.stream, ev.presses_for(budget.strategy), opts.rig.timing(), seed, information)
+    return plan_for(budget, ev.stream, ev.presses_for(budget.strategy), opts.rig.timing(), seed, information,
+                    designed_s=budget.amount * opts.designed_scale)
 
 
 def budget_fields(budget: Budget, plan: Plan) -> dict[str, Any]:

@@ -302,6 +302,12 @@ class Options(BaseModel):
                                        "whole presses up to that robot time (data/plans.py)")
     plan_strategies: list[Strategy] = Field(
         default=["spread"], min_length=1, description="press selections compared (budget_unit seconds)")
+    designed_scale: float = Field(
+        default=1.0, ge=1.0, le=10.0,
+        description="strategy designed at a budget of B robot seconds takes the unit's runs of the design "
+        "of B * designed_scale seconds (plan<seconds>), in recorded order up to B: its presses in the unit's "
+        "test patches are left out, so 1 / (1 - splits.patch_test_fraction) fills B as a lab's B seconds "
+        "would (research log entry 146); 1: the design of B itself")
     rig: RigOptions = RigOptions()
     adapter_priors: list[PriorFamily] = Field(
         default=["identity"], min_length=1,
