@@ -1,7 +1,8 @@
 #!/bin/bash
 # Research log entry 146: today's recipe on fleet88 (entry 101's driver with the options of entries 143 and 122)
 # with the designed plan of budget B read from the design of B x 1.25 (`options.designed_scale`), on
-# data/fleet88g, `cover_informative` and `designed` side by side, alone and with 600 s of ordinary use.
+# data/fleet88g, `designed` alone (`cover_informative`'s rows are the base run's: other16's runs of this entry
+# reproduce them exactly beside the filled plans), alone and with 600 s of ordinary use.
 #   bash reports/cross_sensor_response_gpu/entry146/rescore_fleet88.sh 600 K   # against entry 143
 #   bash reports/cross_sensor_response_gpu/entry146/rescore_fleet88.sh 120 K   # against entry 131
 set -euo pipefail
@@ -15,6 +16,6 @@ case $b in
   *) echo "usage: $0 600|120 FOLD" >&2; exit 2 ;;
 esac
 REGISTRY=data/fleet88g bash reports/cross_sensor_response_gpu/entry101/rescore_fleet88_cpu.sh "$k" 1 10 \
-  "entry146/at$b" "${plans[@]}" --set "options.plan_strategies=[cover_informative, designed]" \
+  "entry146/at$b" "${plans[@]}" --set "options.plan_strategies=[designed]" \
   --set "options.response.label_free={with_plans: true, zero_shot: false}" --set "options.budgets=[$b]" \
   --set options.designed_scale=1.25
