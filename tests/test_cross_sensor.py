@@ -143,6 +143,15 @@ def test_unknown_option_is_refused(two_protocol_registry, tmp_path):
                        progress=False)
 
 
+def test_designed_scale_reads_a_longer_design_never_a_shorter_one():
+    from pydantic import ValidationError
+
+    from anytip.pipelines.cross_sensor_options import Options
+    assert Options().designed_scale == 1.0 and Options(designed_scale=1.25).designed_scale == 1.25
+    with pytest.raises(ValidationError, match="designed_scale"):
+        Options(designed_scale=0.8)
+
+
 def test_runs_on_a_registry_of_short_runs_only(small_registry, tmp_path):
     """Units with only calibration-protocol runs are tested on held-out patches of those runs;
     their calibration budgets never touch them."""

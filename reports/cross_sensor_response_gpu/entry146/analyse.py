@@ -83,7 +83,7 @@ def line(per: dict[str, dict[str, float]]) -> str:
     parts = []
     for label in KEYS:
         m, lo, hi = mean_interval(list(per[label].values()))
-        parts.append(f"{label} {m:.3f}x [{lo:.2f}, {hi:.2f}]")
+        parts.append(f"{label} {m:.3f}x [{lo:.3f}, {hi:.3f}]")
     return ", ".join(parts) + f" over {len(per['force'])} units"
 
 
