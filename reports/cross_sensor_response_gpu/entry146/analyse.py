@@ -80,11 +80,10 @@ def per_unit(got: list[dict[str, Any]], method: str, budget: int) -> dict[str, d
 
 
 def line(per: dict[str, dict[str, float]]) -> str:
-    parts = []
-    for label in KEYS:
-        m, lo, hi = mean_interval(list(per[label].values()))
-        parts.append(f"{label} {m:.3f}x [{lo:.3f}, {hi:.3f}]")
-    return ", ".join(parts) + f" over {len(per['force'])} units"
+    """Each output kind's mean over units with its 95% interval, to three decimals (cells near a goal)."""
+    stats = {label: mean_interval(list(per[label].values())) for label in KEYS}
+    return (", ".join(f"{label} {m:.3f}x [{lo:.3f}, {hi:.3f}]" for label, (m, lo, hi) in stats.items())
+            + f" over {len(per['force'])} units")
 
 
 def over(a: dict[str, dict[str, float]], b: dict[str, dict[str, float]]) -> str:
