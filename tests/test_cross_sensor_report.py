@@ -138,3 +138,13 @@ def test_paired_ratios_are_a_geometric_mean_and_their_text_its_figures():
     assert paired_interval([1.1] * 5) == pytest.approx((1.1, 1.1, 1.1))
     assert paired_text([0.9, 0.95, 1.0, 0.92]) == "{:.3f} [{:.3f}, {:.3f}]".format(
         *paired_interval([0.9, 0.95, 1.0, 0.92]))
+
+
+def test_the_report_says_which_designed_runs_a_budget_reads():
+    from anytip.pipelines.cross_sensor_options import Options
+    from anytip.report.cross_sensor import _budget_text
+    own = _budget_text(Options(budget_unit="seconds", plan_strategies=["cover", "designed"]), True)
+    filled = _budget_text(Options(budget_unit="seconds", plan_strategies=["designed"], designed_scale=1.25),
+                          True)
+    assert "designed plan of each budget" in own and "1.25 times each budget" in filled
+    assert "designed" not in _budget_text(Options(budget_unit="seconds", plan_strategies=["cover"]), True)

@@ -729,4 +729,17 @@ def _budget_text(opts: Any, seconds: bool) -> str:
             f"{', '.join(f'`{s}`' for s in opts.plan_strategies)} (method suffix `@strategy`; "
             f"data/plans.py). Robot time counts each press, a {rig.move_s:g} s move before it "
             f"and {rig.remount_s:g} s per change of orientation; the adapter prior is scaled by "
-            f"{rig.effective_hz:g} effective samples per contact second.")
+            f"{rig.effective_hz:g} effective samples per contact second.{_designed_text(opts)}")
+
+
+def _designed_text(opts: Any) -> str:
+    """Which designed runs strategy `designed` reads (empty where the run has no such strategy)."""
+    if "designed" not in opts.plan_strategies:
+        return ""
+    scale = getattr(opts, "designed_scale", 1.0)
+    if scale == 1.0:
+        return (" `designed` takes the unit's runs of the designed plan of each budget (`plan<seconds>`), "
+                "its presses in the test patches left out.")
+    return (f" `designed` takes the unit's runs of the designed plan of {scale:g} times each budget "
+            "(`options.designed_scale`), its presses in the test patches left out, in recorded order up to "
+            "the budget.")
