@@ -841,3 +841,41 @@ def test_a_run_recorded_before_its_validation_losses_compares_and_pools_as_it_re
     pool_runs([old, moved], tmp_path / "pooled")
     pooled = json.loads((tmp_path / "pooled" / "provenance.json").read_text())["cross_sensor"]
     assert {k.split("/")[1]: v["val_loss"] for k, v in pooled.items() if k.startswith("old/")} == recorded
+
+
+def test_a_designed_plan_no_run_holds_is_named():
+    """The designed calibrations a spec's `designed` budgets read but no run holds: each budget's
+    `plan<B x designed_scale>`, once (the run then says that budget has no designed rows)."""
+    from types import SimpleNamespace
+
+    from anytip.pipelines.cross_sensor_jobs import missing_designs
+    from anytip.pipelines.cross_sensor_options import Options
+    arrays = SimpleNamespace(runs=[SimpleNamespace(protocol=p) for p in ("full", "plan120", "plan150")])
+    opts = dict(budget_unit="seconds", budgets=[0, 120, 600], plan_strategies=["cover", "designed"])
+    assert missing_designs(arrays, Options(**opts)) == ["plan600"]
+    assert missing_designs(arrays, Options(**opts, designed_scale=1.25)) == ["plan750"]
+    assert missing_designs(arrays, Options(**{**opts, "plan_strategies": ["cover"]})) == []
+
+
+def test_the_benchmarks_designed_plan_reads_the_scaled_design_outside_the_test_patches(tmp_path):
+    """`designed` at 30 s with `designed_scale` 1.5: every unit's plan comes from its plan45 runs alone,
+    in whole presses within 30 s and outside its test patches; plan30 is never read."""
+    from anytip.pipelines.cross_sensor import plan_of
+    from anytip.pipelines.cross_sensor_jobs import missing_designs
+    from anytip.pipelines.cross_sensor_options import budget_list
+
+    registry = Registry(tmp_path / "r")
+    simulate_into(registry, FleetConfig(), 6, seed=5, protocols=("short", "plan30", "plan45"))
+    overrides = [*SECONDS[:3], "options.budget_unit=seconds", "options.budgets=[0,30]",
+                 "options.plan_strategies=[designed]", "options.designed_scale=1.5",
+                 "options.calibration_protocol=null", "splits.n_val_units=1", "splits.n_test_units=2",
+                 "data.protocol=[short,plan30,plan45]"]
+    opts, arrays, sd = prepared(registry, tmp_path, overrides)
+    assert missing_designs(arrays, opts) == []
+    (budget,) = [b for b in budget_list(opts) if b.amount > 0]
+    for unit, ev in sd.evals.items():
+        plan = plan_of(sd, unit, budget, opts, 0)
+        assert len(plan.rows) and 0 < plan.calib_seconds <= 30.0
+        assert {arrays.runs[k].protocol for k in np.unique(arrays.run[plan.rows])} == {"plan45"}
+        assert set(arrays.patch[ev.test_rows]).isdisjoint(arrays.patch[plan.rows])
+        assert not np.isin(plan.rows, ev.test_rows).any()

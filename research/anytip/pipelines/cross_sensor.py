@@ -38,6 +38,7 @@ from anytip.pipelines.cross_sensor_jobs import (
     budget_fields,
     interval_fields,
     mean_loss,
+    missing_designs,
     plan_of,
     plan_suffix,
     validation_by_method,
@@ -139,6 +140,10 @@ def min_units(ctx: Context) -> int:
 def run(ctx: Context) -> list[dict[str, Any]]:
     opts = parse_options(ctx)
     arrays = load(ctx, min_units=min_units(ctx))
+    for name in missing_designs(arrays, opts):
+        ctx.say(f"strategy designed: no run of {name} among the runs read (data.protocol), so its budget "
+                "has no designed rows; `anytip data simulate --protocols ...` or a lab's own runs of that "
+                "plan marked with `anytip data protocol` supply them")
     extra = None
     if opts.extra_units is not None:
         extra = load_extra(ctx, opts.extra_units.registry, opts.extra_units.data(), arrays)

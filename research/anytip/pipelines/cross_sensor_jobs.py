@@ -11,7 +11,7 @@ import numpy as np
 from scipy.stats import gmean
 
 from anytip.data.arrays import FleetArrays
-from anytip.data.plans import Budget, CodeInformation, Plan, plan_for
+from anytip.data.plans import Budget, CodeInformation, Plan, designed_name, plan_for
 from anytip.models.scaler import Scaler
 from anytip.pipelines.cross_sensor_options import Options
 from anytip.report.cross_sensor import COVERAGE_BAND
@@ -38,6 +38,17 @@ def needed_key(output: str, coverage: float) -> str:
     """A held-out row's field for the half-width at which its test rows' coverage of `output` is
     `coverage` (one of `band_edges`): `<output>_needed80_halfwidth` for 0.80."""
     return f"{output}_needed{round(100 * coverage)}_halfwidth"
+
+
+def missing_designs(arrays: FleetArrays, opts: Options) -> list[str]:
+    """The designed calibrations (`plan<seconds>`) strategy `designed` reads at the spec's budgets
+    (`options.designed_scale` times each) that no run read from the registry holds: those budgets
+    get no designed rows."""
+    if opts.budget_unit != "seconds" or "designed" not in opts.plan_strategies:
+        return []
+    held = {r.protocol for r in arrays.runs}
+    wanted = dict.fromkeys(designed_name(b * opts.designed_scale) for b in opts.budgets if b > 0)
+    return [name for name in wanted if name not in held]
 
 
 def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int,
