@@ -47,8 +47,13 @@ def missing_designs(arrays: FleetArrays, opts: Options) -> list[str]:
     if opts.budget_unit != "seconds" or "designed" not in opts.plan_strategies:
         return []
     held = {r.protocol for r in arrays.runs}
-    wanted = dict.fromkeys(designed_name(b * opts.designed_scale) for b in opts.budgets if b > 0)
+    wanted = dict.fromkeys(designed_name(design_seconds(b, opts)) for b in opts.budgets if b > 0)
     return [name for name in wanted if name not in held]
+
+
+def design_seconds(budget_s: float, opts: Options) -> float:
+    """Robot seconds of the design whose runs strategy `designed` reads at a budget of `budget_s`."""
+    return budget_s * opts.designed_scale
 
 
 def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int,
@@ -57,7 +62,7 @@ def plan_of(sd: SeedData, unit: str, budget: Budget, opts: Options, seed: int,
     what its presses tell a response model's codes (`informative` plans)."""
     ev = sd.evals[unit]
     return plan_for(budget, ev.stream, ev.presses_for(budget.strategy), opts.rig.timing(), seed, information,
-                    designed_s=budget.amount * opts.designed_scale)
+                    designed_s=design_seconds(budget.amount, opts))
 
 
 def budget_fields(budget: Budget, plan: Plan) -> dict[str, Any]:

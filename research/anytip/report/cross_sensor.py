@@ -736,10 +736,7 @@ def _designed_text(opts: Any) -> str:
     """Which designed runs strategy `designed` reads (empty where the run has no such strategy)."""
     if "designed" not in opts.plan_strategies:
         return ""
-    scale = getattr(opts, "designed_scale", 1.0)
-    if scale == 1.0:
-        return (" `designed` takes the unit's runs of the designed plan of each budget (`plan<seconds>`), "
-                "its presses in the test patches left out.")
-    return (f" `designed` takes the unit's runs of the designed plan of {scale:g} times each budget "
-            "(`options.designed_scale`), its presses in the test patches left out, in recorded order up to "
-            "the budget.")
+    scale = opts.designed_scale
+    which = "each budget" if scale == 1.0 else f"{scale:g} times each budget (`options.designed_scale`)"
+    return (f" `designed` takes the unit's runs of the designed plan of {which} (`plan<seconds>`), "
+            "its presses in the test patches left out, in recorded order up to the budget.")
