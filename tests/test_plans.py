@@ -361,6 +361,35 @@ def test_plans_work_on_runs_without_optional_data_written_from_the_format(tmp_pa
     assert len(ordinary_use(presses, float(presses.duration_s.min()), seed=0).rows) == 30  # one whole press
 
 
+def test_a_labs_runs_marked_as_a_longer_design_serve_a_scaled_designed_budget(tmp_path):
+    """Runs made from the format spec alone, without optional data, one per unit marked `plan150` in the
+    registry: the `designed` strategy at 120 s with the design of 150 s (`designed_s`,
+    `options.designed_scale` 1.25) takes that run's presses alone, within 120 s; without the scale it finds
+    no plan120 run, and the benchmark names what is missing."""
+    from anytip.pipelines.cross_sensor_jobs import missing_designs
+    from anytip.pipelines.cross_sensor_options import Options
+    from run_factory import make_run
+
+    registry = Registry(tmp_path / "r")
+    runs = [make_run("LAB-1", 0.0, f"2024-05-0{k + 1}T12:00:00Z", n=600, seed=k, optional=False)
+            for k in (0, 1)]
+    for run in runs:
+        run.force[:] = 0.0
+        for start in range(50, 600, 100):  # six presses of 30 rows, rest between them
+            run.force[start:start + 30, 2] = -10.0
+    registry.add_runs(runs)
+    registry.set_protocol(max(r.run_id for r in registry.list_runs(unit="LAB-1")), "plan150")
+    arrays = load_arrays(registry, registry.list_runs())
+    presses, budget = find_presses(arrays, "LAB-1"), Budget(120.0, "seconds", "designed")
+    plan = plan_for(budget, None, presses, designed_s=150.0)
+    assert plan.presses == 6 and 0 < plan.calib_seconds <= 120.0
+    assert {arrays.runs[k].protocol for k in np.unique(arrays.run[plan.rows])} == {"plan150"}
+    assert plan_for(budget, None, presses).presses == 0  # no plan120 run
+    opts = dict(budget_unit="seconds", budgets=[0, 120], plan_strategies=["designed"])
+    assert missing_designs(arrays, Options(**opts, designed_scale=1.25)) == []
+    assert missing_designs(arrays, Options(**opts)) == ["plan120"]
+
+
 def test_press_folds_hold_out_every_press_exactly_once():
     """split_presses(k, fold) for fold 0..k-1: each fold's check rows are whole presses, fitting
     and check rows partition the plan, and together the folds hold out every row once."""
