@@ -1,0 +1,97 @@
+"""Research log entry 147: the designed plan's intervals at 120 s on fleet88's 88 held-out units, tested on
+both their sessions (entry 146's rescoring with entry 110's intervals and `splits.test_rows: all_sessions`).
+Prints rule 1 (each held-out unit's plan against entry 146's; its test rows against entry 110's count; the
+registry's test sessions against data/fleet88r's), rule 2 (the target per method, with its verdict) and,
+deciding nothing, each fold's factor and margin, the unit-outputs below 0.80, an exact method's share and
+entry 110's `cover_informative` figures beside them. The rescoring keeps the run's per-unit references
+(`--paired-only`), so no ratio to them is printed. From the repository root:
+
+    python reports/cross_sensor_response_gpu/entry147/analyse.py
+"""
+
+from __future__ import annotations
+
+import runpy
+import sqlite3
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from anytip.rundir import read_json
+
+G = Path("reports/cross_sensor_response_gpu")
+RUNS = [G / f"entry147/at120/fleet88_seed{k}" for k in (0, 1)]
+PLANS_146 = [G / f"entry146/at120/fleet88_seed{k}" for k in (0, 1)]
+COVER_110 = [G / f"entry110/fleet88r_both/fleet88_seed{k}" for k in (0, 1)]
+METHODS = ("response@designed", "response+use@designed")
+COVER = ("response@cover_informative", "response+use@cover_informative")
+ANALYSE_106 = runpy.run_path(str(G / "entry106/analyse.py"))  # rows_by_unit, same, below
+ANALYSE_108 = runpy.run_path(str(G / "entry108/analyse.py"))  # intervals, OUTPUTS
+ANALYSE_110 = runpy.run_path(str(G / "entry110/analyse.py"))  # met
+rows_by_unit, same, OUTPUTS = ANALYSE_106["rows_by_unit"], ANALYSE_106["same"], ANALYSE_108["OUTPUTS"]
+
+
+def test_sessions_equal(a: Path = Path("data/fleet88h"), b: Path = Path("data/fleet88r")) -> str:
+    """How many of registry `a`'s test-session runs equal `b`'s, by unit and orientation: the same content
+    hash in both catalogs, or else the same pressures, forces and angles in both files."""
+    def runs(reg: Path) -> dict[tuple[str, float], tuple[str, Path]]:
+        with sqlite3.connect(reg / "catalog.sqlite") as db:
+            got = db.execute("select unit, orientation_deg, sha256, path from runs where protocol = 'retest'")
+            return {(u, o): (h, reg / path) for u, o, h, path in got}
+
+    mine, theirs = runs(a), runs(b)
+    if set(mine) != set(theirs):
+        return f"the test sessions differ in which runs they hold ({len(mine)} against {len(theirs)})"
+    equal = 0
+    for key, (digest, path) in mine.items():
+        if digest == theirs[key][0]:
+            equal += 1
+            continue
+        with h5py.File(path) as f, h5py.File(theirs[key][1]) as g:
+            equal += all(np.array_equal(f[k][()], g[k][()]) for k in ("pressure", "force", "angles"))
+    return f"{equal} of {len(mine)} test-session runs equal {b}'s"
+
+
+def rule_1() -> str:
+    """Plans against entry 146's, test rows against entry 110's, test sessions against data/fleet88r's."""
+    lines = [f"  {m} plans (seconds, presses) against entry 146: "
+             f"{same(rows_by_unit(RUNS, m), rows_by_unit(PLANS_146, m), ['calib_seconds', 'presses'])}"
+             for m in METHODS]
+    now, then = rows_by_unit(RUNS, METHODS[0]), rows_by_unit(COVER_110, COVER[0])
+    rows = sum(now[u]["interval_test_rows"] == then[u]["interval_test_rows"] for u in now)
+    lines.append(f"  test rows equal entry 110's in {rows} of {len(now)} units")
+    lines.append(f"  {test_sessions_equal()}")
+    return "rule 1:\n" + "\n".join(lines)
+
+
+def factors(run: Path, seed: int) -> str:
+    """A fold's fleet factors and margins for the designed plan, alone and with ordinary use, as recorded."""
+    header = read_json(run / f"models/response_seed{seed}.json")
+    iv = header.get("meta", header)["intervals"]
+    lines = []
+    for prefix, label in (("", "plan alone"), ("use_", "with use")):
+        factor, margin = (iv[f"{prefix}{k}_by_strategy"]["designed"]["120"]
+                          for k in ("fleet_factor", "margin"))
+        cells = ", ".join(f"{o} {factor[o]:.2f}" for o in OUTPUTS)
+        lines.append(f"  fold {seed} {label}: factor {cells}; margin {margin['margin']:g} "
+                     f"(learners below 0.80 by margin: {margin['below_floor']})")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    print(rule_1())
+    print("\nrule 2, the target on both sessions' rows (440 unit-outputs a method):")
+    for m in METHODS:
+        print(f"{ANALYSE_108['intervals'](RUNS, m)}\n    verdict: "
+              f"{'met' if ANALYSE_110['met'](rows_by_unit(RUNS, m)) else 'missed'}")
+    print("\nalso read (decides nothing): each fold's factor and margin")
+    for seed, run in enumerate(RUNS):
+        print(factors(run, seed))
+    print("entry 110's cover_informative, the same test rows:")
+    for m in COVER:
+        print(ANALYSE_108["intervals"](COVER_110, m))
+
+
+if __name__ == "__main__":
+    main()
