@@ -22,6 +22,7 @@ from anytip.rundir import read_json
 
 G = Path("reports/cross_sensor_response_gpu")
 RUNS = [G / f"entry147/at120/fleet88_seed{k}" for k in (0, 1)]
+RUNS_COVER = [G / f"entry147/cover120/fleet88_seed{k}" for k in (0, 1)]  # the second arm, same test rows
 PLANS_146 = [G / f"entry146/at120/fleet88_seed{k}" for k in (0, 1)]
 COVER_110 = [G / f"entry110/fleet88r_both/fleet88_seed{k}" for k in (0, 1)]
 METHODS = ("response@designed", "response+use@designed")
@@ -54,24 +55,40 @@ def test_sessions_equal(a: Path = Path("data/fleet88h"), b: Path = Path("data/fl
 
 
 def rule_1() -> str:
-    """Plans against entry 146's, test rows against entry 110's, test sessions against data/fleet88r's."""
+    """Plans against entry 146's, test rows against entry 110's, test sessions against data/fleet88r's; the
+    second arm's plans and plan-alone own half-widths against entry 110's."""
+    plan = ["calib_seconds", "presses"]
     lines = [f"  {m} plans (seconds, presses) against entry 146: "
-             f"{same(rows_by_unit(RUNS, m), rows_by_unit(PLANS_146, m), ['calib_seconds', 'presses'])}"
+             f"{same(rows_by_unit(RUNS, m), rows_by_unit(PLANS_146, m), plan)}"
              for m in METHODS]
     now, then = rows_by_unit(RUNS, METHODS[0]), rows_by_unit(COVER_110, COVER[0])
     rows = sum(now[u]["interval_test_rows"] == then[u]["interval_test_rows"] for u in now)
     lines.append(f"  test rows equal entry 110's in {rows} of {len(now)} units")
     lines.append(f"  {test_sessions_equal()}")
+    if all((r / "metrics.json").exists() for r in RUNS_COVER):
+        halves = [f"{o}_halfwidth" for o in OUTPUTS]
+        for m in COVER:
+            lines.append(f"  second arm, {m} plans against entry 110: "
+                         f"{same(rows_by_unit(RUNS_COVER, m), rows_by_unit(COVER_110, m), plan)}")
+        lines.append(f"  second arm, {COVER[0]} own half-widths against entry 110: "
+                     f"{same(rows_by_unit(RUNS_COVER, COVER[0]), rows_by_unit(COVER_110, COVER[0]), halves)}")
     return "rule 1:\n" + "\n".join(lines)
 
 
-def factors(run: Path, seed: int) -> str:
-    """A fold's fleet factors and margins for the designed plan, alone and with ordinary use, as recorded."""
+def below_both(method: str, cover: str) -> str:
+    """The unit-outputs below the floor for the designed plan and for `cover_informative` on the same rows."""
+    a = {" ".join(c.split()[:2]) for c in ANALYSE_106["below"](rows_by_unit(RUNS, method), "margin")}
+    b = {" ".join(c.split()[:2]) for c in ANALYSE_106["below"](rows_by_unit(RUNS_COVER, cover), "margin")}
+    return (f"  {method} below 0.80: {len(a)}; {cover}: {len(b)}; both: {', '.join(sorted(a & b)) or 'none'}")
+
+
+def factors(run: Path, seed: int, strategy: str = "designed") -> str:
+    """A fold's fleet factors and margins for `strategy`'s plan, alone and with ordinary use, as recorded."""
     header = read_json(run / f"models/response_seed{seed}.json")
     iv = header.get("meta", header)["intervals"]
     lines = []
     for prefix, label in (("", "plan alone"), ("use_", "with use")):
-        factor, margin = (iv[f"{prefix}{k}_by_strategy"]["designed"]["120"]
+        factor, margin = (iv[f"{prefix}{k}_by_strategy"][strategy]["120"]
                           for k in ("fleet_factor", "margin"))
         cells = ", ".join(f"{o} {factor[o]:.2f}" for o in OUTPUTS)
         lines.append(f"  fold {seed} {label}: factor {cells}; margin {margin['margin']:g} "
@@ -81,14 +98,23 @@ def factors(run: Path, seed: int) -> str:
 
 def main() -> None:
     print(rule_1())
+    arms = [(RUNS, METHODS, "designed")]
+    if all((r / "metrics.json").exists() for r in RUNS_COVER):
+        arms.append((RUNS_COVER, COVER, "cover_informative"))
     print("\nrule 2, the target on both sessions' rows (440 unit-outputs a method):")
-    for m in METHODS:
-        print(f"{ANALYSE_108['intervals'](RUNS, m)}\n    verdict: "
-              f"{'met' if ANALYSE_110['met'](rows_by_unit(RUNS, m)) else 'missed'}")
+    for runs, methods, _ in arms:
+        for m in methods:
+            print(f"{ANALYSE_108['intervals'](runs, m)}\n    verdict: "
+                  f"{'met' if ANALYSE_110['met'](rows_by_unit(runs, m)) else 'missed'}")
     print("\nalso read (decides nothing): each fold's factor and margin")
-    for seed, run in enumerate(RUNS):
-        print(factors(run, seed))
-    print("entry 110's cover_informative, the same test rows:")
+    for runs, _, strategy in arms:
+        for seed, run in enumerate(runs):
+            print(factors(run, seed, strategy))
+    if len(arms) > 1:
+        print("the unit-outputs below 0.80, by plan, on the same test rows:")
+        for m, c in zip(METHODS, COVER, strict=True):
+            print(below_both(m, c))
+    print("entry 110's cover_informative, on fleet88r's test sessions (the recipe before entry 131):")
     for m in COVER:
         print(ANALYSE_108["intervals"](COVER_110, m))
 
