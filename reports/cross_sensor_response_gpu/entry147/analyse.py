@@ -19,6 +19,7 @@ import h5py
 import numpy as np
 
 from anytip.rundir import read_json
+from anytip.uncertainty.fleet_margin import factor_ceiling
 
 G = Path("reports/cross_sensor_response_gpu")
 RUNS = [G / f"entry147/at120/fleet88_seed{k}" for k in (0, 1)]
@@ -82,18 +83,31 @@ def below_both(method: str, cover: str) -> str:
     return (f"  {method} below 0.80: {len(a)}; {cover}: {len(b)}; both: {', '.join(sorted(a & b)) or 'none'}")
 
 
-def factors(run: Path, seed: int, strategy: str = "designed") -> str:
-    """A fold's fleet factors and margins for `strategy`'s plan, alone and with ordinary use, as recorded."""
+def factors(run: Path, seed: int, strategy: str = "designed", budget: str = "120") -> str:
+    """A fold's fleet factors and margins for `strategy`'s plan at `budget` robot seconds, alone and with
+    ordinary use, as recorded."""
     header = read_json(run / f"models/response_seed{seed}.json")
     iv = header.get("meta", header)["intervals"]
     lines = []
     for prefix, label in (("", "plan alone"), ("use_", "with use")):
-        factor, margin = (iv[f"{prefix}{k}_by_strategy"][strategy]["120"]
+        factor, margin = (iv[f"{prefix}{k}_by_strategy"][strategy][budget]
                           for k in ("fleet_factor", "margin"))
         cells = ", ".join(f"{o} {factor[o]:.2f}" for o in OUTPUTS)
         lines.append(f"  fold {seed} {label}: factor {cells}; margin {margin['margin']:g} "
                      f"(learners below 0.80 by margin: {margin['below_floor']})")
     return "\n".join(lines)
+
+
+def ceiling(runs: list[Path], method: str, width: str = "fleet_halfwidth") -> str:
+    """The best single factor per output on the held-out units' `width` (own x their fold's factor unless
+    named otherwise; `uncertainty.fleet_margin.factor_ceiling`), in words."""
+    rows = rows_by_unit(runs, method)
+
+    def field(key: str) -> np.ndarray:
+        return np.array([[r[f"{o}_{key}"] for o in OUTPUTS] for r in rows.values()])
+
+    c = factor_ceiling(field(width), *(field(f"needed{q}_halfwidth") for q in (80, 85, 95)))
+    return f"at most {c.free_in_band:.0%} in the band, {c.safe_in_band:.0%} with none below 0.80"
 
 
 def main() -> None:

@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 
 from anytip.rundir import read_json
-from anytip.uncertainty.fleet_margin import factor_ceiling
 
 G = Path("reports/cross_sensor_response_gpu")
 RUNS = [G / f"entry148/at120/fleet88_seed{k}" for k in (0, 1)]
@@ -26,6 +25,7 @@ METHODS = ("response@designed", "response+use@designed")
 OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
 RULE = 0.85  # the transfer-only spread at most this times the plan's, in both folds
 ANALYSE_106 = runpy.run_path(str(G / "entry106/analyse.py"))  # rows_by_unit, same, below
+ceiling = runpy.run_path(str(G / "entry147/analyse.py"))["ceiling"]
 rows_by_unit, same = ANALYSE_106["rows_by_unit"], ANALYSE_106["same"]
 
 
@@ -67,17 +67,15 @@ def held_out() -> str:
     def field(key: str) -> np.ndarray:
         return np.array([[r[f"{o}_{key}"] for o in OUTPUTS] for r in rows.values()])
 
-    needed = [field(f"needed{q}_halfwidth") for q in (80, 85, 95)]
+    needed80 = field("needed80_halfwidth")
     lines = []
-    for name, own in (("plan", field("fleet_halfwidth")), ("transfer-only", field("transfer_halfwidth"))):
-        c = factor_ceiling(own, *needed)
-        lines.append(f"  {name} widths: one factor per output puts at most {c.free_in_band:.0%} in the band, "
-                     f"{c.safe_in_band:.0%} with none below 0.80")
+    for name, width in (("plan", "fleet_halfwidth"), ("transfer-only", "transfer_halfwidth")):
+        lines.append(f"  {name} widths: one factor per output puts {ceiling(RUNS, METHODS[0], width)}")
     cover = field("transfer_coverage")
     lines.append(f"  transfer-only intervals as recorded (4 validation units' factor): "
                  f"{np.mean((cover >= 0.85) & (cover <= 0.95)):.1%} of {cover.size} in band, "
                  f"{int((cover < 0.80).sum())} below 0.80, lowest {cover.min():.3f}")
-    log_ratio = np.log(needed[0] / field("transfer_halfwidth")), np.log(needed[0] / field("fleet_halfwidth"))
+    log_ratio = np.log(needed80 / field("transfer_halfwidth")), np.log(needed80 / field("fleet_halfwidth"))
     lines.append("  spread over held-out units of log(needed80 / width), transfer-only / plan: " + ", ".join(
         f"{o} {a:.3f} / {b:.3f}" for o, a, b in zip(OUTPUTS, log_ratio[0].std(0, ddof=1),
                                                    log_ratio[1].std(0, ddof=1), strict=True)))

@@ -13,9 +13,6 @@ from pathlib import Path
 
 import numpy as np
 
-from anytip.rundir import read_json
-from anytip.uncertainty.fleet_margin import factor_ceiling
-
 G = Path("reports/cross_sensor_response_gpu")
 RUNS = [G / f"entry149/at600/fleet88_seed{k}" for k in (0, 1)]
 PLANS_146 = [G / f"entry146/at600/fleet88_seed{k}" for k in (0, 1)]
@@ -24,29 +21,9 @@ METHODS = ("response@designed", "response+use@designed")
 ANALYSE_106 = runpy.run_path(str(G / "entry106/analyse.py"))  # rows_by_unit, same
 ANALYSE_108 = runpy.run_path(str(G / "entry108/analyse.py"))  # intervals, OUTPUTS
 ANALYSE_110 = runpy.run_path(str(G / "entry110/analyse.py"))  # met
+ANALYSE_147 = runpy.run_path(str(G / "entry147/analyse.py"))  # ceiling, factors
 rows_by_unit, same, OUTPUTS = ANALYSE_106["rows_by_unit"], ANALYSE_106["same"], ANALYSE_108["OUTPUTS"]
-
-
-def ceiling(runs: list[Path], method: str) -> str:
-    """The best single factor per output on the held-out units' widths (own x their fold's factor)."""
-    rows = rows_by_unit(runs, method)
-    field = lambda key: np.array([[r[f"{o}_{key}"] for o in OUTPUTS] for r in rows.values()])  # noqa: E731
-    c = factor_ceiling(field("fleet_halfwidth"), *(field(f"needed{q}_halfwidth") for q in (80, 85, 95)))
-    return f"at most {c.free_in_band:.0%} in the band, {c.safe_in_band:.0%} with none below 0.80"
-
-
-def factors(run: Path, seed: int) -> str:
-    """A fold's fleet factors and margins for the designed plan at 600 s, alone and with use, as recorded."""
-    header = read_json(run / f"models/response_seed{seed}.json")
-    iv = header.get("meta", header)["intervals"]
-    lines = []
-    for prefix, label in (("", "plan alone"), ("use_", "with use")):
-        factor, margin = (iv[f"{prefix}{k}_by_strategy"]["designed"]["600"]
-                          for k in ("fleet_factor", "margin"))
-        cells = ", ".join(f"{o} {factor[o]:.2f}" for o in OUTPUTS)
-        lines.append(f"  fold {seed} {label}: factor {cells}; margin {margin['margin']:g} "
-                     f"(learners below 0.80 by margin: {margin['below_floor']})")
-    return "\n".join(lines)
+ceiling = ANALYSE_147["ceiling"]
 
 
 def spread(runs: list[Path], method: str) -> np.ndarray:
@@ -69,7 +46,7 @@ def main() -> None:
               f"(at 120 s, entry 147: {ceiling(AT_120, m)})")
     print("\nrule 3: each fold's factor and margin")
     for seed, run in enumerate(RUNS):
-        print(factors(run, seed))
+        print(ANALYSE_147["factors"](run, seed, budget="600"))
     print("the spread over the held-out units of log(needed80 / own), 600 s / 120 s:")
     for m in METHODS:
         print(f"  {m}: " + ", ".join(f"{o} {a:.3f} / {b:.3f}" for o, a, b in
