@@ -3,7 +3,8 @@ the codes (fold K's informative design of plan150), paired per unit with entry 1
 references' rows equal entry 146's, every designed plan within 120 s (seconds and presses beside entry 146's).
 Rule 2: the validation units' mean loss over draws and folds, each designed method, against entry 146's. Rule 3:
 informative over entry 146 per unit, force and angle, each unit's draws averaged. Reads the draws whose four folds
-ran. From the repository root:
+ran. Then the amendment's fleet88 step (its gate, its validation units' rule and the 88 held-out units).
+From the repository root:
 
     python reports/cross_sensor_response_gpu/entry151/analyse.py
 """
@@ -13,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from anytip.report.cross_sensor import paired_interval
+from anytip.report.cross_sensor import paired_interval, paired_text
+from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
 E121 = runpy.run_path(str(HERE.parent / "entry121" / "analyse.py"))  # run_dir, rows, record, unit_figure
@@ -46,15 +48,71 @@ def gate(d: int, k: int) -> bool:
     return equal and mine[:, 0].max() <= 120.0 + 1e-9
 
 
+def unit_losses(root: Path, draws: list[int], method: str) -> dict[tuple[int, str], float]:
+    """Each validation unit-fold's loss of `method` at 120 s, its draws averaged."""
+    got: dict[tuple[int, str], list[float]] = {}
+    for d in draws:
+        for k in FOLDS:
+            for u, v in E121["record"](root, d, k)["val_loss_units"][method]["120"].items():
+                got.setdefault((k, u), []).append(v)
+    return {key: float(np.mean(v)) for key, v in got.items()}
+
+
 def validation(draws: list[int]) -> dict[str, float]:
-    """Per designed method: the validation units' mean loss over the draws and folds, new over entry 146's."""
+    """Per designed method: the validation units' mean loss over the draws and folds, new over entry 146's;
+    beside it (not the rule's), the paired view: each unit-fold's ratio, and their geometric mean's interval."""
     change = {}
     for m in DESIGNED:
         new, old = (np.mean([E121["record"](root, d, k)["val_loss"][m]["120"] for d in draws for k in FOLDS])
                     for root in (NEW, BASE))
         change[m] = new / old - 1
         print(f"rule 2, {m}: validation mean {new:.5f} against entry 146's {old:.5f} ({100 * change[m]:+.1f}%)")
+        a, b = unit_losses(NEW, draws, m), unit_losses(BASE, draws, m)
+        ratios = [a[key] / b[key] for key in sorted(b)]
+        cells = ", ".join(f"fold {k} {u} x{a[(k, u)] / b[(k, u)]:.3f}" for k, u in sorted(b))
+        print(f"  paired per unit-fold (beside the rule): x{paired_text(ratios)}; {cells}")
     return change
+
+
+def fleet88(k: int, root: Path) -> Path:
+    return root / f"fleet88_seed{k}"
+
+
+def fleet88_record(k: int, root: Path) -> dict:
+    return read_json(fleet88(k, root) / "provenance.json")["cross_sensor"][f"seed{k}"]
+
+
+def fleet88_reading() -> None:
+    """The amendment's fleet88 step: gate, the validation units' rule, then the 88 held-out units."""
+    if not all((fleet88(k, NEW) / "metrics.json").is_file() for k in (0, 1)):
+        print("fleet88: not run yet")
+        return
+    ok = True
+    for k in (0, 1):
+        new, old = (read_json(fleet88(k, r) / "metrics.json")["results"] for r in (NEW, BASE))
+        refs = [sorted(tuple(sorted(r.items())) for r in got if r["method"] == "per_unit") for got in (new, old)]
+        longest = max(r["calib_seconds"] for r in new if r["method"] in DESIGNED)
+        ok &= refs[0] == refs[1] and longest <= 120.0 + 1e-9
+        print(f"fleet88 rule 1, fold {k}: references {'equal' if refs[0] == refs[1] else 'DIFFER'}; designed plans "
+              f"at most {longest:.1f} s")
+    print(f"fleet88 rule 1: {'holds' if ok else 'FAILS'}")
+    change, paired_hi = {}, 1.0
+    for m in DESIGNED:
+        a, b = ({(k, u): v for k in (0, 1) for u, v in fleet88_record(k, r)["val_loss_units"][m]["120"].items()}
+                for r in (NEW, BASE))
+        change[m] = float(np.mean(list(a.values())) / np.mean(list(b.values())) - 1)
+        ratios = [a[key] / b[key] for key in sorted(b)]
+        if m == "response@designed":
+            paired_hi = paired_interval(ratios)[2]
+        print(f"fleet88 validation, {m}: mean {np.mean(list(a.values())):.5f} against {np.mean(list(b.values())):.5f} "
+              f"({100 * change[m]:+.1f}%); paired x{paired_text(ratios)}")
+    taken = change["response@designed"] <= -0.03 and change["response+use@designed"] <= 0 and paired_hi < 1
+    print(f"fleet88 rule: {'taken' if taken else 'not taken'}")
+    got_new = [r for k in (0, 1) for r in read_json(fleet88(k, NEW) / "metrics.json")["results"]]
+    got_old = [r for k in (0, 1) for r in read_json(fleet88(k, BASE) / "metrics.json")["results"]]
+    for m in DESIGNED:
+        per = {"new": E121["at_120"](got_new, m), "base": E121["at_120"](got_old, m)}
+        print(f"  fleet88 held out, {m}: {E123['off_over_on'](per['new'], per['base'], 'informative')}")
 
 
 def main() -> None:
@@ -74,6 +132,7 @@ def main() -> None:
             _, lo, hi = paired_interval(ratios)
             reading = "I" if hi <= 0.98 else "W" if lo >= 0.98 and hi <= 1.02 else "partly"
             print(f"  reading (force, the plan alone): {reading}")
+    fleet88_reading()
 
 
 if __name__ == "__main__":
