@@ -1,9 +1,10 @@
 """Research log entry 151 (run in the variant's worktree, `entry151/variant.patch`): the designed plan of a
 budget with each press exchanged, within its neighbourhood, for the place and force level that tells a new
 unit's codes most under a response model (criterion v at the code prior's mean, as `cover_informative`
-exchanges a unit's recorded presses). Writes the design's presses as `places` JSON, in the design's order.
+exchanges a unit's recorded presses). Writes the design's presses as `places` JSON, in the design's order. With `--same-level` (entry 152) a press
+is exchanged only for candidates of its own force level.
 
-    python reports/cross_sensor_response_gpu/entry151/choose_design.py MODEL.safetensors SECONDS OUT.json
+    python reports/cross_sensor_response_gpu/entry151/choose_design.py MODEL.safetensors SECONDS OUT.json [--same-level]
 """
 
 from __future__ import annotations
@@ -51,7 +52,7 @@ def summary(places: np.ndarray, layers_n: tuple[float, ...]) -> np.ndarray:
     return np.concatenate([(fz / np.sqrt((fz ** 2).mean()))[:, None], ang / np.sqrt((ang ** 2).sum(1).mean())], 1)
 
 
-def main(model: str, seconds: float, out: str) -> None:
+def main(model: str, seconds: float, out: str, same_level: bool = False) -> None:
     fit = ResponseFit.from_loaded(load_response(model))
     rig = RigTiming()
     design = design_protocol(seconds, rig.move_s, rig.remount_s)
@@ -88,7 +89,8 @@ def main(model: str, seconds: float, out: str) -> None:
         for j in range(len(chosen)):
             free = np.ones(len(cand), bool)
             free[chosen] = False
-            mates = np.flatnonzero(free & (cell == j))
+            level = cand[:, 3] == mine[j, 3] if same_level else np.ones(len(cand), bool)
+            mates = np.flatnonzero(free & (cell == j) & level)
             if not len(mates):
                 continue
             trial = precision - per[chosen[j]] + per[mates]
@@ -110,4 +112,4 @@ def main(model: str, seconds: float, out: str) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], float(sys.argv[2]), sys.argv[3])
+    main(sys.argv[1], float(sys.argv[2]), sys.argv[3], "--same-level" in sys.argv[4:])
