@@ -1,10 +1,10 @@
 """Research log entry 151 (run in the variant's worktree, `entry151/variant.patch`): the designed plan of a
 budget with each press exchanged, within its neighbourhood, for the place and force level that tells a new
 unit's codes most under a response model (criterion v at the code prior's mean, as `cover_informative`
-exchanges a unit's recorded presses). Writes the design's presses as `places` JSON, in the design's order. With `--same-level` (entry 152) a press
-is exchanged only for candidates of its own force level.
+exchanges a unit's recorded presses). Writes the design's presses as `places` JSON, in the design's order.
+With `--same-level` (entry 152) a press is exchanged only for candidates of its own force level.
 
-    python reports/cross_sensor_response_gpu/entry151/choose_design.py MODEL.safetensors SECONDS OUT.json [--same-level]
+    python reports/cross_sensor_response_gpu/entry151/choose_design.py MODEL SECONDS OUT.json [--same-level]
 """
 
 from __future__ import annotations
@@ -18,18 +18,28 @@ from scipy.spatial import cKDTree
 
 from anytip.data.plans import EXCHANGE_PASSES, CodeInformation, RigTiming
 from anytip.models.io import load_response
-from anytip.sensor.protocols import CELL_DEG, PHI_EDGES_DEG, THETA_EDGES_DEG, build_trajectory, \
-    design_protocol, patch_cells
+from anytip.sensor.protocols import (
+    CELL_DEG,
+    PHI_EDGES_DEG,
+    THETA_EDGES_DEG,
+    build_trajectory,
+    design_protocol,
+    patch_cells,
+)
 from anytip.train.response import INFORMATION_ROWS, ResponseFit, code_jacobian, evenly_spaced
 
-DRAWS = 4  # trajectories a candidate's information is averaged over (its point and shear are drawn when pressed)
+DRAWS = (
+    4  # trajectories a candidate's information is averaged over (its point and shear are drawn when pressed)
+)
 
 
 def press_labels(protocol, orientation: float, rng: np.random.Generator) -> list[np.ndarray]:
     """Each press's contact rows' labels (n, 5): commanded force (N) and angles (rad)."""
     t = build_trajectory(protocol, orientation, rng)
-    return [np.concatenate([t.force[m], t.angles[m]], 1)
-            for m in ((t.press == q) & t.in_contact for q in range(int(t.press.max()) + 1))]
+    return [
+        np.concatenate([t.force[m], t.angles[m]], 1)
+        for m in ((t.press == q) & t.in_contact for q in range(int(t.press.max()) + 1))
+    ]
 
 
 def information(fit: ResponseFit, labels: list[np.ndarray], hz: float, effective_hz: float) -> np.ndarray:
@@ -49,7 +59,7 @@ def summary(places: np.ndarray, layers_n: tuple[float, ...]) -> np.ndarray:
     fz = np.array(layers_n)[places[:, 3]]
     ang = np.stack([THETA_EDGES_DEG[places[:, 1]], PHI_EDGES_DEG[places[:, 2]]], 1) + CELL_DEG / 2
     fz, ang = fz - fz.mean(), ang - ang.mean(0)
-    return np.concatenate([(fz / np.sqrt((fz ** 2).mean()))[:, None], ang / np.sqrt((ang ** 2).sum(1).mean())], 1)
+    return np.concatenate([(fz / np.sqrt((fz**2).mean()))[:, None], ang / np.sqrt((ang**2).sum(1).mean())], 1)
 
 
 def main(model: str, seconds: float, out: str, same_level: bool = False) -> None:
@@ -57,11 +67,19 @@ def main(model: str, seconds: float, out: str, same_level: bool = False) -> None
     rig = RigTiming()
     design = design_protocol(seconds, rig.move_s, rig.remount_s)
     L = len(design.layers_n)
-    mine = np.array([(o, *c, q % L) for o in design.orientations_deg
-                     for q, c in enumerate(patch_cells(design, o))], dtype=float)
-    cand = np.array([(o, t, p, l) for o in design.orientations_deg
-                     for t, p in patch_cells(design.model_copy(update={"patches": 36}), o) for l in range(L)],
-                    dtype=float)
+    mine = np.array(
+        [(o, *c, q % L) for o in design.orientations_deg for q, c in enumerate(patch_cells(design, o))],
+        dtype=float,
+    )
+    cand = np.array(
+        [
+            (o, t, p, lev)
+            for o in design.orientations_deg
+            for t, p in patch_cells(design.model_copy(update={"patches": 36}), o)
+            for lev in range(L)
+        ],
+        dtype=float,
+    )
     cand_places = tuple(tuple(int(v) if i else float(v) for i, v in enumerate(row)) for row in cand)
     probe = design.model_copy(update={"places": cand_places, "patches": 36 * L})
     rng = np.random.default_rng(151)
@@ -104,11 +122,24 @@ def main(model: str, seconds: float, out: str, same_level: bool = False) -> None
     moved = sum(int(i != key[tuple(r)]) for i, r in zip(chosen, mine.astype(int).tolist(), strict=True))
     levels = np.bincount(cand[chosen, 3].astype(int), minlength=L).tolist()
     Path = __import__("pathlib").Path
-    Path(out).write_text(json.dumps({"name": design.name, "model": model, "places": places,
-                                     "criterion_v": {"design": -first, "exchanged": -value},
-                                     "exchanged_presses": moved, "presses_per_level": levels}, indent=1) + "\n")
-    print(f"{design.name} from {model}: {len(chosen)} presses, {moved} exchanged; remaining variance (v) "
-          f"{-first:.3f} -> {-value:.3f} (x{value / first:.3f}); presses per force level {levels}")
+    Path(out).write_text(
+        json.dumps(
+            {
+                "name": design.name,
+                "model": model,
+                "places": places,
+                "criterion_v": {"design": -first, "exchanged": -value},
+                "exchanged_presses": moved,
+                "presses_per_level": levels,
+            },
+            indent=1,
+        )
+        + "\n"
+    )
+    print(
+        f"{design.name} from {model}: {len(chosen)} presses, {moved} exchanged; remaining variance (v) "
+        f"{-first:.3f} -> {-value:.3f} (x{value / first:.3f}); presses per force level {levels}"
+    )
 
 
 if __name__ == "__main__":
