@@ -1,7 +1,6 @@
 """Research log entry 150: the ceiling of one factor per output (entry 147's diagnostic, chosen on the
 held-out units) on other forms of the interval width than the plan's own half-width w: w to the powers 0,
-0.5 and 1.5, and
-w with a fleet floor in quadrature. Reads committed runs only. From the repository root:
+0.5 and 1.5, and w with a fleet floor in quadrature. Reads committed runs only. From the repository root:
 
     python reports/cross_sensor_response_gpu/entry150/analyse.py
 """

@@ -43,11 +43,18 @@ def plans(d: int, k: int, root: Path) -> np.ndarray:
     )
 
 
-def gate(d: int, k: int, new: Path = NEW) -> bool:
-    def references(root: Path) -> list[tuple]:
-        return sorted(tuple(sorted(r.items())) for r in E121["rows"](root, d, k) if r["method"] == "per_unit")
+def references(rows: list[dict]) -> list[tuple]:
+    """The per-unit references' rows, comparable between runs."""
+    return sorted(tuple(sorted(r.items())) for r in rows if r["method"] == "per_unit")
 
-    equal = references(new) == references(BASE)
+
+def ratios_of(a: dict, b: dict) -> list[float]:
+    """Per key of b (a validation unit-fold), its loss in a over its loss in b."""
+    return [a[key] / b[key] for key in sorted(b)]
+
+
+def gate(d: int, k: int, new: Path = NEW) -> bool:
+    equal = references(E121["rows"](new, d, k)) == references(E121["rows"](BASE, d, k))
     mine, theirs = plans(d, k, new), plans(d, k, BASE)
     print(
         f"rule 1, draw {d}, fold {k}: references {'equal' if equal else 'DIFFER'}; designed plans at most "
@@ -82,7 +89,7 @@ def validation(draws: list[int], new_root: Path = NEW) -> tuple[dict[str, float]
             f"rule 2, {m}: validation mean {new:.5f} against entry 146's {old:.5f} ({100 * change[m]:+.1f}%)"
         )
         a, b = unit_losses(new_root, draws, m), unit_losses(BASE, draws, m)
-        ratios = [a[key] / b[key] for key in sorted(b)]
+        ratios = ratios_of(a, b)
         upper = paired_interval(ratios)[2] if m == DESIGNED[0] else upper
         cells = ", ".join(f"fold {k} {u} x{a[(k, u)] / b[(k, u)]:.3f}" for k, u in sorted(b))
         print(f"  paired per unit-fold: x{paired_text(ratios)}; {cells}")
@@ -102,12 +109,15 @@ def fleet88_reading() -> None:
     if not all((fleet88(k, NEW) / "metrics.json").is_file() for k in (0, 1)):
         print("fleet88: not run yet")
         return
+    results = {
+        (k, root): read_json(fleet88(k, root) / "metrics.json")["results"]
+        for k in (0, 1)
+        for root in (NEW, BASE)
+    }
     ok = True
     for k in (0, 1):
-        new, old = (read_json(fleet88(k, r) / "metrics.json")["results"] for r in (NEW, BASE))
-        refs = [
-            sorted(tuple(sorted(r.items())) for r in got if r["method"] == "per_unit") for got in (new, old)
-        ]
+        new, old = results[(k, NEW)], results[(k, BASE)]
+        refs = [references(new), references(old)]
         longest = max(r["calib_seconds"] for r in new if r["method"] in DESIGNED)
         ok &= refs[0] == refs[1] and longest <= 120.0 + 1e-9
         print(
@@ -123,7 +133,7 @@ def fleet88_reading() -> None:
             for r in (NEW, BASE)
         )
         change[m] = float(np.mean(list(a.values())) / np.mean(list(b.values())) - 1)
-        ratios = [a[key] / b[key] for key in sorted(b)]
+        ratios = ratios_of(a, b)
         if m == "response@designed":
             paired_hi = paired_interval(ratios)[2]
         print(
@@ -133,8 +143,7 @@ def fleet88_reading() -> None:
         )
     taken = change["response@designed"] <= -0.03 and change["response+use@designed"] <= 0 and paired_hi < 1
     print(f"fleet88 rule: {'taken' if taken else 'not taken'}")
-    got_new = [r for k in (0, 1) for r in read_json(fleet88(k, NEW) / "metrics.json")["results"]]
-    got_old = [r for k in (0, 1) for r in read_json(fleet88(k, BASE) / "metrics.json")["results"]]
+    got_new, got_old = ([r for k in (0, 1) for r in results[(k, root)]] for root in (NEW, BASE))
     for m in DESIGNED:
         per = {"new": E121["at_120"](got_new, m), "base": E121["at_120"](got_old, m)}
         print(f"  fleet88 held out, {m}: {E123['off_over_on'](per['new'], per['base'], 'informative')}")

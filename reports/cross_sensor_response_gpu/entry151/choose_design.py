@@ -28,9 +28,8 @@ from anytip.sensor.protocols import (
 )
 from anytip.train.response import INFORMATION_ROWS, ResponseFit, code_jacobian, evenly_spaced
 
-DRAWS = (
-    4  # trajectories a candidate's information is averaged over (its point and shear are drawn when pressed)
-)
+# trajectories a candidate's information is averaged over (its point and shear are drawn when pressed)
+DRAWS = 4
 
 
 def press_labels(protocol, orientation: float, rng: np.random.Generator) -> list[np.ndarray]:
@@ -42,16 +41,17 @@ def press_labels(protocol, orientation: float, rng: np.random.Generator) -> list
     ]
 
 
+def mean_outer(fit: ResponseFit, labels: np.ndarray) -> np.ndarray:
+    """(C, k, k) the mean over label rows (n, 5) of J J^T over the noise variance, J each barometer's
+    pressure derivative in its code at the code prior's mean."""
+    _, J = code_jacobian(fit.model, torch.tensor(labels, dtype=torch.float32), fit.code_prior.mean)
+    return (torch.einsum("rck,rcj->rckj", J, J) / fit.noise_var[:, None, None]).double().mean(0).numpy()
+
+
 def information(fit: ResponseFit, labels: list[np.ndarray], hz: float, effective_hz: float) -> np.ndarray:
     """(P, C, k, k) each press's information about the codes, as `train.response.press_information`."""
-    noise, mean = fit.noise_var, fit.code_prior.mean
-    out = []
-    for lab in labels:
-        rows = evenly_spaced(len(lab), INFORMATION_ROWS).numpy()
-        _, J = code_jacobian(fit.model, torch.tensor(lab[rows], dtype=torch.float32), mean)
-        outer = (torch.einsum("rck,rcj->rckj", J, J) / noise[:, None, None]).double().mean(0).numpy()
-        out.append(outer * min(len(lab), len(lab) / hz * effective_hz))
-    return np.array(out)
+    return np.array([mean_outer(fit, lab[evenly_spaced(len(lab), INFORMATION_ROWS).numpy()])
+                     * min(len(lab), len(lab) / hz * effective_hz) for lab in labels])
 
 
 def summary(places: np.ndarray, layers_n: tuple[float, ...]) -> np.ndarray:
@@ -90,8 +90,7 @@ def main(model: str, seconds: float, out: str, same_level: bool = False) -> None
         rows += labels
     every = np.concatenate(rows)
     take = evenly_spaced(len(every), 8192).numpy()
-    _, J = code_jacobian(fit.model, torch.tensor(every[take], dtype=torch.float32), fit.code_prior.mean)
-    region = (torch.einsum("rck,rcj->rckj", J, J) / fit.noise_var[:, None, None]).double().mean(0).numpy()
+    region = mean_outer(fit, every[take])
     info = CodeInformation(per, fit.code_prior.precision.double().numpy(), region, "v")
     z, zc = summary(mine.astype(int), design.layers_n), summary(cand.astype(int), design.layers_n)
     key = {tuple(r): i for i, r in enumerate(cand.astype(int).tolist())}
