@@ -48,7 +48,7 @@ def references(got: Rows) -> list[tuple[Any, ...]]:
 
 
 def moved(new: Rows, old: Rows, method: str) -> tuple[int, float, float]:
-    """How many of `method`'s 120 s RMSEs two runs share, the most one moved (relative) and the mean's move."""
+    """How many of `method`'s 120 s RMSEs two runs share, the most one moved (relative), the mean's move."""
     def rmses(got: Rows) -> dict[tuple[str, str], float]:
         return {(r["unit"], key): r[key] for r in got
                 if r["method"] == method and r.get("budget_s") == 120.0 for key in KEYS.values()}
@@ -67,8 +67,8 @@ def gate(name: str, run: Path, base: Path, before: dict[str, Path]) -> None:
     parts = []
     for method, old in before.items():
         n, most, mean = moved(got, metrics(old), method)
-        parts.append(f"{method} vs {old.parent.name if 'severe' in old.parent.name else ''}"
-                     f"{old.relative_to(GPU).parts[0]}: {n} RMSEs, most moved {most:.2e}, mean {mean:+.2e}")
+        parts.append(f"{method} vs {old.relative_to(GPU).parts[0]}: {n} RMSEs, most moved {most:.2e}, "
+                     f"mean {mean:+.2e}")
     print(f"rule 1, {name}: references {'equal' if equal else 'DIFFER'}; {len(over)} plans over budget; "
           + "; ".join(parts))
 
@@ -129,9 +129,18 @@ def main() -> None:
     budgets = REPORTS / "cross_sensor_budgets"
     f88_mine = [r for k in F88_FOLDS for r in metrics(f88(HERE, k))]
     f88_old = [r for k in F88_FOLDS for r in metrics(budgets / f"fleet88_grouped_seed{k}")]
-    f88_old += [{**r, "method": r["method"].replace("response", "old_use", 1)}
-                for k in F88_FOLDS for name in ("fleet88_use30_seed", "fleet88_use60_seed")
-                for r in metrics(budgets / f"{name}{k}") if r["method"] == "response+use@cover"]
+    same = all(references(metrics(budgets / f"fleet88_grouped_seed{k}")) == references(metrics(f88(start, k)))
+               for k in F88_FOLDS)
+    print(f"entry 26's recipe, the plan alone (entry 79): references {'equal' if same else 'DIFFER'}")
+    names = ("fleet88_use30_seed", "fleet88_use60_seed")
+    with_use = [budgets / f"{name}{k}" for k in F88_FOLDS for name in names]
+    with_use += [f88(REPORTS / "cross_sensor_response_label_free", k) for k in F88_FOLDS]  # entry 46, 120 s
+    same = all(references(metrics(run)) == references(metrics(f88(start, int(run.name[-1]))))
+               for run in with_use)
+    print("entry 26's recipe with ordinary use (entries 46, 76-77): references "
+          + ("equal" if same else "DIFFER"))
+    f88_old += [{**r, "method": "old_use+use@cover"} for run in with_use for r in metrics(run)
+                if r["method"] == "response+use@cover"]
     table("fleet88 (88 units)", f88_mine, [r for k in F88_FOLDS for r in metrics(f88(GPU / "entry143", k))],
           f88_old, {"alone": "response@cover", "use": "old_use+use@cover"})
     o16_mine = [r for d in draws for k in O16_FOLDS for r in metrics(o16(HERE, d, k))]
