@@ -8,6 +8,8 @@ from 120 s to shorter budgets. Usage, from the repository root:
     python reports/cross_sensor_response_gpu/entry153/analyse.py
 """
 
+import runpy
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -24,9 +26,12 @@ BUDGETS = (10.0, 30.0, 60.0, 120.0)
 ALONE, USE = "response@cover_informative", "response+use@cover_informative"
 DRAWS, O16_FOLDS, F88_FOLDS = (0, 1, 2), (0, 1, 2, 3), (0, 1)
 Rows = list[dict[str, Any]]
+references = runpy.run_path(str(GPU / "entry151" / "analyse.py"))["references"]
 
 
+@cache
 def metrics(run: Path) -> Rows:
+    """A run's rows, read once (several rules and entry 154 read the same runs)."""
     return read_json(run / "metrics.json")["results"]
 
 
@@ -43,10 +48,6 @@ def o16_600(d: int, k: int) -> Path:
     return o16(GPU / ("entry142" if d == 0 else "entry144"), d, k)
 
 
-def references(got: Rows) -> list[tuple[Any, ...]]:
-    return sorted(tuple(sorted(r.items())) for r in got if r["method"] == "per_unit")
-
-
 def moved(new: Rows, old: Rows, method: str) -> tuple[int, float, float]:
     """How many of `method`'s 120 s RMSEs two runs share, the most one moved (relative), the mean's move."""
     def rmses(got: Rows) -> dict[tuple[str, str], float]:
@@ -59,18 +60,29 @@ def moved(new: Rows, old: Rows, method: str) -> tuple[int, float, float]:
                                                            / np.mean([b[s] for s in shared]) - 1)
 
 
+def checked(run: Path, base: Path, methods: tuple[str, ...]) -> str:
+    """Rule 1's part every entry shares: whether the run's references equal its base run's, and how many of
+    `methods`' plans cost more than their budget."""
+    got = metrics(run)
+    equal = references(got) == references(metrics(base))
+    over = [r for r in got if r["method"] in methods and r["calib_seconds"] > r["budget_s"] + 1e-6]
+    return f"references {'equal' if equal else 'DIFFER'}; {len(over)} plans over budget"
+
+
+def same_references(pairs: list[tuple[Path, Path]]) -> str:
+    """'equal' where each (run, base) pair's references are equal, else 'DIFFER'."""
+    return "equal" if all(references(metrics(a)) == references(metrics(b)) for a, b in pairs) else "DIFFER"
+
+
 def gate(name: str, run: Path, base: Path, before: dict[str, Path]) -> None:
     """Rule 1 for one run: its references against its base run's, its plans' robot time, its 120 s rows."""
     got = metrics(run)
-    equal = references(got) == references(metrics(base))
-    over = [r for r in got if r["method"] in (ALONE, USE) and r["calib_seconds"] > r["budget_s"] + 1e-6]
     parts = []
     for method, old in before.items():
         n, most, mean = moved(got, metrics(old), method)
         parts.append(f"{method} vs {old.relative_to(GPU).parts[0]}: {n} RMSEs, most moved {most:.2e}, "
                      f"mean {mean:+.2e}")
-    print(f"rule 1, {name}: references {'equal' if equal else 'DIFFER'}; {len(over)} plans over budget; "
-          + "; ".join(parts))
+    print(f"rule 1, {name}: {checked(run, base, (ALONE, USE))}; " + "; ".join(parts))
 
 
 def curve(rows: Rows, methods: tuple[str, ...], budgets: tuple[float, ...]) -> dict[tuple[str, float], str]:
@@ -128,18 +140,15 @@ def main() -> None:
                  {ALONE: o16(GPU / "entry101", d, k), USE: o16(GPU / "entry130", d, k)})
     budgets = REPORTS / "cross_sensor_budgets"
     f88_mine = [r for k in F88_FOLDS for r in metrics(f88(HERE, k))]
-    f88_old = [r for k in F88_FOLDS for r in metrics(budgets / f"fleet88_grouped_seed{k}")]
-    same = all(references(metrics(budgets / f"fleet88_grouped_seed{k}")) == references(metrics(f88(start, k)))
-               for k in F88_FOLDS)
-    print(f"entry 26's recipe, the plan alone (entry 79): references {'equal' if same else 'DIFFER'}")
-    names = ("fleet88_use30_seed", "fleet88_use60_seed")
-    with_use = [budgets / f"{name}{k}" for k in F88_FOLDS for name in names]
-    with_use += [f88(REPORTS / "cross_sensor_response_label_free", k) for k in F88_FOLDS]  # entry 46, 120 s
-    same = all(references(metrics(run)) == references(metrics(f88(start, int(run.name[-1]))))
-               for run in with_use)
-    print("entry 26's recipe with ordinary use (entries 46, 76-77): references "
-          + ("equal" if same else "DIFFER"))
-    f88_old += [{**r, "method": "old_use+use@cover"} for run in with_use for r in metrics(run)
+    alone = [(budgets / f"fleet88_grouped_seed{k}", f88(start, k)) for k in F88_FOLDS]
+    print(f"entry 26's recipe, the plan alone (entry 79): references {same_references(alone)}")
+    with_use = [(budgets / f"{name}{k}", f88(start, k)) for k in F88_FOLDS
+                for name in ("fleet88_use30_seed", "fleet88_use60_seed")]
+    with_use += [(f88(REPORTS / "cross_sensor_response_label_free", k), f88(start, k))  # entry 46, 120 s
+                 for k in F88_FOLDS]
+    print(f"entry 26's recipe with ordinary use (entries 46, 76-77): references {same_references(with_use)}")
+    f88_old = [r for run, _ in alone for r in metrics(run)]
+    f88_old += [{**r, "method": "old_use+use@cover"} for run, _ in with_use for r in metrics(run)
                 if r["method"] == "response+use@cover"]
     table("fleet88 (88 units)", f88_mine, [r for k in F88_FOLDS for r in metrics(f88(GPU / "entry143", k))],
           f88_old, {"alone": "response@cover", "use": "old_use+use@cover"})

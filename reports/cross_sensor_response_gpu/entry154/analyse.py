@@ -17,7 +17,7 @@ from anytip.report.cross_sensor import paired_text, unit_ratios
 HERE = Path(__file__).parent
 GPU = HERE.parent
 E153 = runpy.run_path(str(GPU / "entry153" / "analyse.py"))
-metrics, f88, o16, references, curve = (E153[n] for n in ("metrics", "f88", "o16", "references", "curve"))
+metrics, f88, o16, checked, curve = (E153[n] for n in ("metrics", "f88", "o16", "checked", "curve"))
 KEYS, Rows = E153["KEYS"], E153["Rows"]
 E146 = GPU / "entry146"
 DESIGNED, DESIGNED_USE = "response@designed", "response+use@designed"
@@ -29,12 +29,10 @@ def gate(name: str, run: Path, base: Path) -> None:
     """Rule 1 for one run."""
     got = metrics(run)
     mine = [r for r in got if r["method"] in INFORMED]
-    equal = references(got) == references(metrics(base))
-    over = [r for r in mine if r["calib_seconds"] > r["budget_s"] + 1e-6]
     orientations = sorted({r["orientations"] for r in mine})
     presses = {b: sorted({r["presses"] for r in mine if r["budget_s"] == b}) for b in BUDGETS}
     seconds = {b: [r["calib_seconds"] for r in mine if r["budget_s"] == b] for b in BUDGETS}
-    print(f"rule 1, {name}: references {'equal' if equal else 'DIFFER'}; {len(over)} plans over budget; "
+    print(f"rule 1, {name}: {checked(run, base, tuple(INFORMED))}; "
           f"orientations per plan {orientations}; presses "
           + ", ".join(f"{b:g} s {p}" for b, p in presses.items()) + "; robot seconds "
           + ", ".join(f"{b:g} s mean {np.mean(v):.1f} ({min(v):.1f}-{max(v):.1f})"
