@@ -26,20 +26,20 @@ def row(method: str, unit: str, seed: int, force: float, budget: float | None = 
 
 def finished_run(path: Path, seed: int, held_out: dict[str, tuple[float, float, float]],
                  val: dict[str, float], overrides: list[str] | None = None,
-                 sensor: str = "fingertip-8baro-r10") -> Path:
+                 sensor: str = "fingertip-8baro-r10", budget: float = 120.0) -> Path:
     """A run directory as a cross_sensor run leaves it: held_out maps each held-out unit to its
-    per_unit, `a@cover` and `b@cover` force RMSE at 120 s; `val` each method's validation loss."""
+    per_unit, `a@cover` and `b@cover` force RMSE at `budget` s; `val` each method's validation loss."""
     path.mkdir(parents=True)
     write_config(path, public_config(load_spec(SPEC, [f"seeds=[{seed}]", *(overrides or [])])))
     methods = ("per_unit", "a@cover", "b@cover")
-    rows = [row(m, u, seed, f, None if m == "per_unit" else 120.0)
+    rows = [row(m, u, seed, f, None if m == "per_unit" else budget)
             for u, forces in held_out.items() for m, f in zip(methods, forces, strict=True)]
     write_metrics(path, rows)
     split = {"train": ["T1", "T2"], "val": ["V1"], "test": sorted(held_out)}
     write_json(path / "provenance.json", {
         "sensor_model": sensor, "targets": TARGETS, "units": ["T1", "T2", "V1", *sorted(held_out)],
         "cross_sensor": {f"seed{seed}": {"units": split,
-                                         "val_loss": {m: {"120": v} for m, v in val.items()}}}})
+                                         "val_loss": {m: {f"{budget:g}": v} for m, v in val.items()}}}})
     return path
 
 
@@ -80,6 +80,41 @@ def test_a_unit_scored_in_two_runs_is_refused(tmp_path):
     again = finished_run(tmp_path / "rescored", 0, {"U1": (1.0, 1.1, 1.0)}, {"a@cover": 0.1, "b@cover": 0.2})
     with pytest.raises(AnytipError, match="unit U1, seed 0 is scored in both"):
         pool_runs([a, again], tmp_path / "pooled")
+    assert not (tmp_path / "pooled").exists()
+
+
+def test_a_run_and_its_rescoring_at_other_budgets_pool_into_one_curve(tmp_path, capsys):
+    a, _ = folds(tmp_path)
+    at600 = finished_run(tmp_path / "at600", 0, {"U1": (1.0, 0.8, 0.9), "U2": (2.0, 1.8, 1.8)},
+                         {"a@cover": 0.05, "b@cover": 0.06}, budget=600.0)
+    assert main(["compare", f"a={a},{at600}#a@cover", f"b={a},{at600}#b@cover",
+                 "--out", str(tmp_path / "cmp")]) == 0, capsys.readouterr().err
+    text = (tmp_path / "cmp" / "report.md").read_text()
+    assert "| a | 120 | `a@cover` | 120.0 | 1.10x [1.00, 1.20]" in text  # U1 1.2, U2 1.0
+    assert "| a | 600 | `a@cover` | 600.0 | 0.85x [0.80, 0.90]" in text  # U1 0.8, U2 0.9
+    rows = read_json(pool_runs([a, at600], tmp_path / "pooled").parent / "metrics.json")["results"]
+    assert len([r for r in rows if r["method"] == "per_unit"]) == 2  # each unit's reference once
+    assert len(rows) == 2 + 4 + 4
+
+
+def test_a_named_method_pools_where_the_runs_other_methods_score_the_same_budget(tmp_path):
+    a, _ = folds(tmp_path)
+    both = finished_run(tmp_path / "both", 0, {"U1": (1.0, 0.8, 0.9)}, {"a@cover": 0.05}, budget=600.0)
+    rows = read_json(both / "metrics.json")["results"]
+    write_metrics(both, [r if r["method"] != "b@cover" else {**r, "budget_s": 120.0} for r in rows])
+    compare_runs([("a", [a, both], "a@cover"), ("fold0", [a], None)], tmp_path / "cmp")
+    assert "| a | 600 | `a@cover` |" in (tmp_path / "cmp" / "report.md").read_text()
+    with pytest.raises(AnytipError, match="b@cover at budget 120 in each"):
+        compare_runs([("b", [a, both], None), ("fold0", [a], None)], tmp_path / "cmp2")
+
+
+def test_runs_of_one_unit_with_references_that_differ_are_refused(tmp_path):
+    a, _ = folds(tmp_path)
+    other_reference = finished_run(tmp_path / "at600", 0, {"U1": (1.1, 0.8, 0.9)}, {"a@cover": 0.05},
+                                   budget=600.0)
+    with pytest.raises(AnytipError, match=r"unit U1, seed 0 is scored in both .* references that differ "
+                                          r"\(per_unit angle_rmse_rad: 0.1 against 0.11"):
+        pool_runs([a, other_reference], tmp_path / "pooled")
     assert not (tmp_path / "pooled").exists()
 
 

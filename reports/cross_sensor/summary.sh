@@ -65,31 +65,25 @@ anytip compare --force --out $R/units \
   "16 registry + 128 simulated units=reports/cross_sensor_response_start/fleet88_seed0" \
   "16 registry + 1,024 simulated units (GPU)=reports/cross_sensor_response_gpu/rescored_fleet88_seed0_extra1024_rps32768"
 
-# Today's recipe by robot time (entries 153-154), against entry 26's recipe; 120 and 600 s of the designed plan
-# from entry 146, 600 s of `cover_informative` from entries 143 and 142. A comparison holds each run's budgets as
-# its own series, so the budgets measured in other runs stand as points of their own.
+# Today's recipe by robot time (entries 153-154), against entry 26's recipe: one series per method from 10 to
+# 600 s, joining the runs that measured its budgets on the same units and references (`cover_informative`: 10-120 s
+# from entry 153, 600 s from entries 143 and 142; the designed plan: 30-60 s from entry 154, 120 s from entry 146,
+# 600 s from entries 143 and 142).
 G=cross_sensor_response_gpu
 anytip compare --force --out $R/budgets_recipe \
   --title "Today's recipe by robot time (fleet88, 88 pre-registered held-out units; entries 153-154)" \
-  "the plan alone (entry 153)=$(f88 $G/entry153)#response@cover_informative" \
-  "with 600 s of ordinary use (entry 153)=$(f88 $G/entry153)#response+use@cover_informative" \
-  "the plan alone, 600 s (entry 143)=$(f88 $G/entry143)#response@cover_informative" \
-  "with ordinary use, 600 s (entry 143)=$(f88 $G/entry143)#response+use@cover_informative" \
-  "the designed plan alone (entry 154)=$(f88 $G/entry154)#response@designed" \
-  "the designed plan with ordinary use (entry 154)=$(f88 $G/entry154)#response+use@designed" \
-  "the designed plan alone, 120 s (entry 146)=$(f88 $G/entry146/at120)#response@designed" \
-  "the designed plan with ordinary use, 120 s (entry 146)=$(f88 $G/entry146/at120)#response+use@designed" \
+  "the plan alone=$(f88 $G/entry153),$(f88 $G/entry143)#response@cover_informative" \
+  "with 600 s of ordinary use=$(f88 $G/entry153),$(f88 $G/entry143)#response+use@cover_informative" \
+  "the designed plan alone=$(f88 $G/entry154),$(f88 $G/entry146/at120),$(f88 $G/entry146/at600)#response@designed" \
+  "the designed plan with ordinary use=$(f88 $G/entry154),$(f88 $G/entry146/at120),$(f88 $G/entry146/at600)#response+use@designed" \
   "entry 26's recipe, the plan alone (entry 79)=$(folds reports/cross_sensor_budgets fleet88_grouped_seed 2)#response@cover"
 
+D0=other16_severe_d0
 anytip compare --force --out $R/budgets_recipe_other16 \
   --title "Today's recipe by robot time (other16, every unit held out once, start draw 0; entries 153-154)" \
-  "the plan alone (entry 153)=$(o16 $G/entry153/other16_severe_d0)#response@cover_informative" \
-  "with 600 s of ordinary use (entry 153)=$(o16 $G/entry153/other16_severe_d0)#response+use@cover_informative" \
-  "the plan alone, 600 s (entry 142)=$(o16 $G/entry142/other16_severe_d0)#response@cover_informative" \
-  "with ordinary use, 600 s (entry 142)=$(o16 $G/entry142/other16_severe_d0)#response+use@cover_informative" \
-  "the designed plan alone (entry 154)=$(o16 $G/entry154/other16_severe_d0)#response@designed" \
-  "the designed plan with ordinary use (entry 154)=$(o16 $G/entry154/other16_severe_d0)#response+use@designed" \
-  "the designed plan alone, 120 s (entry 146)=$(o16 $G/entry146/at120/other16_severe_d0)#response@designed" \
-  "the designed plan with ordinary use, 120 s (entry 146)=$(o16 $G/entry146/at120/other16_severe_d0)#response+use@designed" \
+  "the plan alone=$(o16 $G/entry153/$D0),$(o16 $G/entry142/$D0)#response@cover_informative" \
+  "with 600 s of ordinary use=$(o16 $G/entry153/$D0),$(o16 $G/entry142/$D0)#response+use@cover_informative" \
+  "the designed plan alone=$(o16 $G/entry154/$D0),$(o16 $G/entry146/at120/$D0),$(o16 $G/entry146/at600/$D0)#response@designed" \
+  "the designed plan with ordinary use=$(o16 $G/entry154/$D0),$(o16 $G/entry146/at120/$D0),$(o16 $G/entry146/at600/$D0)#response+use@designed" \
   "entry 26's recipe, the plan alone (entry 79)=$(folds reports/cross_sensor_budgets other16_grouped_seed 4)#response@cover" \
   "entry 26's recipe with ordinary use, 1,034-unit models (entry 79)=$(folds reports/cross_sensor_budgets other16_use_grouped_seed 4)#response+use@cover"

@@ -10,7 +10,7 @@ import time
 from collections import defaultdict
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import torch
@@ -28,7 +28,15 @@ from anytip.pipelines.common import (
     resolve_device,
     unit_of,
 )
-from anytip.report.cross_sensor import METRICS, chosen_lines, comparison_report, in_seconds, named_lines
+from anytip.report.cross_sensor import (
+    METRICS,
+    budget_of,
+    chosen_lines,
+    comparison_report,
+    in_seconds,
+    is_reference,
+    named_lines,
+)
 from anytip.report.markdown import table
 from anytip.report.writer import Report
 from anytip.train.metrics import target_key
@@ -194,9 +202,12 @@ def pool_runs(run_dirs: Sequence[str | Path], out: str | Path, force: bool = Fal
     return rewrite_report(out)
 
 
-def read_pool(dirs: Sequence[str | Path]) -> tuple[list[Finished], list[dict[str, Any]]]:
+def read_pool(dirs: Sequence[str | Path], method: str | None = None
+              ) -> tuple[list[Finished], list[dict[str, Any]]]:
     """Finished runs that pool (`finished_run` of each) and their rows together (`_pooled_rows`):
-    each of a pipeline in `POOLABLE`, all of one sensor model and its targets."""
+    each of a pipeline in `POOLABLE`, all of one sensor model and its targets. With `method` named
+    (a comparison entry's), only its rows and the references pool where the runs hold it, so the
+    runs' other methods may score the same budgets."""
     dirs = [Path(d) for d in dirs]
     runs = [finished_run(d) for d in dirs]
     for d, (spec, _, _) in zip(dirs, runs, strict=True):
@@ -204,7 +215,10 @@ def read_pool(dirs: Sequence[str | Path]) -> tuple[list[Finished], list[dict[str
             raise AnytipError(f"{d}: pipeline {spec.pipeline!r} cannot be pooled or compared "
                               f"(only {', '.join(POOLABLE)})")
     _one_sensor_model([(str(d), prov) for d, (_, prov, _) in zip(dirs, runs, strict=True)])
-    return runs, _pooled_rows(dirs, [r for _, _, r in runs])
+    rows = [r for _, _, r in runs]
+    if method is not None and any(r["method"] == method for rs in rows for r in rs):
+        rows = [[r for r in rs if r["method"] == method or is_reference(r["method"])] for rs in rows]
+    return runs, _pooled_rows(dirs, rows)
 
 
 def _one_sensor_model(named: list[tuple[str, dict[str, Any]]]) -> None:
@@ -218,21 +232,65 @@ def _one_sensor_model(named: list[tuple[str, dict[str, Any]]]) -> None:
                                   f"{first.get(key)!r}; only runs of one sensor model pool or compare")
 
 
+class _Scored(NamedTuple):
+    """What one run holds of one held-out (unit, seed): its per-unit reference rows in method order,
+    and each (method, budget) scored."""
+
+    run: Path
+    references: list[dict[str, Any]]
+    scored: set[tuple[str, float]]
+
+
 def _pooled_rows(dirs: list[Path], rows_by_run: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
-    """Every run's rows, each marked with its run (`pooled_run`: the index in `dirs`); refuses a
-    held-out (unit, seed) that two runs score, which would pool one unit's draws as two."""
-    where: dict[tuple[str, int], int] = {}
+    """Every run's rows, each marked with its run (`pooled_run`: the index in `dirs`). A held-out
+    (unit, seed) that two runs score pools only where they measured it apart (`_scored_apart`: the
+    same per-unit references, no method at one budget in both; a run and its rescoring at other
+    budgets), its references then kept once, from the first run; otherwise it is refused, as one
+    unit's draw pooled twice."""
+    seen: dict[tuple[str, int], _Scored] = {}
     out = []
     for i, rows in enumerate(rows_by_run):
-        mine = {(str(r["unit"]), int(r["seed"])) for r in rows}
-        for key in sorted(mine):
-            if key in where:
-                raise AnytipError(f"unit {key[0]}, seed {key[1]} is scored in both {dirs[where[key]]} and "
-                                  f"{dirs[i]}: pool folds or seeds that hold out different units (report a "
-                                  "run and its rescoring apart)")
-            where[key] = i
-        out += [{**r, "pooled_run": i} for r in rows]
+        mine: dict[tuple[str, int], list[dict[str, Any]]] = defaultdict(list)
+        for r in rows:
+            mine[(str(r["unit"]), int(r["seed"]))].append(r)
+        repeated = set()
+        for key, rs in sorted(mine.items()):
+            refs = sorted((r for r in rs if is_reference(r["method"])), key=lambda r: r["method"])
+            now = _Scored(dirs[i], refs, {(r["method"], budget_of(r)) for r in rs if r not in refs})
+            if key in seen:
+                _scored_apart(key, seen[key], now)
+                seen[key].scored.update(now.scored)
+                repeated.add(key)
+            else:
+                seen[key] = now
+        out += [{**r, "pooled_run": i} for r in rows
+                if not (is_reference(r["method"]) and (str(r["unit"]), int(r["seed"])) in repeated)]
     return out
+
+
+def _scored_apart(key: tuple[str, int], a: _Scored, b: _Scored) -> None:
+    """Refuse one held-out (unit, seed) in two runs unless their references are equal row for row
+    and no method is scored at one budget in both."""
+    where = f"unit {key[0]}, seed {key[1]} is scored in both {a.run} and {b.run}"
+    both = sorted(a.scored & b.scored)
+    if both:
+        raise AnytipError(f"{where}, {both[0][0]} at budget {both[0][1]:g} in each: pool folds or seeds "
+                          "that hold out different units, or runs of other budgets or methods (report a "
+                          "run and its rescoring at the same budgets apart)")
+    if a.references != b.references:
+        raise AnytipError(f"{where}, against per-unit references that differ "
+                          f"({_first_difference(a.references, b.references)}): runs pool one unit only "
+                          "where they share its reference")
+
+
+def _first_difference(a: list[dict[str, Any]], b: list[dict[str, Any]]) -> str:
+    """The first of two reference row lists' differences, as text: their methods, or a key and both
+    values."""
+    if [r["method"] for r in a] != [r["method"] for r in b]:
+        return f"methods {[r['method'] for r in a]} against {[r['method'] for r in b]}"
+    ra, rb = next((ra, rb) for ra, rb in zip(a, b, strict=True) if ra != rb)
+    k = next(k for k in sorted(set(ra) | set(rb)) if ra.get(k) != rb.get(k))
+    return f"{ra['method']} {k}: {ra.get(k)!r} against {rb.get(k)!r}"
 
 
 def _refuse_out_among(out: Path, dirs: Sequence[Path]) -> None:
@@ -283,7 +341,7 @@ def compare_runs(labelled: Sequence[tuple[str, Sequence[str | Path], str | None]
     if (out / COMPARISON).exists() and not force:
         raise AnytipError(f"{out}: already holds a comparison ({COMPARISON}); choose another --out or "
                           "pass --force")
-    pools = {label: read_pool(dirs) for label, dirs, _ in labelled}
+    pools = {label: read_pool(dirs, method) for label, dirs, method in labelled}
     _one_sensor_model([(label, runs[0][1]) for label, (runs, _) in pools.items()])
     first = pools[labels[0]][0][0][1]
     if len({in_seconds(rows) for _, rows in pools.values()}) > 1:
