@@ -87,3 +87,13 @@ anytip compare --force --out $R/budgets_recipe_other16 \
   "the designed plan with ordinary use=$(o16 $G/entry154/$D0),$(o16 $G/entry146/at120/$D0),$(o16 $G/entry146/at600/$D0)#response+use@designed" \
   "entry 26's recipe, the plan alone (entry 79)=$(folds reports/cross_sensor_budgets other16_grouped_seed 4)#response@cover" \
   "entry 26's recipe with ordinary use, 1,034-unit models (entry 79)=$(folds reports/cross_sensor_budgets other16_use_grouped_seed 4)#response+use@cover"
+
+# Today's recipe with each of its steps taken out in turn, at 30 and 120 s, the plan alone (entry 155)
+E=$G/entry155
+anytip compare --force --out $R/ablation_recipe \
+  --title "Today's recipe, each step taken out in turn (fleet88, 88 pre-registered held-out units, the plan alone; entry 155)" \
+  "today's recipe=$(f88 $E/all)#response@cover_informative" \
+  "without the exchange (cover)=$(f88 $E/all)#response@cover" \
+  "without the registry code prior=$(f88 $E/prior)#response@cover_informative" \
+  "without the converged code fit=$(f88 $E/fit)#response@cover_informative" \
+  "without the residual correction=$(f88 $E/residual)#response@cover_informative"
