@@ -406,8 +406,9 @@ def build_parser() -> argparse.ArgumentParser:
     cmp = sub.add_parser("compare", help="finished cross_sensor runs side by side (severities, fleets, "
                                          "recipes, ablations): per budget, a table and a figure")
     cmp.add_argument("runs", nargs="+", metavar="LABEL=RUN_DIR[,RUN_DIR...][#METHOD]",
-                     help="a label and a run directory, or several whose held-out units pool (folds), comma "
-                          "separated: their validation units' choice per budget, or the method named after #")
+                     help="a label and a run directory, or several whose held-out units pool (folds, or a "
+                          "run and its rescoring at other budgets), comma separated: their validation units' "
+                          "choice per budget, or the method named after #")
     cmp.add_argument("--out", required=True, help="where the comparison's report is written")
     cmp.add_argument("--force", action="store_true", help="overwrite a comparison already in --out")
     cmp.add_argument("--title", default=None, help="the report's heading (default: Comparison of N runs)")
