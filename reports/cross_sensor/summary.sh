@@ -66,25 +66,29 @@ anytip compare --force --out $R/units \
   "16 registry + 1,024 simulated units (GPU)=reports/cross_sensor_response_gpu/rescored_fleet88_seed0_extra1024_rps32768"
 
 # Today's recipe by robot time (entries 153-154), against entry 26's recipe: one series per method from 10 to
-# 600 s, joining the runs that measured its budgets on the same units and references (`cover_informative`: 10-120 s
-# from entry 153, 600 s from entries 143 and 142; the designed plan: 30-60 s from entry 154, 120 s from entry 146,
-# 600 s from entries 143 and 142).
+# 600 s, joining the runs that measured its budgets on the same units and references.
+by_robot_time() {  # by_robot_time OUT TITLE CI CI600 D D120 D600 [ENTRY...]
+  # `cover_informative` from CI (10-120 s, entry 153) and CI600 (600 s); the designed plan from D (30-60 s,
+  # entry 154), D120 and D600 (entry 146); each a comma-joined list of folds; then further entries as given
+  local out=$1 title=$2 ci="$3,$4" designed="$5,$6,$7"
+  shift 7
+  anytip compare --force --out "$R/$out" --title "$title" \
+    "the plan alone=$ci#response@cover_informative" \
+    "with 600 s of ordinary use=$ci#response+use@cover_informative" \
+    "the designed plan alone=$designed#response@designed" \
+    "the designed plan with ordinary use=$designed#response+use@designed" "$@"
+}
 G=cross_sensor_response_gpu
-anytip compare --force --out $R/budgets_recipe \
-  --title "Today's recipe by robot time (fleet88, 88 pre-registered held-out units; entries 153-154)" \
-  "the plan alone=$(f88 $G/entry153),$(f88 $G/entry143)#response@cover_informative" \
-  "with 600 s of ordinary use=$(f88 $G/entry153),$(f88 $G/entry143)#response+use@cover_informative" \
-  "the designed plan alone=$(f88 $G/entry154),$(f88 $G/entry146/at120),$(f88 $G/entry146/at600)#response@designed" \
-  "the designed plan with ordinary use=$(f88 $G/entry154),$(f88 $G/entry146/at120),$(f88 $G/entry146/at600)#response+use@designed" \
+by_robot_time budgets_recipe \
+  "Today's recipe by robot time (fleet88, 88 pre-registered held-out units; entries 153-154)" \
+  "$(f88 $G/entry153)" "$(f88 $G/entry143)" "$(f88 $G/entry154)" "$(f88 $G/entry146/at120)" "$(f88 $G/entry146/at600)" \
   "entry 26's recipe, the plan alone (entry 79)=$(folds reports/cross_sensor_budgets fleet88_grouped_seed 2)#response@cover"
 
 D0=other16_severe_d0
-anytip compare --force --out $R/budgets_recipe_other16 \
-  --title "Today's recipe by robot time (other16, every unit held out once, start draw 0; entries 153-154)" \
-  "the plan alone=$(o16 $G/entry153/$D0),$(o16 $G/entry142/$D0)#response@cover_informative" \
-  "with 600 s of ordinary use=$(o16 $G/entry153/$D0),$(o16 $G/entry142/$D0)#response+use@cover_informative" \
-  "the designed plan alone=$(o16 $G/entry154/$D0),$(o16 $G/entry146/at120/$D0),$(o16 $G/entry146/at600/$D0)#response@designed" \
-  "the designed plan with ordinary use=$(o16 $G/entry154/$D0),$(o16 $G/entry146/at120/$D0),$(o16 $G/entry146/at600/$D0)#response+use@designed" \
+by_robot_time budgets_recipe_other16 \
+  "Today's recipe by robot time (other16, every unit held out once, start draw 0; entries 153-154)" \
+  "$(o16 $G/entry153/$D0)" "$(o16 $G/entry142/$D0)" "$(o16 $G/entry154/$D0)" "$(o16 $G/entry146/at120/$D0)" \
+  "$(o16 $G/entry146/at600/$D0)" \
   "entry 26's recipe, the plan alone (entry 79)=$(folds reports/cross_sensor_budgets other16_grouped_seed 4)#response@cover" \
   "entry 26's recipe with ordinary use, 1,034-unit models (entry 79)=$(folds reports/cross_sensor_budgets other16_use_grouped_seed 4)#response+use@cover"
 

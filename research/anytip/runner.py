@@ -252,11 +252,12 @@ def _pooled_rows(dirs: list[Path], rows_by_run: list[list[dict[str, Any]]]) -> l
     for i, rows in enumerate(rows_by_run):
         mine: dict[tuple[str, int], list[dict[str, Any]]] = defaultdict(list)
         for r in rows:
-            mine[(str(r["unit"]), int(r["seed"]))].append(r)
+            mine[_unit_seed(r)].append(r)
         repeated = set()
         for key, rs in sorted(mine.items()):
             refs = sorted((r for r in rs if is_reference(r["method"])), key=lambda r: r["method"])
-            now = _Scored(dirs[i], refs, {(r["method"], budget_of(r)) for r in rs if r not in refs})
+            scored = {(r["method"], budget_of(r)) for r in rs if not is_reference(r["method"])}
+            now = _Scored(dirs[i], refs, scored)
             if key in seen:
                 _scored_apart(key, seen[key], now)
                 seen[key].scored.update(now.scored)
@@ -264,8 +265,13 @@ def _pooled_rows(dirs: list[Path], rows_by_run: list[list[dict[str, Any]]]) -> l
             else:
                 seen[key] = now
         out += [{**r, "pooled_run": i} for r in rows
-                if not (is_reference(r["method"]) and (str(r["unit"]), int(r["seed"])) in repeated)]
+                if not (is_reference(r["method"]) and _unit_seed(r) in repeated)]
     return out
+
+
+def _unit_seed(row: dict[str, Any]) -> tuple[str, int]:
+    """A result row's held-out (unit, seed)."""
+    return str(row["unit"]), int(row["seed"])
 
 
 def _scored_apart(key: tuple[str, int], a: _Scored, b: _Scored) -> None:
