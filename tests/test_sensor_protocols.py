@@ -10,6 +10,7 @@ from anytip.sensor.protocols import (
     build_trajectory,
     design_protocol,
     patch_cells,
+    press_summary,
 )
 
 
@@ -115,3 +116,11 @@ def test_a_long_designed_plan_presses_each_patch_as_the_full_protocol_does(secon
     if seconds >= LONG_PLAN_S:
         assert {k: getattr(plan, k) for k in ("ramp_s", "hold_s", "shear_s", "gap_s", "directions")} == {
             k: getattr(PROTOCOLS["full"], k) for k in ("ramp_s", "hold_s", "shear_s", "gap_s", "directions")}
+
+
+def test_press_summary_counts_in_words():
+    """The designed plan's summary, as `anytip calibrate --plan` prints it, for one place and for many."""
+    assert press_summary(design_protocol(5.0)) == "1 press at 1 place, on 1 orientation"
+    assert press_summary(design_protocol(30.0)) == "6 presses, one at each of 6 places, on 1 orientation"
+    one_patch = Protocol(name="x", orientations_deg=(-45.0,), patches=1)  # every force level at a patch
+    assert press_summary(one_patch) == "4 presses, 4 force levels at 1 place, on 1 orientation"
