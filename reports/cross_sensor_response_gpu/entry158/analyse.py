@@ -1,8 +1,8 @@
-"""Research log entry 158's reading: 128 fresh units of the other elastomer (SIM25-*, 32 under each of other16's
-four folds, start draw 0), `cover` beside `cover_informative` with today's recipe at 30 and 120 s, the plan alone.
-Rule 1: every plan within its budget, each fresh unit scored under both plans at both budgets. Rule 2: the
-exchange taken out, per unit, l_30, l_120 and l_30 / l_120; entry 157's 16 units beside. Usage, from the
-repository root:
+"""Research log entry 158's reading: 128 fresh units of the other elastomer (SIM25-*, 32 under each of
+other16's four folds, start draw 0), `cover` beside `cover_informative` with today's recipe at 30 and 120 s,
+the plan alone. Rule 1: every plan within its budget, each fresh unit scored under both plans at both budgets.
+Rule 2: the exchange taken out, per unit, l_30, l_120 and l_30 / l_120; entry 157's 16 units beside. Usage,
+from the repository root:
 
     python reports/cross_sensor_response_gpu/entry158/analyse.py
 """
@@ -56,7 +56,8 @@ def main() -> None:
     got = rows()
     print(f"rule 1: {gate(got)}")
     print("\nrule 2, the exchange taken out (`cover` over `cover_informative`), per unit, the plan alone")
-    print("| units | target | 30 s | 120 s | 30 s over 120 s | units gaining at 30 s, 120 s |\n|---|---|---|---|---|---|")
+    print("| units | target | 30 s | 120 s | 30 s over 120 s | units gaining at 30 s, 120 s |")
+    print("|---|---|---|---|---|---|")
     for name, key in KEYS.items():
         l_b = ratios(got, key)
         gains = ", ".join(str(sum(v > 1 for v in l_b[b].values())) for b in BUDGETS)

@@ -1,9 +1,9 @@
-"""Research log entry 158: entry 107's `fresh_held_out.py` (a finished run's fold, fresh held-out units) with each
-seed's response model read from MODEL (`{seed}`: the fold's seed) instead of the run's own, as
+"""Research log entry 158: entry 107's `fresh_held_out.py` (a finished run's fold, fresh held-out units) with
+each seed's response model read from MODEL (`{seed}`: the fold's seed) instead of the run's own, as
 `scripts/rescore_response.py --response-model` reads it. Usage, from the repository root:
 
-    python reports/cross_sensor_response_gpu/entry158/fresh_severe.py MODEL RUN --registry REG --prefix SIM25- \\
-        --units 0:32 --out OUT [--set KEY=VALUE ...]
+    python reports/cross_sensor_response_gpu/entry158/fresh_severe.py MODEL RUN --registry REG \\
+        --prefix SIM25- --units 0:32 --out OUT [--set KEY=VALUE ...]
 """
 
 import runpy
