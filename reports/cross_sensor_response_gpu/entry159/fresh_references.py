@@ -2,13 +2,13 @@
 
 The run's fold (its seed) keeps its training and validation units; its held-out units become the registry's
 units whose ids start with PREFIX, the slice FROM:TO of them in sorted order, as entry 107's
-`fresh_held_out.py` holds them out, so each unit's test rows are the same. Each is given its per-unit reference
-as the run's pipeline trains one (`per_unit_rows`: the spec's model on the unit's full calibration less its test
-patches, each of `reference_lrs`, the fit with the lowest loss on its own validation patches kept), written to
-OUT/references.json with each unit's number of test rows. Usage, from the repository root:
+`fresh_held_out.py` holds them out, so each unit's test rows are the same. Each is given its per-unit
+reference as the run's pipeline trains one (`per_unit_rows`: the spec's model on the unit's full calibration
+less its test patches, each of `reference_lrs`, the fit with the lowest loss on its own validation patches
+kept), written to OUT/references.json with each unit's number of test rows. Usage, from the repository root:
 
-    python reports/cross_sensor_response_gpu/entry159/fresh_references.py RUN --registry REG --prefix SIM25- \\
-        --units 0:32 --out OUT [--set KEY=VALUE ...]
+    python reports/cross_sensor_response_gpu/entry159/fresh_references.py RUN --registry REG \\
+        --prefix SIM25- --units 0:32 --out OUT [--set KEY=VALUE ...]
 """
 
 from __future__ import annotations
