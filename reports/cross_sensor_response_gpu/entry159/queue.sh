@@ -1,12 +1,4 @@
 #!/bin/bash
-# Entry 159's four folds, two at a time; logs in entry159/logs.
+# Entry 159's four folds, two at a time, as entry 158's queue runs them; logs in entry159/logs.
 #   bash reports/cross_sensor_response_gpu/entry159/queue.sh
-set -uo pipefail
-E=reports/cross_sensor_response_gpu/entry159
-mkdir -p $E/logs
-for pair in "0 1" "2 3"; do
-  for k in $pair; do
-    /usr/bin/time -v bash $E/run_other16f.sh $k > $E/logs/other16f_k$k.log 2>&1 &
-  done
-  wait
-done
+exec bash reports/cross_sensor_response_gpu/entry158/queue.sh reports/cross_sensor_response_gpu/entry159
