@@ -318,9 +318,9 @@ def press_summary(protocol: Protocol) -> str:
     places = protocol.patches * n_orient
     per_place = protocol.presses_per_patch
     how = "one" if per_place == 1 else f"{per_place} force levels"
-    if places == 1:  # e.g. '1 press at 1 place' or '4 presses, 4 force levels at 1 place'
-        levels = f"es, {how}" if per_place > 1 else ""
-        return f"{per_place} press{levels} at 1 place, on 1 orientation"
+    if places == 1:
+        presses = "1 press" if per_place == 1 else f"{per_place} presses, {how}"
+        return f"{presses} at 1 place, on 1 orientation"
     return (f"{places * per_place} presses, {how} at each of {places} places, "
             f"on {n_orient} orientation{'s' if n_orient > 1 else ''}")
 
