@@ -18,6 +18,7 @@ import argparse
 import runpy
 import time
 from pathlib import Path
+from typing import Any
 
 import anytip.train.shared_split as shared_split
 from anytip.data.splits import UnitSplit
@@ -31,8 +32,9 @@ from anytip.train.response import ResponseFit
 FOLD_OF = runpy.run_path("reports/cross_sensor_response_gpu/entry98/more_val.py")["fold_of"]
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(description: str) -> argparse.Namespace:
+    """The command line a fresh held-out fold is named by (entry 159's references read the same)."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("run", type=Path)
     parser.add_argument("--registry", type=Path, required=True)
     parser.add_argument("--prefix", required=True, help="the fresh held-out units' id prefix")
@@ -40,8 +42,12 @@ def main() -> None:
     parser.add_argument("--out", type=Path, required=True)
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         help="KEY=VALUE on the run's spec, e.g. splits.test_rows=all_sessions")
-    args = parser.parse_args()
-    start = time.perf_counter()
+    return parser.parse_args()
+
+
+def fresh_fold(args: argparse.Namespace) -> tuple[Any, Any, Any, int, UnitSplit, Any]:
+    """The run's fold with the fresh units held out: its context, options, the registry's arrays, its seed,
+    the split (the run's learners, the fresh held-out units) and the seed's prepared data."""
     ctx, opts, arrays, seed, was = FOLD_OF(args.run, args.registry, args.out, args.overrides)
     first, last = (int(v) for v in args.units.split(":"))
     fresh = sorted(u for u in arrays.units if u.startswith(args.prefix))[first:last]
@@ -51,13 +57,19 @@ def main() -> None:
                          f"{sorted(clash)}")
     split = UnitSplit(tuple(was["train"]), tuple(was["val"]), tuple(fresh), tuple(was.get("factor", ())))
     shared_split.split_units = lambda *_, **__: split  # the run's learners, fresh held-out units
-    sd = prepare(ctx, arrays, opts, seed)
+    return ctx, opts, arrays, seed, split, prepare(ctx, arrays, opts, seed)
+
+
+def main() -> None:
+    args = arguments(__doc__.splitlines()[0])
+    start = time.perf_counter()
+    ctx, opts, arrays, seed, split, sd = fresh_fold(args)
     path = args.run / "models" / f"response_seed{seed}.safetensors"
     got = response_rows(ctx, arrays, sd, opts, seed, ResponseFit.from_loaded(load_response(path)))
     write_json(args.out / "rows.json", {"run": str(args.run), "seed": seed, "overrides": args.overrides,
                                          "units": split.to_json(),
                                          "rows": got.rows, "wall_s": round(time.perf_counter() - start, 1)})
-    print(f"seed {seed}: {len(fresh)} fresh held-out units in {time.perf_counter() - start:.0f} s")
+    print(f"seed {seed}: {len(split.test)} fresh held-out units in {time.perf_counter() - start:.0f} s")
 
 
 if __name__ == "__main__":
