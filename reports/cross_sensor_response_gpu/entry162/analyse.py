@@ -25,33 +25,35 @@ OWN = {0: 0, 1: 32}  # fold -> the first of its own 32 units among the 64 (entri
 BUDGET, N_BOOT = 120.0, 10_000
 
 
-def fold_rows(k: int, from_: int) -> list[dict]:
-    """Fold k's rows and references of the 32 units from `from_` on: entries 158-159 for a fold's own units,
-    this entry's otherwise."""
+def fold_rows(k: int, from_: int, own: str = "entry158", new: Path = HERE) -> list[dict]:
+    """Fold k's rows and references of the 32 units from `from_` on: a fold's own units' rows from entry `own`
+    (entry 158's here) and references from entry 159; the other units' rows from `new` (this entry's
+    directory here) and references from this entry."""
     if OWN.get(k) == from_:
-        rows_at, refs_at = (HERE.parent / e / f"other16f_seed{k}" for e in ("entry158", "entry159"))
+        rows_at, refs_at = (HERE.parent / e / f"other16f_seed{k}" for e in (own, "entry159"))
     else:
-        rows_at = refs_at = HERE / f"other16f_seed{k}_from{from_}"
+        rows_at, refs_at = new / f"other16f_seed{k}_from{from_}", HERE / f"other16f_seed{k}_from{from_}"
     got = read_json(rows_at / "rows.json")
     rows = [{**r, "seed": got["seed"]} for r in got["rows"] if r["unit"] in UNITS]
     return rows + [r for r in read_json(refs_at / "references.json")["rows"] if r["unit"] in UNITS]
 
 
-def gate(rows: list[dict]) -> list[str]:
-    """Rule 1: the (unit, fold) cells with no row, no reference, or a reference on other test rows."""
+def gate(rows: list[dict], method: str = ACROSS) -> list[str]:
+    """Rule 1: the (unit, fold) cells with no row of `method`, no reference, or a reference on other test
+    rows."""
     tested = {(r["unit"], r["seed"]): r["test_rows"] for r in rows if r["method"] == "per_unit"}
     scored = {(r["unit"], r["seed"]): r["interval_test_rows"] for r in rows
-              if r["method"] == ACROSS and r.get("budget_s") == BUDGET}
+              if r["method"] == method and r.get("budget_s") == BUDGET}
     cells = [(u, k) for u in UNITS for k in FOLDS]
     return [f"{u} fold {k}" for u, k in cells if (u, k) not in scored or scored[u, k] != tested.get((u, k))]
 
 
-def ratios(rows: list[dict]) -> dict[str, np.ndarray]:
+def ratios(rows: list[dict], method: str = ACROSS) -> dict[str, np.ndarray]:
     """target -> r(u, k), 64 units by 4 folds: the unit's RMSE under fold k over its reference's under
     fold k."""
     out = {}
     for name, key in KEYS.items():
-        by_fold = [unit_ratios([r for r in rows if r["seed"] == k], key)[ACROSS, BUDGET] for k in FOLDS]
+        by_fold = [unit_ratios([r for r in rows if r["seed"] == k], key)[method, BUDGET] for k in FOLDS]
         out[name] = np.array([[by_fold[k][u] for k in FOLDS] for u in UNITS])
     return out
 
