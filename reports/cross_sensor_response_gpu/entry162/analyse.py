@@ -58,15 +58,36 @@ def ratios(rows: list[dict], method: str = ACROSS) -> dict[str, np.ndarray]:
     return out
 
 
+def left_over(x: np.ndarray) -> float:
+    """The variance of a units-by-folds table left over after its unit and fold means (two-way, one cell
+    each)."""
+    res = x - x.mean(0)[None, :] - x.mean(1)[:, None] + x.mean()
+    return float((res ** 2).sum() / ((x.shape[0] - 1) * (x.shape[1] - 1)))
+
+
+def exploratory(rows: list[dict], method: str = ACROSS) -> None:
+    """After the rules, not written down before: the left-over variance of log RMSE of the method and of the
+    reference, and the report's own ratio (each unit's RMSEs averaged over its folds first)."""
+    print("\nexploratory, after the rules")
+    for name, key in KEYS.items():
+        rmse = {m: {(r["unit"], r["seed"]): r[key] for r in rows if r["method"] == m
+                    and (m == "per_unit" or r.get("budget_s") == BUDGET)} for m in (method, "per_unit")}
+        logs = {m: np.log([[v[u, k] for k in FOLDS] for u in UNITS]) for m, v in rmse.items()}
+        both = left_over(logs[method] - logs["per_unit"])
+        print(f"{name}: left-over variance of log RMSE, the method {left_over(logs[method]):.4f}, the "
+              f"reference {left_over(logs['per_unit']):.4f}, their ratio {both:.4f}; the report's ratio, "
+              "each unit's RMSEs averaged over its four folds first: "
+              + "{:.3f}x [{:.2f}, {:.2f}]".format(*mean_interval(list(unit_ratios(rows, key)[method, BUDGET]
+                                                                        .values()))))
+
+
 def variance_shares(r: np.ndarray) -> dict[str, float]:
     """Two-way (units by folds, one cell each) variance components of log r, as shares of their sum."""
     x = np.log(r)
     n_u, n_k = x.shape
-    fold, unit = x.mean(0) - x.mean(), x.mean(1) - x.mean()
-    res = x - x.mean() - fold[None, :] - unit[:, None]
-    ms_res = (res ** 2).sum() / ((n_u - 1) * (n_k - 1))
-    comp = {"folds": max((n_u * (fold ** 2).sum() / (n_k - 1) - ms_res) / n_u, 0.0),
-            "units": max((n_k * (unit ** 2).sum() / (n_u - 1) - ms_res) / n_k, 0.0), "left over": ms_res}
+    ms_res = left_over(x)
+    comp = {"folds": max((n_u * x.mean(0).var(ddof=1) - ms_res) / n_u, 0.0),
+            "units": max((n_k * x.mean(1).var(ddof=1) - ms_res) / n_k, 0.0), "left over": ms_res}
     return {name: v / sum(comp.values()) for name, v in comp.items()}
 
 
@@ -114,6 +135,7 @@ def main() -> None:
         print(f"{name}: {text(*crossed_interval(r[name]))} resampling units and folds; "
               f"t over the four fold means {text(*t_interval(r[name].mean(0)))}; "
               f"over units alone {text(*mean_interval(list(r[name].mean(1))))}")
+    exploratory(rows)
 
 
 if __name__ == "__main__":

@@ -76,6 +76,7 @@ def main() -> None:
         per = {n: paired_text(list(use[n][:, k] / alone[n][:, k])) for n in KEYS}
         print(f"fold {k}: ordinary use over the plan alone, per unit, force x{per['force']}, "
               f"angle x{per['angle']}")
+    E162["exploratory"](got, USE)
 
 
 if __name__ == "__main__":
