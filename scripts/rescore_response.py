@@ -57,7 +57,7 @@ from anytip.errors import AnytipError
 from anytip.models.io import ModelFileError, load_models, load_response
 from anytip.models.response import ResponseConfig
 from anytip.pipelines.common import Context, load, load_extra
-from anytip.pipelines.cross_sensor import min_units, prepare
+from anytip.pipelines.cross_sensor import min_units, prepare, reference_tag
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.pipelines.cross_sensor_response import check_trained_on, response_rows, val_by_method
 from anytip.rundir import check_run_dir, code_version, read_json, write_config, write_json, write_metrics
@@ -94,7 +94,7 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
     rows stand only beside each other, per unit; their ratios to the run's references (scored on the
     run's registry) mean nothing, and the report says so. `added` may name `retest`, a test session
     of every unit: the held-out units are then tested on its rows alone, and `references` (a directory
-    with the run's saved per-unit references, `per_unit_seed<s>[_lr<j>]`) scores each reference
+    with the run's saved per-unit references, `per_unit_seed<s>[_lr<j>][_start<k>]`) scores each reference
     again on them, with the learning rate the run kept for its unit (without a test session, on the
     run's own test rows: the run's rows back, a check of the saved references). A test session
     without `references` needs `paired_only`: the rows then keep the run's references, scored on
@@ -197,11 +197,14 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
 def _scored_again(rows: list[dict[str, Any]], models: Path, arrays: FleetArrays, sd: SeedData, opts: Options,
                   seed: int) -> list[dict[str, Any]]:
     """The `per_unit` rows of `seed` scored again on their units' test rows now, each by the reference
-    the run saved in `models` (`per_unit_seed<s>_lr<j>`, j the learning rate the run kept for the unit),
+    the run saved in `models` (`per_unit_seed<s>_lr<j>[_start<k>]`, the learning rate and start the run kept
+    for the unit),
     every saved unit predicted at once as the run did (so its own test rows give its rows back)."""
     lrs = list(opts.reference_lrs)
     preds: dict[str, dict[str, np.ndarray]] = {}
-    for tag in ([f"_lr{j}" for j in range(len(lrs))] if len(lrs) > 1 else [""]):
+    tags = [reference_tag(len(lrs), k, j) for j in range(opts.reference_starts)
+            for k in range(max(len(lrs), 1))]
+    for tag in tags:
         path = models / f"per_unit_seed{seed}{tag}"
         try:
             saved = load_models(path)
@@ -219,7 +222,8 @@ def _scored_again(rows: list[dict[str, Any]], models: Path, arrays: FleetArrays,
         if row["seed"] != seed:
             out.append(row)
             continue
-        tag = f"_lr{lrs.index(row['reference_lr'])}" if len(lrs) > 1 else ""
+        tag = reference_tag(len(lrs), lrs.index(row["reference_lr"]) if len(lrs) > 1 else 0,
+                            row.get("reference_start", 0))
         if row["unit"] not in preds[tag]:
             raise AnytipError(f"--references: {models} holds no reference of unit {row['unit']}")
         target = arrays.targets[sd.evals[row["unit"]].test_rows]
@@ -260,9 +264,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="the registry holds the run's units and runs simulated otherwise: skip the "
                              "check that its runs are the run's; the rows then compare only with each other")
     parser.add_argument("--references", type=Path, metavar="DIR",
-                        help="the run's saved per-unit references (per_unit_seed<s>[_lr<j>]), scored "
-                             "again on the held-out units' test rows (needed with --added-protocol retest, "
-                             "unless --paired-only)")
+                        help="the run's saved per-unit references (per_unit_seed<s>[_lr<j>][_start<k>]), "
+                             "scored again on the held-out units' test rows (needed with --added-protocol "
+                             "retest, unless --paired-only)")
     parser.add_argument("--response-model", help="each seed's response model from this file ({seed} is "
                         "replaced by the seed) instead of the run's")
     args = parser.parse_args(argv)

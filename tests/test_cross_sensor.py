@@ -238,6 +238,7 @@ SECONDS = [*TINY[:3], "options.budget_unit=seconds", "options.budgets=[0,8,40]",
            "options.plan_strategies=[first,spread]", "options.adapters=[input_affine+film]",
            "options.priors=[1,100]", "options.calibration_protocol=null", "options.adapter_steps=60",
            "options.adapter_priors=[identity,empirical]", "options.reference_lrs=[0.003,0.01]",
+           "options.reference_starts=2",
            "options.reference_val=patches", "options.unlabeled_s=20",
            "options.scratch.epochs=5", "options.sweep_seeds=0", "splits.n_val_units=1",
            "splits.n_test_units=2", "options.fits=[{}, {add: lowrank2, steps: 30}]",
@@ -257,7 +258,10 @@ def test_budgets_in_seconds_are_whole_presses_within_the_robot_time(seconds_run)
                "adapted:input_affine+film+lowrank2[30 steps]")  # no empirical prior for an added part
     assert {r["method"] for r in timed} == {f"{m}@{s}" for m in methods for s in ("first", "spread")}
     refs = [r for r in rows if r["method"] == "per_unit"]
-    assert refs and all(r["reference_lr"] in (0.003, 0.01) for r in refs)
+    assert refs and all(r["reference_lr"] in (0.003, 0.01) and r["reference_start"] in (0, 1) for r in refs)
+    fits = sorted(p.name for p in (seconds_run / "models").glob("per_unit_seed0_*"))
+    assert fits == ["per_unit_seed0_lr0", "per_unit_seed0_lr0_start1", "per_unit_seed0_lr1",
+                    "per_unit_seed0_lr1_start1"]
     for r in timed:
         assert 0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1
         assert r["n_effective"] <= r["calib_samples"]

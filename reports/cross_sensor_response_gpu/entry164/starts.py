@@ -2,10 +2,10 @@
 starts.
 
 Entry 159's references (`per_unit_rows` under entry 107's `fresh_fold`), each from START_COUNT starts of its
-network: start 0 is the run's own (the fold's seed, as entry 159 trains it) and start j the seed plus 1000 j,
-everything else the same (data, validation patches, learning rates). Each start's rows carry every unit's test
-RMSEs and its lowest validation loss, written to OUT/references.json; the networks are not kept. Usage, from the
-repository root:
+network: start 0 is the run's own (the fold's seed, as entry 159 trains it) and start j the seed plus 1000
+j, everything else the same (data, validation patches, learning rates). Each start's rows carry every unit's
+test RMSEs and its lowest validation loss, written to OUT/references.json; the networks are not kept. Usage,
+from the repository root:
 
     python reports/cross_sensor_response_gpu/entry164/starts.py RUN --registry REG --prefix SIM25- \\
         --units 0:32 --out OUT [--set KEY=VALUE ...]
@@ -48,7 +48,8 @@ def main() -> None:
             raise SystemExit("one learning rate per start: set options.reference_lrs=[0.01]")
         rows += [{**r, "seed": seed, "start": j, "val_loss": float(val[k]),
                   "test_rows": int(len(sd.evals[r["unit"]].test_rows))} for k, r in enumerate(got)]
-        print(f"seed {seed}, start {j}: {len(got)} references, {time.perf_counter() - begin:.0f} s", flush=True)
+        print(f"seed {seed}, start {j}: {len(got)} references, {time.perf_counter() - begin:.0f} s",
+              flush=True)
     shutil.rmtree(args.out / "models", ignore_errors=True)
     write_json(args.out / "references.json", {"run": str(args.run), "seed": seed, "overrides": args.overrides,
                                                "units": split.to_json(), "rows": rows,

@@ -27,7 +27,7 @@ from anytip.calibrate import OWN_CHECK_ALARM
 from anytip.data.arrays import FleetArrays, has_patch_grid
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Budget, Plan, Strategy
-from anytip.data.seeds import CALIBRATION_ROWS, VALIDATION_PATCHES, stream_seed
+from anytip.data.seeds import CALIBRATION_ROWS, REFERENCE_START, VALIDATION_PATCHES, stream_seed
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.mlp import MLPConfig
@@ -340,8 +340,9 @@ def per_unit_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options
 def reference_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
                    shape: MLPConfig, method: str, tag: str = "") -> list[dict[str, Any]]:
     """Each held-out unit's MLP of `shape` on its full calibration minus its test patches,
-    fitted with each of `reference_lrs` (or the recipe's lr); each unit keeps the fit with the
-    lowest loss on its own validation rows (random rows or whole patches: `reference_val`)."""
+    fitted with each of `reference_lrs` (or the recipe's lr) from each of `reference_starts`
+    starts; each unit keeps the fit with the lowest loss on its own validation rows (random rows
+    or whole patches: `reference_val`)."""
     units, members = list(sd.split.test), []
     main = main_rows(arrays, opts.calibration_protocol)
     recipe = opts.reference or ctx.spec.training
@@ -358,12 +359,12 @@ def reference_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Option
                                     unit))
     data = FleetBatchData.from_units(members, ctx.device, arrays.output_names)
     recipes = [recipe.model_copy(update={"lr": lr}) for lr in opts.reference_lrs] or [recipe]
-    fits = [train_fleet(data, shape, r, seed=seed, device=ctx.device, progress=ctx.progress)
-            for r in recipes]
+    trials = [(k, j) for j in range(opts.reference_starts) for k in range(len(recipes))]  # (lr, start)
+    fits = [train_fleet(data, shape, recipes[k], seed=stream_seed(REFERENCE_START, seed, 1000 * j),
+                        device=ctx.device, progress=ctx.progress) for k, j in trials]
     best = np.argmin(np.stack([best_val_loss(f) for f in fits]), axis=0)  # (units,) the fit each keeps
-    for k, fit in enumerate(fits):
-        lr_tag = "" if len(fits) == 1 else f"_lr{k}"
-        fit.save(ctx.run_dir / "models" / f"per_unit{tag}_seed{seed}{lr_tag}")
+    for (k, j), fit in zip(trials, fits, strict=True):
+        fit.save(ctx.run_dir / "models" / f"per_unit{tag}_seed{seed}{reference_tag(len(recipes), k, j)}")
     preds = [predict_rows(f.model, f.in_scaler, f.out_scaler, arrays, [sd.evals[u].test_rows for u in units])
              for f in fits]
     rows = []
@@ -371,10 +372,19 @@ def reference_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Option
         row = {"method": method, "unit": u, "calib_samples": int(data.n_train[k] + data.n_val[k]),
                "calib_seconds": None, **scores(preds[best[k]][k], arrays.targets[sd.evals[u].test_rows],
                                                         arrays.layout)}
+        lr, start = trials[best[k]]
         if opts.reference_lrs:
-            row["reference_lr"] = opts.reference_lrs[best[k]]
+            row["reference_lr"] = opts.reference_lrs[lr]
+        if opts.reference_starts > 1:
+            row["reference_start"] = start
         rows.append(row)
     return rows
+
+
+def reference_tag(n_lrs: int, lr: int, start: int) -> str:
+    """A saved reference fit's suffix: `_lr<lr>` where several learning rates were tried, and
+    `_start<start>` for a start after the first (`per_unit_seed<s><suffix>`)."""
+    return ("" if n_lrs <= 1 else f"_lr{lr}") + (f"_start{start}" if start else "")
 
 
 def best_val_loss(fit: Any) -> np.ndarray:

@@ -320,6 +320,10 @@ class Options(BaseModel):
     reference_lrs: list[Annotated[float, Field(gt=0, le=10)]] = Field(
         default=[], description="learning rates tried for the reference, each unit keeping the one with "
         "the lowest loss on its own validation rows (empty: the recipe's own)")
+    reference_starts: int = Field(
+        default=1, ge=1, le=16, description="starts of the reference's network tried with each learning "
+        "rate, each unit keeping the fit with the lowest loss on its own validation rows (research log "
+        "entry 164)")
     reference_val: Literal["rows", "patches"] = Field(
         default="rows", description="the reference's validation: random rows, or whole patches of its "
         "calibration (early stopping and the learning-rate choice then judge unseen patches)")
