@@ -57,7 +57,7 @@ from anytip.errors import AnytipError
 from anytip.models.io import ModelFileError, load_models, load_response
 from anytip.models.response import ResponseConfig
 from anytip.pipelines.common import Context, load, load_extra
-from anytip.pipelines.cross_sensor import min_units, prepare, reference_tag
+from anytip.pipelines.cross_sensor import min_units, prepare, reference_tag, reference_trials
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.pipelines.cross_sensor_response import check_trained_on, response_rows, val_by_method
 from anytip.rundir import check_run_dir, code_version, read_json, write_config, write_json, write_metrics
@@ -95,7 +95,7 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
     run's registry) mean nothing, and the report says so. `added` may name `retest`, a test session
     of every unit: the held-out units are then tested on its rows alone, and `references` (a directory
     with the run's saved per-unit references, `per_unit_seed<s>[_lr<j>][_start<k>]`) scores each reference
-    again on them, with the learning rate the run kept for its unit (without a test session, on the
+    again on them, with the learning rate and start the run kept for its unit (without a test session, on the
     run's own test rows: the run's rows back, a check of the saved references). A test session
     without `references` needs `paired_only`: the rows then keep the run's references, scored on
     its own test rows, and only the rescored methods compare (a run that saved no references)."""
@@ -197,14 +197,12 @@ def rescore(run: Path, registry: Path, out: Path, overrides: list[str], retrain:
 def _scored_again(rows: list[dict[str, Any]], models: Path, arrays: FleetArrays, sd: SeedData, opts: Options,
                   seed: int) -> list[dict[str, Any]]:
     """The `per_unit` rows of `seed` scored again on their units' test rows now, each by the reference
-    the run saved in `models` (`per_unit_seed<s>_lr<j>[_start<k>]`, the learning rate and start the run kept
-    for the unit),
-    every saved unit predicted at once as the run did (so its own test rows give its rows back)."""
+    the run saved in `models` (`per_unit_seed<s>[_lr<j>][_start<k>]`, the learning rate and start the
+    run kept for the unit), every saved unit predicted at once as the run did (so its own test rows give
+    its rows back)."""
     lrs = list(opts.reference_lrs)
     preds: dict[str, dict[str, np.ndarray]] = {}
-    tags = [reference_tag(len(lrs), k, j) for j in range(opts.reference_starts)
-            for k in range(max(len(lrs), 1))]
-    for tag in tags:
+    for tag in (reference_tag(len(lrs), k, j) for k, j in reference_trials(opts)):
         path = models / f"per_unit_seed{seed}{tag}"
         try:
             saved = load_models(path)

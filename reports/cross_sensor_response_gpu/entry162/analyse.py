@@ -65,14 +65,19 @@ def left_over(x: np.ndarray) -> float:
     return float((res ** 2).sum() / ((x.shape[0] - 1) * (x.shape[1] - 1)))
 
 
+def log_rmse(rows: list[dict], method: str, key: str) -> np.ndarray:
+    """64 units by 4 folds: log of `key` of `method`'s row (at 120 s; a reference has no budget)."""
+    rmse = {(r["unit"], r["seed"]): r[key] for r in rows
+            if r["method"] == method and (method == "per_unit" or r.get("budget_s") == BUDGET)}
+    return np.log([[rmse[u, k] for k in FOLDS] for u in UNITS])
+
+
 def exploratory(rows: list[dict], method: str = ACROSS) -> None:
     """After the rules, not written down before: the left-over variance of log RMSE of the method and of the
     reference, and the report's own ratio (each unit's RMSEs averaged over its folds first)."""
     print("\nexploratory, after the rules")
     for name, key in KEYS.items():
-        rmse = {m: {(r["unit"], r["seed"]): r[key] for r in rows if r["method"] == m
-                    and (m == "per_unit" or r.get("budget_s") == BUDGET)} for m in (method, "per_unit")}
-        logs = {m: np.log([[v[u, k] for k in FOLDS] for u in UNITS]) for m, v in rmse.items()}
+        logs = {m: log_rmse(rows, m, key) for m in (method, "per_unit")}
         both = left_over(logs[method] - logs["per_unit"])
         print(f"{name}: left-over variance of log RMSE, the method {left_over(logs[method]):.4f}, the "
               f"reference {left_over(logs['per_unit']):.4f}, their ratio {both:.4f}; the report's ratio, "

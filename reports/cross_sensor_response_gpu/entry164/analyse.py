@@ -54,8 +54,7 @@ def main() -> None:
     force = KEYS["force"]
     logs = np.log([[got[u, j][force] for j in STARTS] for u in units])
     rows162 = [r for k in E162["FOLDS"] for f in (0, 32) for r in E162["fold_rows"](k, f)]
-    refs = {(r["unit"], r["seed"]): r[force] for r in rows162 if r["method"] == "per_unit"}
-    between = E162["left_over"](np.log([[refs[u, k] for k in E162["FOLDS"]] for u in E162["UNITS"]]))
+    between = E162["left_over"](E162["log_rmse"](rows162, "per_unit", force))
     spread, square = np.exp(logs.std(1, ddof=1).mean()) - 1, logs.var(1, ddof=1).mean()
     print(f"\nrule 2: over three starts a unit's reference spreads by {spread:.1%} (mean sd of log force "
           f"RMSE); mean square {square:.4f} against {between:.4f} between folds (entry 162)")

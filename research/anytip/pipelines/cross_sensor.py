@@ -359,7 +359,7 @@ def reference_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Option
                                     unit))
     data = FleetBatchData.from_units(members, ctx.device, arrays.output_names)
     recipes = [recipe.model_copy(update={"lr": lr}) for lr in opts.reference_lrs] or [recipe]
-    trials = [(k, j) for j in range(opts.reference_starts) for k in range(len(recipes))]  # (lr, start)
+    trials = reference_trials(opts)
     fits = [train_fleet(data, shape, recipes[k], seed=stream_seed(REFERENCE_START, seed, 1000 * j),
                         device=ctx.device, progress=ctx.progress) for k, j in trials]
     best = np.argmin(np.stack([best_val_loss(f) for f in fits]), axis=0)  # (units,) the fit each keeps
@@ -379,6 +379,12 @@ def reference_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Option
             row["reference_start"] = start
         rows.append(row)
     return rows
+
+
+def reference_trials(opts: Options) -> list[tuple[int, int]]:
+    """Every reference fit as (learning rate, start), in the order they are trained: the index into
+    `reference_lrs` (0 for the recipe's own) and the start, 0 to `reference_starts` - 1."""
+    return [(k, j) for j in range(opts.reference_starts) for k in range(max(len(opts.reference_lrs), 1))]
 
 
 def reference_tag(n_lrs: int, lr: int, start: int) -> str:
