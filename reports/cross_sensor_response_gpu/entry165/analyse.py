@@ -1,0 +1,184 @@
+"""Research log entry 165's reading: the registries' held-out units given references of three starts.
+Rule 1: start 0's kept fit is the run's own reference. Rule 2: the kept reference over the run's, per unit,
+on fleet88, other16 and pooled with entry 164's 64 fresh units. Rule 3: every target's committed rows against
+the kept references beside their figures against one start, with the verdict against the goal. Usage, from
+the repository root:
+
+    python reports/cross_sensor_response_gpu/entry165/analyse.py
+"""
+
+import runpy
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from anytip.report.cross_sensor import mean_interval, paired_interval, paired_text, unit_ratios
+from anytip.rundir import read_json
+
+HERE = Path(__file__).parent
+GPU = HERE.parent
+E153 = runpy.run_path(str(GPU / "entry153" / "analyse.py"))
+E164 = runpy.run_path(str(GPU / "entry164" / "analyse.py"))
+KEYS, ALONE, USE = E153["KEYS"], E153["ALONE"], E153["USE"]
+DESIGNED, DESIGNED_USE = "response@designed", "response+use@designed"
+FOLDS = {"fleet88": (0, 1), "other16": (0, 1, 2, 3)}
+DRAWS = (0, 1, 2)
+START = GPU.parent / "cross_sensor_response_start"
+Rows = list[dict[str, Any]]
+
+
+def new_references(registry: str) -> tuple[dict[tuple[str, int], dict], Rows]:
+    """(unit, seed) -> the kept reference row, and every fit's row (with its seed), over the registry's
+    folds."""
+    kept, trials = {}, []
+    for k in FOLDS[registry]:
+        got = read_json(HERE / f"{registry}_seed{k}" / "references.json")
+        kept |= {(r["unit"], r["seed"]): r for r in got["rows"]}
+        trials += [{**t, "seed": got["seed"]} for t in got["trials"]]
+    return kept, trials
+
+
+def old_references(registry: str) -> dict[tuple[str, int], dict]:
+    """(unit, seed) -> the reference row of the run every target's rows keep."""
+    rows = [r for k in FOLDS[registry] for r in E153["metrics"](START / f"{registry}_seed{k}")]
+    return {(r["unit"], r["seed"]): r for r in rows if r["method"] == "per_unit"}
+
+
+def gate(trials: Rows, old: dict) -> list[str]:
+    """Rule 1: the (unit, seed)s whose start-0 fit with the lowest validation loss is not the run's reference
+    (its learning rate, or force or angle RMSE by a relative 1e-6 or more)."""
+    bad = []
+    for (unit, seed), ref in old.items():
+        mine = [t for t in trials if t["unit"] == unit and t["seed"] == seed and t["start"] == 0]
+        if not mine:
+            bad.append(f"{unit} seed {seed}: no fit")
+            continue
+        best = min(mine, key=lambda t: t["val_loss"])
+        moved = any(abs(best[k] / ref[k] - 1) >= 1e-6 for k in KEYS.values())
+        if best["lr"] != ref.get("reference_lr") or moved:
+            bad.append(f"{unit} seed {seed}")
+    return bad
+
+
+def gains(new: dict, old: dict) -> dict[str, list[float]]:
+    """target -> per unit, the kept reference's RMSE over the run's."""
+    return {name: [new[c][key] / old[c][key] for c in sorted(old)] for name, key in KEYS.items()}
+
+
+def swapped(rows: Rows, refs: dict[tuple[str, int], dict]) -> Rows:
+    """`rows` with each per_unit row replaced by the kept reference of the same unit and seed."""
+    out = [r for r in rows if r["method"] != "per_unit"]
+    return out + [refs[r["unit"], r["seed"]] for r in rows if r["method"] == "per_unit"]
+
+
+def cell(rows: Rows, method: str, budget: float) -> tuple[str, list[tuple[float, float, float]]]:
+    """'force m [lo, hi] / angle m [lo, hi]', and (mean, lower, upper) over units of each."""
+    got = [mean_interval(list(unit_ratios(rows, key)[method, budget].values())) for key in KEYS.values()]
+    return " / ".join(f"{m:.3f}x [{lo:.2f}, {hi:.2f}]" for m, lo, hi in got), got
+
+
+def runs(registry: str) -> dict[str, tuple[list[Path], str, float, float]]:
+    """target -> (the runs its committed figure reads, method, budget, goal on the mean)."""
+    o16, f88 = E153["o16"], E153["f88"]
+    if registry == "fleet88":
+        at = {n: [f88(root, k) for k in FOLDS["fleet88"]] for n, root in (
+            ("101", GPU / "entry101" / "fleet88_cpu"), ("131", GPU / "entry131"), ("153", GPU / "entry153"),
+            ("143", GPU / "entry143"), ("146a", GPU / "entry146" / "at120"),
+            ("146b", GPU / "entry146" / "at600"))}
+    else:
+        def each(root: Path) -> list[Path]:
+            return [o16(root, d, k) for d in DRAWS for k in FOLDS["other16"]]
+        at = {n: each(root) for n, root in (
+            ("101", GPU / "entry101"), ("130", GPU / "entry130"), ("153", GPU / "entry153"),
+            ("146a", GPU / "entry146" / "at120"), ("146b", GPU / "entry146" / "at600"))}
+        at["143"] = [E153["o16_600"](d, k) for d in DRAWS for k in FOLDS["other16"]]
+        at["131"] = at.pop("130")
+    return {
+        "120 s + 600 s of ordinary use": (at["131"], USE, 120.0, 1.10),
+        "120 s, the plan's labels alone": (at["101"], ALONE, 120.0, 1.10),
+        "120 s, the designed plan + ordinary use": (at["146a"], DESIGNED_USE, 120.0, 1.10),
+        "120 s, the designed plan alone": (at["146a"], DESIGNED, 120.0, 1.10),
+        "60 s + 600 s of ordinary use": (at["153"], USE, 60.0, 1.10),
+        "30 s + 600 s of ordinary use": (at["153"], USE, 30.0, 1.10),
+        "60 s, the plan alone": (at["153"], ALONE, 60.0, 1.10),
+        "600 s of robot time": (at["143"], ALONE, 600.0, 1.0),
+        "600 s, with ordinary use": (at["143"], USE, 600.0, 1.0),
+        "600 s, the designed plan": (at["146b"], DESIGNED, 600.0, 1.0),
+        "600 s, the designed plan + ordinary use": (at["146b"], DESIGNED_USE, 600.0, 1.0),
+    }
+
+
+def verdict(got: list[tuple[float, float, float]], goal: float) -> str:
+    """Met, or missed by how much, in force and angle alike: below the goal on the mean where it is 1.0, else
+    the mean at most the goal and the upper bound at most 1.25."""
+    if goal < 1.05:
+        miss = max(m - goal for m, _, _ in got)
+        return "met" if miss < 0 else f"missed by {miss:.3f}"
+    miss = max(max(m - goal, hi - 1.25) for m, _, hi in got)
+    return "met" if miss <= 0 else f"missed by {miss:.3f}"
+
+
+def rule3(registry: str, new: dict) -> None:
+    """Every target's committed rows against one start and three."""
+    print(f"\nrule 3, {registry}: force / angle, mean over units [95%]")
+    print("| target | against one start | against three starts | verdict (force and angle), one start | "
+          "three starts |")
+    print("|---|---|---|---|---|")
+    for target, (paths, method, budget, goal) in runs(registry).items():
+        rows = [r for p in paths for r in E153["metrics"](p)]
+        (one, got1), (three, got3) = cell(rows, method, budget), cell(swapped(rows, new), method, budget)
+        print(f"| {target} | {one} | {three} | {verdict(got1, goal)} | {verdict(got3, goal)} |")
+
+
+def exploratory(trials: Rows, registry: str) -> None:
+    """After the rules: the spread over starts at each unit's kept learning rate, and how often the kept fit
+    is the one with the best test RMSE in force."""
+    by: dict[tuple[str, int], Rows] = {}
+    for t in trials:
+        by.setdefault((t["unit"], t["seed"]), []).append(t)
+    spread, best = [], 0
+    for fits in by.values():
+        kept = min(fits, key=lambda t: t["val_loss"])
+        same_lr = [np.log(t[KEYS["force"]]) for t in fits if t["lr"] == kept["lr"]]
+        spread.append(np.std(same_lr, ddof=1))
+        best += kept is min(fits, key=lambda t: t[KEYS["force"]])
+    print(f"exploratory, {registry}: over starts at the kept learning rate a reference spreads by "
+          f"{np.exp(np.mean(spread)) - 1:.1%}; the kept fit is the best in test force for {best} of "
+          f"{len(by)}")
+
+
+def main() -> None:
+    pooled: dict[str, list[float]] = {name: [] for name in KEYS}
+    refs = {}
+    for registry in FOLDS:
+        new, trials = new_references(registry)
+        old = old_references(registry)
+        bad = gate(trials, old)
+        print(f"rule 1, {registry}: {len(old) - len(bad)} of {len(old)} units' start-0 fits give the run's "
+              f"reference back" + (f"; DIFFER: {bad}" if bad else ""))
+        g = gains(new, old)
+        print(f"rule 2, {registry} ({len(old)} units), kept over the run's reference per unit: "
+              + "; ".join(f"{name} x{paired_text(v)}" for name, v in g.items()))
+        kept_lr = sum(r["reference_start"] != 0 for r in new.values())
+        print(f"  {kept_lr} of {len(new)} units keep a start other than 0")
+        for name in KEYS:
+            pooled[name] += g[name]
+        refs[registry] = (new, trials)
+    got, old = E164["starts"](), E164["before"]()
+    chosen = E164["kept"](got, sorted(old))
+    for name, key in KEYS.items():
+        pooled[name] += [chosen[u][key] / old[u][key] for u in sorted(old)]
+    m, lo, hi = paired_interval(pooled["force"])
+    print(f"rule 2, pooled with entry 164's 64 fresh units ({len(pooled['force'])} units): force x{m:.3f} "
+          f"[{lo:.3f}, {hi:.3f}]; angle x{paired_text(pooled['angle'])}")
+    print(f"rule 4: {'the interval lies wholly below 1' if hi < 1 else 'the interval reaches 1'}")
+    for registry, (new, _) in refs.items():
+        rule3(registry, new)
+    print()
+    for registry, (_, trials) in refs.items():
+        exploratory(trials, registry)
+
+
+if __name__ == "__main__":
+    main()
