@@ -20,6 +20,7 @@ E159 = runpy.run_path(str(GPU / "entry159" / "analyse.py"))
 E160 = runpy.run_path(str(GPU / "entry160" / "analyse.py"))
 E162 = runpy.run_path(str(GPU / "entry162" / "analyse.py"))
 E163 = runpy.run_path(str(GPU / "entry163" / "analyse.py"))
+swapped = runpy.run_path(str(GPU / "entry165" / "analyse.py"))["swapped"]  # per_unit rows by (unit, fold)
 KEYS, ACROSS, USE, FOLDS = E162["KEYS"], E162["ACROSS"], E163["USE"], E162["FOLDS"]
 STARTS = (0, 1, 2)
 OWN_SLICE = {0: 0, 1: 32, 2: 64, 3: 96}  # fold -> the first of its own 32 fresh units (entries 158-160)
@@ -48,12 +49,6 @@ def one_start() -> dict[Cell, dict]:
 def kept(starts: dict, cells: list[Cell]) -> dict[Cell, dict]:
     """(unit, fold) -> the start with the lowest validation loss."""
     return {c: min((starts[(*c, j)] for j in STARTS), key=lambda r: r["val_loss"]) for c in cells}
-
-
-def swapped(rows: list[dict], refs: dict[Cell, dict]) -> list[dict]:
-    """`rows` with each per_unit row replaced by the kept reference of the same (unit, fold)."""
-    out = [r for r in rows if r["method"] != "per_unit"]
-    return out + [refs[r["unit"], r["seed"]] for r in rows if r["method"] == "per_unit"]
 
 
 def gate(starts: dict, old: dict, cells: list[Cell]) -> str:
