@@ -96,13 +96,14 @@ def runs(registry: str) -> dict[str, tuple[list[Path], str, float, float]]:
         at = {n: [f88(root, k) for k in FOLDS["fleet88"]] for n, root in (
             ("101", GPU / "entry101" / "fleet88_cpu"), ("131", GPU / "entry131"), ("153", GPU / "entry153"),
             ("143", GPU / "entry143"), ("146a", GPU / "entry146" / "at120"),
-            ("146b", GPU / "entry146" / "at600"))}
+            ("146b", GPU / "entry146" / "at600"), ("154", GPU / "entry154"))}
     else:
         def each(root: Path) -> list[Path]:
             return [o16(root, d, k) for d in DRAWS for k in FOLDS["other16"]]
         at = {n: each(root) for n, root in (
             ("101", GPU / "entry101"), ("130", GPU / "entry130"), ("153", GPU / "entry153"),
-            ("146a", GPU / "entry146" / "at120"), ("146b", GPU / "entry146" / "at600"))}
+            ("146a", GPU / "entry146" / "at120"), ("146b", GPU / "entry146" / "at600"),
+            ("154", GPU / "entry154"))}
         at["143"] = [E153["o16_600"](d, k) for d in DRAWS for k in FOLDS["other16"]]
         at["131"] = at.pop("130")
     return {
@@ -117,6 +118,9 @@ def runs(registry: str) -> dict[str, tuple[list[Path], str, float, float]]:
         "600 s, with ordinary use": (at["143"], USE, 600.0, 1.0),
         "600 s, the designed plan": (at["146b"], DESIGNED, 600.0, 1.0),
         "600 s, the designed plan + ordinary use": (at["146b"], DESIGNED_USE, 600.0, 1.0),
+        # after the rules: entry 154's designed plans at 60 and 30 s with ordinary use
+        "60 s, the designed plan + ordinary use": (at["154"], DESIGNED_USE, 60.0, 1.10),
+        "30 s, the designed plan + ordinary use": (at["154"], DESIGNED_USE, 30.0, 1.10),
     }
 
 
