@@ -42,9 +42,9 @@ def gate(got: dict, old: dict) -> str:
     return same + (f"; DIFFER: {differ}" if differ else "")
 
 
-def kept(got: dict, units: list[str]) -> dict[str, dict]:
-    """unit -> the start with the lowest validation loss."""
-    return {u: min((got[u, j] for j in STARTS), key=lambda r: r["val_loss"]) for u in units}
+def kept(got: dict, units: list[str], starts: tuple[int, ...] | range = STARTS) -> dict[str, dict]:
+    """unit -> the start of `starts` with the lowest validation loss."""
+    return {u: min((got[u, j] for j in starts), key=lambda r: r["val_loss"]) for u in units}
 
 
 def main() -> None:

@@ -26,6 +26,20 @@ FOLDS = {"fleet88": (0, 1), "other16": (0, 1, 2, 3)}
 DRAWS = (0, 1, 2)
 START = GPU.parent / "cross_sensor_response_start"
 Rows = list[dict[str, Any]]
+# (target, the runs' role in `runs`, method, budget s, goal on the mean); the last two after the rules
+TARGETS = [("120 s + 600 s of ordinary use", "use", USE, 120.0, 1.10),
+           ("120 s, the plan's labels alone", "alone", ALONE, 120.0, 1.10),
+           ("120 s, the designed plan + ordinary use", "designed", DESIGNED_USE, 120.0, 1.10),
+           ("120 s, the designed plan alone", "designed", DESIGNED, 120.0, 1.10),
+           ("60 s + 600 s of ordinary use", "budgets", USE, 60.0, 1.10),
+           ("30 s + 600 s of ordinary use", "budgets", USE, 30.0, 1.10),
+           ("60 s, the plan alone", "budgets", ALONE, 60.0, 1.10),
+           ("600 s of robot time", "at600", ALONE, 600.0, 1.0),
+           ("600 s, with ordinary use", "at600", USE, 600.0, 1.0),
+           ("600 s, the designed plan", "designed600", DESIGNED, 600.0, 1.0),
+           ("600 s, the designed plan + ordinary use", "designed600", DESIGNED_USE, 600.0, 1.0),
+           ("60 s, the designed plan + ordinary use", "designed_short", DESIGNED_USE, 60.0, 1.10),
+           ("30 s, the designed plan + ordinary use", "designed_short", DESIGNED_USE, 30.0, 1.10)]
 
 
 def new_references(registry: str) -> tuple[dict[tuple[str, int], dict], Rows]:
@@ -45,22 +59,6 @@ def old_references(registry: str) -> dict[tuple[str, int], dict]:
     return {(r["unit"], r["seed"]): r for r in rows if r["method"] == "per_unit"}
 
 
-def gate(trials: Rows, old: dict) -> list[str]:
-    """Rule 1: the (unit, seed)s whose start-0 fit with the lowest validation loss is not the run's reference
-    (its learning rate, or force or angle RMSE by a relative 1e-6 or more)."""
-    bad = []
-    for (unit, seed), ref in old.items():
-        mine = [t for t in trials if t["unit"] == unit and t["seed"] == seed and t["start"] == 0]
-        if not mine:
-            bad.append(f"{unit} seed {seed}: no fit")
-            continue
-        best = min(mine, key=lambda t: t["val_loss"])
-        moved = any(abs(best[k] / ref[k] - 1) >= 1e-6 for k in KEYS.values())
-        if best["lr"] != ref.get("reference_lr") or moved:
-            bad.append(f"{unit} seed {seed}")
-    return bad
-
-
 def start0(trials: Rows) -> dict[tuple[str, int], dict]:
     """(unit, seed) -> the reference today's pipeline trains from one start: start 0's fit with the lowest
     validation loss, as a per_unit row."""
@@ -70,6 +68,20 @@ def start0(trials: Rows) -> dict[tuple[str, int], dict]:
         if t["start"] == 0 and (c not in out or t["val_loss"] < out[c]["val_loss"]):
             out[c] = {**t, "method": "per_unit"}
     return out
+
+
+def gate(today: dict, old: dict) -> list[str]:
+    """Rule 1: the (unit, seed)s whose start-0 fit with the lowest validation loss (`start0`) is not the run's
+    reference (its learning rate, or force or angle RMSE by a relative 1e-6 or more)."""
+    bad = []
+    for (unit, seed), ref in old.items():
+        best = today.get((unit, seed))
+        if best is None:
+            bad.append(f"{unit} seed {seed}: no fit")
+        elif best["lr"] != ref.get("reference_lr") or any(abs(best[k] / ref[k] - 1) >= 1e-6
+                                                           for k in KEYS.values()):
+            bad.append(f"{unit} seed {seed}")
+    return bad
 
 
 def gains(new: dict, old: dict) -> dict[str, list[float]]:
@@ -92,36 +104,16 @@ def cell(rows: Rows, method: str, budget: float) -> tuple[str, list[tuple[float,
 def runs(registry: str) -> dict[str, tuple[list[Path], str, float, float]]:
     """target -> (the runs its committed figure reads, method, budget, goal on the mean)."""
     o16, f88 = E153["o16"], E153["f88"]
+    roots = {"alone": "entry101", "use": "entry131" if registry == "fleet88" else "entry130",
+             "budgets": "entry153", "designed": "entry146/at120", "designed600": "entry146/at600",
+             "designed_short": "entry154"}
     if registry == "fleet88":
-        at = {n: [f88(root, k) for k in FOLDS["fleet88"]] for n, root in (
-            ("101", GPU / "entry101" / "fleet88_cpu"), ("131", GPU / "entry131"), ("153", GPU / "entry153"),
-            ("143", GPU / "entry143"), ("146a", GPU / "entry146" / "at120"),
-            ("146b", GPU / "entry146" / "at600"), ("154", GPU / "entry154"))}
+        roots |= {"alone": "entry101/fleet88_cpu", "at600": "entry143"}
+        at = {role: [f88(GPU / r, k) for k in FOLDS[registry]] for role, r in roots.items()}
     else:
-        def each(root: Path) -> list[Path]:
-            return [o16(root, d, k) for d in DRAWS for k in FOLDS["other16"]]
-        at = {n: each(root) for n, root in (
-            ("101", GPU / "entry101"), ("130", GPU / "entry130"), ("153", GPU / "entry153"),
-            ("146a", GPU / "entry146" / "at120"), ("146b", GPU / "entry146" / "at600"),
-            ("154", GPU / "entry154"))}
-        at["143"] = [E153["o16_600"](d, k) for d in DRAWS for k in FOLDS["other16"]]
-        at["131"] = at.pop("130")
-    return {
-        "120 s + 600 s of ordinary use": (at["131"], USE, 120.0, 1.10),
-        "120 s, the plan's labels alone": (at["101"], ALONE, 120.0, 1.10),
-        "120 s, the designed plan + ordinary use": (at["146a"], DESIGNED_USE, 120.0, 1.10),
-        "120 s, the designed plan alone": (at["146a"], DESIGNED, 120.0, 1.10),
-        "60 s + 600 s of ordinary use": (at["153"], USE, 60.0, 1.10),
-        "30 s + 600 s of ordinary use": (at["153"], USE, 30.0, 1.10),
-        "60 s, the plan alone": (at["153"], ALONE, 60.0, 1.10),
-        "600 s of robot time": (at["143"], ALONE, 600.0, 1.0),
-        "600 s, with ordinary use": (at["143"], USE, 600.0, 1.0),
-        "600 s, the designed plan": (at["146b"], DESIGNED, 600.0, 1.0),
-        "600 s, the designed plan + ordinary use": (at["146b"], DESIGNED_USE, 600.0, 1.0),
-        # after the rules: entry 154's designed plans at 60 and 30 s with ordinary use
-        "60 s, the designed plan + ordinary use": (at["154"], DESIGNED_USE, 60.0, 1.10),
-        "30 s, the designed plan + ordinary use": (at["154"], DESIGNED_USE, 30.0, 1.10),
-    }
+        at = {role: [o16(GPU / r, d, k) for d in DRAWS for k in FOLDS[registry]] for role, r in roots.items()}
+        at["at600"] = [E153["o16_600"](d, k) for d in DRAWS for k in FOLDS[registry]]
+    return {target: (at[role], method, budget, goal) for target, role, method, budget, goal in TARGETS}
 
 
 def verdict(got: list[tuple[float, float, float]], goal: float) -> str:
@@ -171,14 +163,13 @@ def main() -> None:
     refs = {}
     for registry in FOLDS:
         new, trials = new_references(registry)
-        old = old_references(registry)
-        bad = gate(trials, old)
+        old, today = old_references(registry), start0(trials)
+        bad = gate(today, old)
         print(f"rule 1, {registry}: {len(old) - len(bad)} of {len(old)} units' start-0 fits give the run's "
               f"reference back" + (f"; DIFFER: {bad}" if bad else ""))
         g = gains(new, old)
         print(f"rule 2, {registry} ({len(old)} units), kept over the run's reference per unit: "
               + "; ".join(f"{name} x{paired_text(v)}" for name, v in g.items()))
-        today = start0(trials)
         drift, g_today = gains(today, old), gains(new, today)
         print("  after the rules: today's one start over the run's reference "
               + "; ".join(f"{name} x{paired_text(v)}" for name, v in drift.items())

@@ -27,24 +27,17 @@ from anytip.train.metrics import scores
 from anytip.train.shared_split import predict_rows
 
 FOLD_OF = runpy.run_path("reports/cross_sensor_response_gpu/entry98/more_val.py")["fold_of"]
-TRAIN_FLEET = pipeline.train_fleet
-
-
-def kept(fits: list[Any]) -> None:
-    """Make the pipeline's reference fits land in `fits` as they are trained, in `reference_trials` order."""
-    def train(*args: Any, **kwargs: Any) -> Any:
-        fits.append(TRAIN_FLEET(*args, **kwargs))
-        return fits[-1]
-    pipeline.train_fleet = train
+# entry 164's hook on the pipeline's reference fits; from its start 0 it keeps each fit, its seed unmoved
+KEEP_FITS = runpy.run_path("reports/cross_sensor_response_gpu/entry164/starts.py")["from_start"]
 
 
 def trial_rows(fits: list[Any], opts: Any, arrays: Any, sd: Any) -> list[dict[str, Any]]:
     """Per fit and held-out unit: its learning rate, start, lowest validation loss and test scores."""
     units = list(sd.split.test)
+    tests = [sd.evals[u].test_rows for u in units]
     rows = []
     for (k, j), fit in zip(pipeline.reference_trials(opts), fits, strict=True):
         val = pipeline.best_val_loss(fit)
-        tests = [sd.evals[u].test_rows for u in units]
         preds = predict_rows(fit.model, fit.in_scaler, fit.out_scaler, arrays, tests)
         rows += [{"unit": u, "lr": opts.reference_lrs[k] if opts.reference_lrs else None, "start": j,
                   "val_loss": float(val[i]), **scores(preds[i], arrays.targets[tests[i]], arrays.layout)}
@@ -65,7 +58,7 @@ def main() -> None:
     if list(sd.split.test) != list(was["test"]):
         raise SystemExit(f"the fold's held-out units {list(sd.split.test)} are not the run's {was['test']}")
     fits: list[Any] = []
-    kept(fits)
+    KEEP_FITS(0, fits)
     rows = [{**r, "seed": seed, "test_rows": int(len(sd.evals[r["unit"]].test_rows))}
             for r in pipeline.per_unit_rows(ctx, arrays, sd, opts, seed)]
     shutil.rmtree(args.out / "models", ignore_errors=True)

@@ -25,8 +25,7 @@ def main() -> None:
     tested = [u for u in units if len({got[u, j]["test_rows"] for j in range(5)}) != 1]
     print(f"rule 1: {len(units)} units, each with five starts on one test set"
           + (f"; DIFFER: {tested}" if tested else ""))
-    three = {u: min((got[u, j] for j in range(3)), key=lambda r: r["val_loss"]) for u in units}
-    five = {u: min((got[u, j] for j in range(5)), key=lambda r: r["val_loss"]) for u in units}
+    three, five = E164["kept"](got, units, range(3)), E164["kept"](got, units, range(5))
     print("rule 2: the reference kept over five starts over the one kept over three, per unit: "
           + "; ".join(f"{n} x{paired_text([five[u][k] / three[u][k] for u in units])}"
                       for n, k in KEYS.items()))
