@@ -8,7 +8,9 @@ E=${1:-reports/cross_sensor_response_gpu/entry163} wait_for=${2:-entry162/queue.
 pairs=("${@:4}")
 [ ${#pairs[@]} -gt 0 ] || pairs=("0:32 1:0" "2:0 2:32" "3:0 3:32")
 mkdir -p $E/logs
-while pgrep -f "$wait_for" > /dev/null; do sleep 20; done
+# WAIT_FOR after a slash: the awaited queue runs by its path, while this queue holds WAIT_FOR as an argument
+# after a space, so it never waits for itself
+while pgrep -f "/$wait_for" > /dev/null; do sleep 20; done
 for pair in "${pairs[@]}"; do
   for job in $pair; do
     k=${job%:*} from=${job#*:}
