@@ -12,13 +12,13 @@ import runpy
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from anytip.rundir import read_json
 
 HERE = Path(__file__).parent
 GPU = HERE.parent
 E165 = runpy.run_path(str(GPU / "entry165" / "analyse.py"))
+t_interval = runpy.run_path(str(GPU / "entry162" / "analyse.py"))["t_interval"]
 ZERO_SHOT = GPU.parent / "cross_sensor_label_free_codes" / "scale" / "encoder_start" / "held_out"
 ARM, METHOD = "joint_scale_encoder", "zero_shot"
 TIMING = HERE / "logs" / "time_calibrate.log"
@@ -61,10 +61,8 @@ def timing() -> None:
                   f"{len(w)} calibrations), {sum(s < 10 for s in w)} under 10 s")
     logs = np.array([np.log(s / got[(a, "entry134", u, r)])
                      for (a, c, u, r), s in got.items() if c == "today"])
-    half = stats.t.ppf(0.975, len(logs) - 1) * logs.std(ddof=1) / np.sqrt(len(logs))
-    m = logs.mean()
-    print(f"today's code over entry 134's, paired ({len(logs)} pairs): x{np.exp(m):.3f} "
-          f"[{np.exp(m - half):.3f}, {np.exp(m + half):.3f}]")
+    m, lo, hi = np.exp(t_interval(logs))
+    print(f"today's code over entry 134's, paired ({len(logs)} pairs): x{m:.3f} [{lo:.3f}, {hi:.3f}]")
 
 
 if __name__ == "__main__":

@@ -20,7 +20,8 @@ GPU = HERE.parent
 E162 = runpy.run_path(str(GPU / "entry162" / "analyse.py"))
 E163 = runpy.run_path(str(GPU / "entry163" / "analyse.py"))
 E166 = runpy.run_path(str(GPU / "entry166" / "analyse.py"))
-swapped = runpy.run_path(str(GPU / "entry165" / "analyse.py"))["swapped"]
+E169 = runpy.run_path(str(GPU / "entry169" / "analyse.py"))
+swapped, plans = E169["E165"]["swapped"], E169["plans"]  # plans by (method, unit, fold, budget)
 KEYS, ACROSS, USE, FOLDS, UNITS = E162["KEYS"], E162["ACROSS"], E163["USE"], E162["FOLDS"], E162["UNITS"]
 TEXT = "{:.3f}x [{:.2f}, {:.2f}]".format
 
@@ -33,12 +34,6 @@ def draw1() -> list[dict]:
             got = read_json(HERE / f"other16f_seed{k}_from{from_}" / "rows.json")
             rows += [{**r, "seed": got["seed"]} for r in got["rows"] if r["unit"] in UNITS]
     return rows
-
-
-def plans(rows: list[dict]) -> dict[tuple, tuple]:
-    """(method, unit, fold) -> the plan's (rows, robot seconds)."""
-    return {(r["method"], r["unit"], r["seed"]): (r["calib_samples"], r["calib_seconds"])
-            for r in rows if r["method"] in (ACROSS, USE)}
 
 
 def main() -> None:
