@@ -105,6 +105,8 @@ def test_calibrate_writes_a_folded_per_unit_model(cross_run, two_protocol_regist
     assert code == 0
     out = capsys.readouterr().out
     assert f"calibrated {unit}: 300 labeled samples" in out and "other runs" in out
+    record = json.loads((tmp_path / "cal" / "calibration.json").read_text())
+    assert record["core_gflops"] > 0 and f"fitted and folded in {record['wall_s']:.1f} s, on a core" in out
     loaded = load_models(tmp_path / "cal")
     assert loaded.model.n_models == 1 and loaded.meta["unit_ids"] == [unit]
     assert loaded.model.config.sizes == (8, 12, 64, 64, 5)

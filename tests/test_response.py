@@ -583,6 +583,7 @@ def test_calibrate_by_response_writes_the_units_own_network(response_run, fleet,
     assert 0 < check["residual_pa"] and len(check["validation_units_pa"]) == 1
     assert check["alarm"] == (check["over_validation"] > 2.0)
     assert 0 < record["calib_seconds"] <= 40
+    assert record["core_gflops"] > 0 and f"{record['core_gflops']:.1f} GFLOP/s" in said  # the time's core
     bands = record["intervals"]  # residuals on the plan's rows, times the validation units' factor
     assert bands["folds"] is None and bands["rows"] == record["calib_samples"] and bands["level"] == 0.9
     assert "intervals from the plan (residuals on its" in said

@@ -237,7 +237,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     elif args.interval_level and r.calib_samples:
         print("no intervals: the plan holds fewer presses than the folds needed to cross-fit them")
     took = f"; its own check and intervals (fold fits) in {r.check_s:.1f} s" if r.own_check else ""
-    print(f"fitted and folded in {r.wall_s:.1f} s{took}")
+    print(f"fitted and folded in {_seconds(r)}{took}")
     return 0
 
 
@@ -260,7 +260,7 @@ def _print_response(r: Any) -> int:
         print(_check_line(r.check))
     if "residual_pa" not in own:  # label-free: no plan to check
         print(f"codes fitted, the training units' rows carried over and the unit's network trained in "
-              f"{r.wall_s:.1f} s")
+              f"{_seconds(r)}")
         return 0
     line = (f"own check: the plan's pressures lie {own['residual_pa']:.0f} Pa (RMS) from the unit's fitted "
             f"response; the training units' rows lie {own['fleet_noise_pa']:.0f} Pa from theirs")
@@ -272,8 +272,16 @@ def _print_response(r: Any) -> int:
     if r.intervals is not None:
         _print_intervals(r.intervals)
     print(f"codes fitted, the training units' rows carried over and the unit's network trained in "
-          f"{r.wall_s:.1f} s")
+          f"{_seconds(r)}")
     return 0
+
+
+def _seconds(r: Any) -> str:
+    """A calibration's fit-and-fold seconds with the speed of the core that spent them."""
+    if r.core_gflops is None:
+        return f"{r.wall_s:.1f} s"
+    return (f"{r.wall_s:.1f} s, on a core that runs the reference float32 product at {r.core_gflops:.1f} "
+            "GFLOP/s (core_gflops in calibration.json)")
 
 
 def _print_intervals(bands: dict[str, Any]) -> None:

@@ -1,7 +1,8 @@
 # Sourced by the timing scripts of research log entries 116 and 134: `time_one LABEL UNIT ROUND RUN [OPTION...]`
 # runs `anytip calibrate` at 120 s by response transfer (`cover_informative`) of UNIT on data/fleet88 with the
 # response model of RUN and the options after it, on one core (taskset -c 1, OMP_NUM_THREADS=1), into
-# build/$TIMING_DIR/LABEL_UNIT_ROUND, and prints its `wall_s` (fit and fold) and the whole command's seconds.
+# build/$TIMING_DIR/LABEL_UNIT_ROUND, and prints its `wall_s` (fit and fold), the whole command's seconds and, where
+# the calibration records it (since entry 171), the core's reference product rate `core_gflops`.
 time_one() {
   local arm=$1 unit=$2 r=$3 run=$4; shift 4
   local out=build/$TIMING_DIR/${arm}_${unit}_$r
@@ -11,5 +12,5 @@ time_one() {
     --budget-seconds 120 --method response --plan-strategy cover_informative "$@" --out $out > $out.log 2>&1 \
     || { cat $out.log; exit 1; }
   local end=$(date +%s.%N)
-  python -c "import json; c=json.load(open('$out/calibration.json')); print('$arm $unit round $r', 'wall_s %.2f' % c['wall_s'], 'command_s %.1f' % ($end - $start))"
+  python -c "import json; c=json.load(open('$out/calibration.json')); g=c.get('core_gflops'); print('$arm $unit round $r', 'wall_s %.2f' % c['wall_s'], 'command_s %.1f' % ($end - $start), *(['core_gflops %.1f' % g] if g else []))"
 }

@@ -14,7 +14,7 @@ import torch
 
 from anytip.calibrate.intervals import fleet_factor_for, interval_folds, plan_intervals
 from anytip.calibrate.records import own_check_table, prior_for, val_loss_table
-from anytip.calibrate.result import OWN_CHECK_ALARM, Calibrated, check_on_other_runs, write_calibration
+from anytip.calibrate.result import OWN_CHECK_ALARM, Calibrated, check_on_other_runs
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Plan
@@ -137,4 +137,4 @@ def calibrate_by_adapter_unit(model: tuple[LoadedShared, Path], arrays: FleetArr
         "calibration_runs": list(stream.runs), "check_on_other_runs": check, "own_check": own,
         "intervals": bands,
     })
-    return write_calibration(result)
+    return result

@@ -15,7 +15,7 @@ from torch import Tensor
 from anytip.calibrate.intervals import response_intervals
 from anytip.calibrate.plan_choice import PlanRequest, response_strategy
 from anytip.calibrate.records import at_budget, response_record, strategy_table, val_loss_table
-from anytip.calibrate.result import OWN_CHECK_ALARM, Calibrated, check_on_other_runs, write_calibration
+from anytip.calibrate.result import OWN_CHECK_ALARM, Calibrated, check_on_other_runs
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Plan, stream_ordinary_use
@@ -203,7 +203,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         "calib_presses": plan.presses, "n_effective": plan.n_effective, "unlabeled_samples": len(used.rows),
         "unlabeled_seconds": used.contact_seconds, "calibration_runs": list(stream.runs),
         "check_on_other_runs": check, "response_check": own, "intervals": bands})
-    return write_calibration(result)
+    return result
 
 
 def _training_rows(registry: Registry, units: list[str], sensor_model: str, calibration_protocol: str | None

@@ -43,6 +43,7 @@ class Calibrated:
     check_s: float = 0.0  # the fold fits behind the own check and the intervals
     response_check: dict[str, Any] | None = None  # response transfer: the plan about its fitted response
     unlabeled_seconds: float = 0.0  # contact seconds of ordinary use read (response transfer)
+    core_gflops: float | None = None  # this core's reference product rate after the fit (`train.core_speed`)
 
 
 def write_calibration(result: Calibrated) -> Calibrated:

@@ -11,12 +11,13 @@ from anytip.calibrate.intervals import interval_records
 from anytip.calibrate.plan_choice import DEFAULT_SECONDS, choose_plan, response_plan, rig_of
 from anytip.calibrate.records import benchmarked_in, find_shared
 from anytip.calibrate.response import UseRequest, calibrate_by_response_unit, choose_response
-from anytip.calibrate.result import Calibrated
+from anytip.calibrate.result import Calibrated, write_calibration
 from anytip.data.arrays import load_arrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import load_shared
+from anytip.train.core_speed import core_gflops
 
 METHODS = ("auto", "adapter", "response")
 
@@ -81,14 +82,21 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         pooled = interval_records(factor_from, response)
         strategy, planned = response_plan(response, meta, (arrays, stream), plan, budget, use is not None,
                                           notes, plan_strategy)
-        return calibrate_by_response_unit(response, registry, arrays, stream, planned, budget, Path(out),
-                                          notes, interval_level, strategy, use, pooled,
-                                          meta.get("calibration_protocol"))
+        return _written(calibrate_by_response_unit(response, registry, arrays, stream, planned, budget,
+                                                   Path(out), notes, interval_level, strategy, use, pooled,
+                                                   meta.get("calibration_protocol")))
     if factor_from:
         raise AnytipError("--factor-from is read by response transfer alone: the adapter's intervals have "
                           "their own fleet factor")
     if plan_strategy is not None:
         raise AnytipError("--plan-strategy is read by response transfer alone: the adapter calibrates on the "
                           "plans its benchmark chose")
-    return calibrate_by_adapter_unit((shared, shared_path), arrays, stream, plan, budget, Path(out), notes,
-                                     interval_level)
+    return _written(calibrate_by_adapter_unit((shared, shared_path), arrays, stream, plan, budget, Path(out),
+                                              notes, interval_level))
+
+
+def _written(result: Calibrated) -> Calibrated:
+    """`result` with this core's reference product rate (`core_gflops`, measured after the fit, outside
+    its `wall_s`), written as `calibration.json`."""
+    result.core_gflops = round(core_gflops(), 1)
+    return write_calibration(result)
