@@ -2,13 +2,15 @@
 # runs `anytip calibrate` at 120 s by response transfer (`cover_informative`) of UNIT on data/fleet88 with the
 # response model of RUN and the options after it, on one core (taskset -c 1, OMP_NUM_THREADS=1), into
 # build/$TIMING_DIR/LABEL_UNIT_ROUND, and prints its `wall_s` (fit and fold), the whole command's seconds and, where
-# the calibration records it (since entry 171), the core's reference product rate `core_gflops`.
+# the calibration records it (since entry 171), the core's reference product rate `core_gflops`. With CODE (a
+# checkout's root, entry 172) the calibration runs that checkout's `research/` instead of the current tree's.
 time_one() {
   local arm=$1 unit=$2 r=$3 run=$4; shift 4
   local out=build/$TIMING_DIR/${arm}_${unit}_$r
   rm -rf $out; mkdir -p $(dirname $out)
   local start=$(date +%s.%N)
-  OMP_NUM_THREADS=1 taskset -c 1 anytip calibrate --model $run --unit $unit --registry data/fleet88 \
+  local code=${CODE:+$CODE/research}
+  PYTHONPATH=${code:-$PYTHONPATH} OMP_NUM_THREADS=1 taskset -c 1 anytip calibrate --model $run --unit $unit --registry data/fleet88 \
     --budget-seconds 120 --method response --plan-strategy cover_informative "$@" --out $out > $out.log 2>&1 \
     || { cat $out.log; exit 1; }
   local end=$(date +%s.%N)

@@ -1,9 +1,10 @@
 """Research log entry 171: `anytip calibrate`'s fit-and-fold seconds against the speed of the core that spent
 them.
 
-Reads entry 116's timing run twice in one session (logs/time_A.log, logs/time_B.log; lines 'ARM UNIT round
-R wall_s S command_s C core_gflops G'), and the probe's own seconds (logs/probe.log), and prints the readings
-the entry wrote down before it ran:
+Reads entry 116's timing run twice in one session: part A (logs/time_A.log; lines 'ARM UNIT round R wall_s S
+command_s C core_gflops G') and part B, the calibrations of entry 172's alternated timing that ran entry 171's
+code (entry172/logs/time_calibrate.log, lines 'old ARM UNIT ...'); and the probe's own seconds
+(logs/probe.log). Prints the readings the entry wrote down before it ran:
 
     python reports/cross_sensor_response_gpu/entry171/analyse.py > \
         reports/cross_sensor_response_gpu/entry171/logs/analyse.log
@@ -17,7 +18,9 @@ import numpy as np
 from scipy import stats
 
 LOGS = Path(__file__).parent / "logs"
-PARTS = ("A", "B")
+PART_LOGS = {"A": (LOGS / "time_A.log", ""),
+             "B": (LOGS.parent.parent / "entry172" / "logs" / "time_calibrate.log", "old ")}
+PARTS = tuple(PART_LOGS)
 TARGET_S = 10.0
 SPREAD_TO_TEST = 1.05  # rule 2: the probe's spread over the session that puts the scaling to the test
 
@@ -25,13 +28,14 @@ SPREAD_TO_TEST = 1.05  # rule 2: the probe's spread over the session that puts t
 def timings() -> list[dict]:
     """One row per calibration: part, arm, unit, round, wall_s, command_s, core_gflops, work."""
     rows = []
-    for part in PARTS:
-        path = LOGS / f"time_{part}.log"
+    for part, (path, prefix) in PART_LOGS.items():
         if not path.exists():
             continue
         for line in path.read_text().splitlines():
-            w = line.split()
-            if len(w) != 10 or w[2] != "round":
+            if not line.startswith(prefix):
+                continue
+            w = line.removeprefix(prefix).split()
+            if len(w) < 10 or w[2] != "round":
                 continue
             wall, gflops = float(w[5]), float(w[9])
             rows.append({"part": part, "arm": w[0], "unit": w[1], "round": int(w[3]), "wall_s": wall,

@@ -22,7 +22,8 @@ import torch
 from torch import Tensor
 
 FUSED_DEVICES = ("cpu", "cuda")
-Group = tuple[list[Tensor], list[Tensor], list[Tensor], list[Tensor]]  # weights, m, v, step counts
+# weights, m, v, step counts (views into the last: one tensor holding the group's counts)
+Group = tuple[list[Tensor], list[Tensor], list[Tensor], list[Tensor], Tensor]
 
 
 def fused_kernel_serves(params: list[Tensor]) -> bool:
@@ -66,20 +67,21 @@ class FusedAdam:
             self._groups = self._group([p for p, has in zip(self.params, live, strict=True) if has])
             self._live = live
         lr = float(self.param_groups[0]["lr"])
-        for group, m, v, steps in self._groups:
+        for group, m, v, steps, counts in self._groups:
             grads = [p.grad for p in group]
             if not all(_same_layout(g, p) for g, p in zip(grads, group, strict=True)):
                 # the kernel walks weight and gradient as flat memory: another layout would update the
                 # wrong elements without a word
                 raise ValueError("a gradient's memory layout differs from its weight's (make it contiguous)")
-            torch._foreach_add_(steps, 1)
+            counts.add_(1)  # every weight's count at once: a third of `_foreach_add_` over 0-d counts
             self.kernel(group, grads, m, v, [], steps, amsgrad=False, lr=lr,
                         beta1=self.betas[0], beta2=self.betas[1], weight_decay=self.weight_decay,
                         eps=self.eps, maximize=False, grad_scale=None, found_inf=None)
 
     def _group(self, live: list[Tensor]) -> list[Group]:
         """Per device: the weights in `live`, their first and second moments and step counts (made
-        as torch's first step makes them: zeros, a float32 count)."""
+        as torch's first step makes them: zeros, a float32 count), the counts gathered into one tensor
+        whose elements the weights' state then holds as views (a weight left out keeps its own)."""
         for p in live:
             if p not in self.state:
                 self.state[p] = (torch.zeros_like(p, memory_format=torch.preserve_format),
@@ -89,5 +91,9 @@ class FusedAdam:
         for device in dict.fromkeys(p.device for p in live):
             on = [p for p in live if p.device == device]
             m, v, steps = (list(s) for s in zip(*(self.state[p] for p in on), strict=True))
-            groups.append((on, m, v, steps))
+            counts = torch.stack(steps)
+            steps = list(counts.unbind())
+            for p, mp, vp, step in zip(on, m, v, steps, strict=True):
+                self.state[p] = (mp, vp, step)
+            groups.append((on, m, v, steps, counts))
         return groups
