@@ -24,11 +24,5 @@ one() {  # CODE ARM UNIT ROUND
   local end=$(date +%s.%N)
   python -c "import json; c=json.load(open('$to/calibration.json')); print('$arm $code $unit round $r', 'wall_s %.2f' % c['wall_s'], 'command_s %.1f' % ($end - $start))"
 }
-for r in $(seq "$rounds"); do
-  codes="today entry134"; [ $((r % 2)) = 0 ] && codes="entry134 today"
-  for unit in SIM40-000 SIM40-001 SIM40-002; do
-    for arm in alone use; do
-      for code in $codes; do one "$code" "$arm" "$unit" "$r"; done
-    done
-  done
-done
+. "$root/reports/cross_sensor_response_gpu/entry116/time_one.sh"
+alternated "$rounds" today entry134

@@ -19,11 +19,4 @@ one() {  # CODE ARM UNIT ROUND
          time_one "$arm" "$unit" "$r" "$run" "${use[@]}")
   echo "$code $line model $(sha256sum build/time_calibrate172_$code/${arm}_${unit}_$r/model.safetensors | cut -c1-16)"
 }
-for r in $(seq "$rounds"); do
-  codes="old new"; [ $((r % 2)) = 0 ] && codes="new old"
-  for unit in SIM40-000 SIM40-001 SIM40-002; do
-    for arm in alone use; do
-      for code in $codes; do one "$code" "$arm" "$unit" "$r"; done
-    done
-  done
-done
+alternated "$rounds" old new
