@@ -1,10 +1,10 @@
 """How fast this process's CPU runs the product a tiny network's training is made of.
 
-A unit's network (8-12-64-64-5) trains at a step rate bound by its float32 products (research log
-entry 57): most of a step is the 64-by-64 layer's forward and backward products at the batch's
-256 rows. The same single-core code ran `anytip calibrate` 1.44 times slower on one day than on
-another (entry 168), so a calibration's seconds say little without the speed of the core that
-spent them. `core_gflops` times that product alone, with torch's own kernel: a reference workload
+Most of a unit network's (8-12-64-64-5) arithmetic in a training step is the 64-by-64 layer's forward
+and backward products at the batch's 256 rows; about half of the step is a fixed cost per operation
+(research log entry 172), which a core's clock speeds up as well. The same single-core code ran
+`anytip calibrate` 1.44 times slower on one day than on another (entry 168), so a calibration's
+seconds say little without the speed of the core that spent them. `core_gflops` times that product alone, with torch's own kernel: a reference workload
 that does not depend on this package's code, recorded beside a calibration's time
 (`calibration.json`'s `core_gflops`) so that times from different machines or days can be set
 side by side (seconds x GFLOP/s).
