@@ -5,6 +5,7 @@
 # reproduce them exactly beside the filled plans), alone and with 600 s of ordinary use.
 #   bash reports/cross_sensor_response_gpu/entry146/rescore_fleet88.sh 600 K   # against entry 143
 #   bash reports/cross_sensor_response_gpu/entry146/rescore_fleet88.sh 120 K   # against entry 131
+# OUT: another directory under cross_sensor_response_gpu/ (entry 173, with entry 101's DRAW passed on).
 set -euo pipefail
 export OMP_NUM_THREADS=1 PYTHONPATH=research
 b=$1 k=$2
@@ -16,6 +17,6 @@ case $b in
   *) echo "usage: $0 600|120 FOLD" >&2; exit 2 ;;
 esac
 REGISTRY=data/fleet88g bash reports/cross_sensor_response_gpu/entry101/rescore_fleet88_cpu.sh "$k" 1 10 \
-  "entry146/at$b" "${plans[@]}" --set "options.plan_strategies=[designed]" \
+  "${OUT:-entry146/at$b}" "${plans[@]}" --set "options.plan_strategies=[designed]" \
   --set "options.response.label_free={with_plans: true, zero_shot: false}" --set "options.budgets=[$b]" \
   --set options.designed_scale=1.25
