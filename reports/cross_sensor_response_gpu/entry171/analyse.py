@@ -18,28 +18,40 @@ import numpy as np
 from scipy import stats
 
 LOGS = Path(__file__).parent / "logs"
-PART_LOGS = {"A": (LOGS / "time_A.log", ""),
-             "B": (LOGS.parent.parent / "entry172" / "logs" / "time_calibrate.log", "old ")}
+PART_LOGS = {"A": (LOGS / "time_A.log", None),  # part -> (log, the code its lines name first)
+             "B": (LOGS.parent.parent / "entry172" / "logs" / "time_calibrate.log", "old")}
 PARTS = tuple(PART_LOGS)
 TARGET_S = 10.0
 SPREAD_TO_TEST = 1.05  # rule 2: the probe's spread over the session that puts the scaling to the test
 
 
+def timing_line(line: str) -> dict | None:
+    """A line of entry 116's `time_one` ('ARM UNIT round R wall_s S command_s C [core_gflops G]', a wrapper's
+    CODE first and more 'KEY VALUE' pairs after it allowed) as {code (None without one), arm, unit, round, and
+    each KEY: its VALUE as text}; None for any other line. Entries 171 and 172 read their logs with it."""
+    w = line.split()
+    code = None
+    if len(w) > 3 and w[3] == "round":
+        code, w = w[0], w[1:]
+    if len(w) < 4 or w[2] != "round" or len(w) % 2:  # the fields after the round come in pairs
+        return None
+    pairs = dict(zip(w[4::2], w[5::2], strict=True))
+    return {"code": code, "arm": w[0], "unit": w[1], "round": int(w[3]), **pairs}
+
+
 def timings() -> list[dict]:
     """One row per calibration: part, arm, unit, round, wall_s, command_s, core_gflops, work."""
     rows = []
-    for part, (path, prefix) in PART_LOGS.items():
+    for part, (path, code) in PART_LOGS.items():
         if not path.exists():
             continue
-        for line in path.read_text().splitlines():
-            if not line.startswith(prefix):
+        for t in map(timing_line, path.read_text().splitlines()):
+            if t is None or t["code"] != code or "core_gflops" not in t:
                 continue
-            w = line.removeprefix(prefix).split()
-            if len(w) < 10 or w[2] != "round":
-                continue
-            wall, gflops = float(w[5]), float(w[9])
-            rows.append({"part": part, "arm": w[0], "unit": w[1], "round": int(w[3]), "wall_s": wall,
-                         "command_s": float(w[7]), "core_gflops": gflops, "work": wall * gflops})
+            wall, gflops = float(t["wall_s"]), float(t["core_gflops"])
+            rows.append({"part": part, "arm": t["arm"], "unit": t["unit"], "round": t["round"],
+                         "wall_s": wall, "command_s": float(t["command_s"]), "core_gflops": gflops,
+                         "work": wall * gflops})
     return rows
 
 

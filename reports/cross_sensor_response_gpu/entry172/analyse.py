@@ -14,17 +14,15 @@ import numpy as np
 
 HERE = Path(__file__).parent
 E162 = runpy.run_path(str(HERE.parent / "entry162" / "analyse.py"))
+timing_line = runpy.run_path(str(HERE.parent / "entry171" / "analyse.py"))["timing_line"]
 TARGET_S = 10.0
 
 
 def calibrations() -> dict[tuple[str, str, str, int], tuple[float, str]]:
     """(code, arm, unit, round) -> (wall_s, model hash)."""
-    got = {}
-    for line in (HERE / "logs" / "time_calibrate.log").read_text().splitlines():
-        w = line.split()
-        if len(w) == 13 and w[3] == "round":
-            got[w[0], w[1], w[2], int(w[4])] = (float(w[6]), w[12])
-    return got
+    lines = map(timing_line, (HERE / "logs" / "time_calibrate.log").read_text().splitlines())
+    return {(t["code"], t["arm"], t["unit"], t["round"]): (float(t["wall_s"]), t["model"])
+            for t in lines if t is not None and "model" in t}
 
 
 def main() -> None:
