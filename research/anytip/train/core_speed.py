@@ -1,8 +1,8 @@
 """How fast this process's CPU runs the product a tiny network's training is made of.
 
 Most of a unit network's (8-12-64-64-5) arithmetic in a training step is the 64-by-64 layer's forward
-and backward products at the batch's 256 rows; about half of the step is a fixed cost per operation
-(research log entry 172), which a faster clock shortens as well. The same single-core code ran
+and backward products at the batch's 256 rows; the products are 53-61% of the step, the rest small kernels'
+passes and the Python between calls (research log entries 172, 175), which a faster clock shortens as well. The same single-core code ran
 `anytip calibrate` 1.44 times slower on one day than on another (entry 168), so a calibration's
 seconds say little without the speed of the core that spent them. `core_gflops` times that product
 alone, with torch's own kernel: a reference workload that does not depend on this package's code,
