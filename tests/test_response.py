@@ -918,6 +918,72 @@ def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_
     assert got.intervals["fleet_factor"] == meta["intervals"]["fleet_factor_by_strategy"]["first"]["40"]
 
 
+def test_calibrate_on_the_units_designed_runs(response_run, fleet, tmp_path, capsys):
+    """A new unit whose runs are its designed calibration alone (`plan40`, what `anytip calibrate --plan 40`
+    writes for the rig) is calibrated on them as the benchmark's `designed` rows read them: every press of
+    those runs in recorded order within the budget, each paying its recorded lead as its move, under the
+    response model's record for designed plans (its own check's references, its fleet factor). A model
+    without that record says so; a budget of another design, ordinary use where the unit has nothing else
+    to read, or a budget in samples are refused by name. With its other runs kept, `--plan-strategy
+    designed` reads the same plan, draws ordinary use from the other runs and checks the network on those
+    of their rows it did not read."""
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    unit = _held_out(response_run)
+    both = Registry(tmp_path / "both")
+    shutil.copytree(fleet.root, both.root, dirs_exist_ok=True)
+    simulate_into(both, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "plan40"))
+    alone = Registry(tmp_path / "alone")
+    shutil.copytree(both.root, alone.root, dirs_exist_ok=True)
+    for run in alone.list_runs(unit=unit):
+        if run.protocol != "plan40":
+            alone.remove(run.run_id)
+    run = tmp_path / "run"
+    shutil.copytree(response_run, run)
+    path = run / "models" / "response_seed0.json"
+    header = json.loads(path.read_text())
+    meta = header["meta"]
+    for key in ("val_loss_by_strategy", "residual_by_strategy"):
+        meta[key]["designed"] = {"40": meta[key]["spread"]["40"]}
+    factor = {n: 3.0 for n in meta["output_names"]}
+    meta["intervals"] |= {"level": 0.9, "fleet_factor_by_strategy": {"designed": {"40": factor}}}
+    path.write_text(json.dumps(header))
+
+    arrays = load_arrays(alone, alone.list_runs(unit=unit))
+    stream = calibration_stream(arrays, unit, "plan40")
+    presses = find_presses(arrays, unit, stream.outside(arrays))
+    expected = select_presses(presses, 40.0, RigTiming(), "first", recorded_moves=True)
+    got = calibrate_unit(run, unit, alone, tmp_path / "a", budget_seconds=40, method="response")
+    assert any(n.startswith("plan: designed, the unit's plan40 runs") for n in got.notes)
+    assert got.calib_samples == len(expected.rows)
+    assert got.calib_seconds == pytest.approx(expected.calib_seconds)
+    assert got.response_check["validation_units_pa"] == meta["residual_by_strategy"]["designed"]["40"]
+    assert got.intervals["fleet_factor"] == factor
+    assert got.check is None  # nothing of the unit's is left to check it on
+
+    plain = calibrate_unit(response_run, unit, alone, tmp_path / "b", budget_seconds=40, method="response")
+    assert any("scored no designed plans" in n for n in plain.notes) and "fleet_factor" not in plain.intervals
+    with pytest.raises(AnytipError, match=r"no runs of the designed calibration of 8 robot-s \(plan8\); "
+                                          r"its designed runs: plan40"):
+        calibrate_unit(run, unit, alone, tmp_path / "c", budget_seconds=8, method="response")
+    with pytest.raises(AnytipError, match=f"unit {unit}: its runs are its designed calibration alone"):
+        calibrate_unit(run, unit, alone, tmp_path / "d", budget_seconds=40, use_seconds=60)
+    with pytest.raises(AnytipError, match="give --budget-seconds"):
+        calibrate_unit(run, unit, alone, tmp_path / "e", budget_samples=100, plan_strategy="designed")
+
+    kept = calibrate_unit(run, unit, both, tmp_path / "f", budget_seconds=40, method="response",
+                          plan_strategy="designed")
+    assert (kept.calib_samples, kept.calib_seconds) == (got.calib_samples, got.calib_seconds)
+    loaded = load_arrays(both, both.list_runs(unit=unit))  # the rows of its other runs that are read
+    others = sum(int((loaded.run == k).sum()) for k, r in enumerate(loaded.runs) if r.protocol != "plan40")
+    assert kept.check["rows"] == others > 0
+    assert main(["calibrate", "--model", str(run), "--unit", unit, "--budget-seconds", "40", "--registry",
+                 str(both.root), "--plan-strategy", "designed", "--out", str(tmp_path / "g")]) == 0
+    assert "plan: designed, the unit's plan40 runs" in capsys.readouterr().out
+
+
 def test_response_transfer_calibrates_by_the_plans_its_validation_units_scored_best():
     record = {"val_loss_by_strategy": {"spread": {"40": 0.2, "120": 0.1}, "first": {"40": 0.01},
                                        "cover_informative": {"40": 0.1, "120": 0.3}},
@@ -969,7 +1035,7 @@ def test_calibrate_takes_the_press_selection_asked_for_over_the_runs_choice(resp
     """A choice made on more validation units than the run's overrides theirs: asked for
     `cover_informative` where the run's units scored it worse, calibrate makes the plan it makes when
     they scored it best; asked for the run's own selection it says so; an unknown selection, a
-    designed plan and an adapter calibration are refused by name."""
+    designed plan where the unit has no designed runs and an adapter calibration are refused by name."""
     run, chose = tmp_path / "run", tmp_path / "chose"
     shutil.copytree(response_run, run)
     path = run / "models" / "response_seed0.json"
@@ -1000,10 +1066,14 @@ def test_calibrate_takes_the_press_selection_asked_for_over_the_runs_choice(resp
 
     assert torch.equal(weights("asked"), weights("best")) and torch.equal(weights("own"), weights("plain"))
     assert not torch.equal(weights("asked"), weights("plain"))
-    for bad in ("bogus", "designed"):
-        with pytest.raises(AnytipError, match=f"--plan-strategy '{bad}': expected one of"):
-            calibrate_unit(run, unit, fleet, tmp_path / bad, budget_seconds=40, method="response",
-                           plan_strategy=bad)
+    with pytest.raises(AnytipError, match="--plan-strategy 'bogus': expected one of"):
+        calibrate_unit(run, unit, fleet, tmp_path / "bogus", budget_seconds=40, method="response",
+                       plan_strategy="bogus")
+    # a designed plan is the unit's own runs, and this unit has none
+    with pytest.raises(AnytipError, match=r"no runs of the designed calibration of 40 robot-s \(plan40\); "
+                                          "its designed runs: none"):
+        calibrate_unit(run, unit, fleet, tmp_path / "designed", budget_seconds=40, method="response",
+                       plan_strategy="designed")
     with pytest.raises(AnytipError, match="--plan-strategy is read by response transfer alone"):
         calibrate_unit(run, unit, fleet, tmp_path / "adapter", budget_seconds=40, method="adapter",
                        plan_strategy="cover")
@@ -1648,6 +1718,7 @@ def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> 
         calibrate_unit(run, unit, fleet, tmp_path / "a", budget_seconds=40, method="adapter", use_seconds=15)
     with pytest.raises(AnytipError, match=r"--ordinary-use must lie in \[0, 600\]"):
         calibrate_unit(run, unit, fleet, tmp_path / "b", budget_seconds=40, use_seconds=601)
+    _designed_plan_with_ordinary_use(run, fleet, unit, tmp_path)
     header["meta"]["label_free"]["recipe"]["rows"] = 0
     response.with_suffix(".json").write_text(json.dumps(header))
     with pytest.raises(AnytipError, match=r"response_seed0.json: meta.label_free: recipe: rows"):
@@ -1656,6 +1727,25 @@ def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> 
     response.with_suffix(".json").write_text(json.dumps(header))
     old = calibrate_unit(run, unit, fleet, tmp_path / "d", budget_seconds=40, use_seconds=15)
     assert any("records no ordinary-use reading" in n for n in old.notes) and old.unlabeled_samples > 0
+
+
+def _designed_plan_with_ordinary_use(run: Path, fleet: Registry, unit: str, tmp_path: Path) -> None:
+    """`--plan-strategy designed --ordinary-use`: the plan from the unit's designed runs, its ordinary use
+    drawn from its other runs, and the network checked on the rows of those runs it did not read."""
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    both = Registry(tmp_path / "designed_registry")
+    shutil.copytree(fleet.root, both.root, dirs_exist_ok=True)
+    simulate_into(both, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "plan40"))
+    got = calibrate_unit(run, unit, both, tmp_path / "designed", budget_seconds=40, use_seconds=15,
+                         plan_strategy="designed")
+    loaded = load_arrays(both, both.list_runs(unit=unit))
+    designed = [k for k, r in enumerate(loaded.runs) if r.protocol == "plan40"]
+    assert got.calib_samples == int(np.isin(loaded.run, designed).sum())  # the whole design within 40 s
+    assert 0 < got.unlabeled_seconds <= 15 and got.unlabeled_samples > 0
+    assert got.check["rows"] == int((~np.isin(loaded.run, designed)).sum()) - got.unlabeled_samples
 
 
 def test_the_fleet_code_encoder_learns_from_the_units_whose_ordinary_use_the_run_holds(fleet):

@@ -467,7 +467,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="the press selection response transfer calibrates by (cover, cover_informative, "
                           "...), where a choice was made on more validation units than the run's; default: "
                           "the one the run's validation units scored lowest at this budget (research log "
-                          "entry 100)")
+                          "entry 100); or designed: the unit's runs of the designed calibration of the "
+                          "budget's seconds (plan<seconds>, from --plan), which a unit whose runs are that "
+                          "alone gets by default")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",

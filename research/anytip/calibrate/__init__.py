@@ -3,7 +3,8 @@
 Takes the unit's calibration stream from the registry (its runs of the shared model's
 calibration protocol, in recorded order), chooses its plan as the shared model's benchmark chose
 plans (whole presses up to a number of robot seconds, data/plans.py, for models benchmarked in
-seconds; else the first N rows of the stream), and calibrates it by one of two methods: the shared
+seconds; else the first N rows of the stream; or the presses of the unit's runs of the designed
+calibration, `--plan-strategy designed`), and calibrates it by one of two methods: the shared
 model's adapter, fitted on the plan's labeled rows and folded into a plain MLP of the deployed
 shape, or response transfer, which carries the training units' rows over to the unit through a
 fleet model of each barometer's response identified on its plan (and its ordinary use). Either

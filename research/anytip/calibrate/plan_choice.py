@@ -1,6 +1,7 @@
 """Which of a new unit's rows its calibration labels: a budget in samples or robot seconds, turned into
-a plan as the shared model's benchmark chose plans, and the press selection response transfer takes
-(decided by the run's spec, asked for, or the response model's best on its validation units)."""
+a plan as the shared model's benchmark chose plans (or the unit's designed calibration runs), and the
+press selection response transfer takes (decided by the run's spec, asked for, or the response model's
+best on its validation units)."""
 
 from __future__ import annotations
 
@@ -13,17 +14,30 @@ import numpy as np
 
 from anytip.calibrate.records import at_budget, response_record, strategy_table
 from anytip.data.arrays import FleetArrays
-from anytip.data.calibration import CalibrationStream
-from anytip.data.plans import INFORMED, Plan, RigTiming, Strategy, find_presses, select_presses, stream_plan
+from anytip.data.calibration import CalibrationStream, calibration_stream
+from anytip.data.plans import (
+    INFORMED,
+    Budget,
+    Plan,
+    RigTiming,
+    Strategy,
+    designed_name,
+    find_presses,
+    plan_for,
+    select_presses,
+    stream_plan,
+)
 from anytip.errors import AnytipError
 from anytip.models.io import model_paths
+from anytip.sensor.protocols import is_designed
 from anytip.train.response import ResponseFit, press_information
 
 DEFAULT_SECONDS = 120.0  # a budget in seconds when none is given: the 2-minute calibration
 
 
-# what `--plan-strategy` may ask for: every selection from a unit's presses (a designed plan is its own run)
+# the selections from a unit's presses a spec may decide beforehand (a designed plan is its own run)
 ASKABLE: tuple[str, ...] = tuple(s for s in get_args(Strategy) if s != "designed")
+DESIGNED = "designed"  # `--plan-strategy designed`: the unit's designed calibration runs (`designed_plan`)
 
 
 def budget_rows(stream: CalibrationStream, samples: int | None, seconds: float | None) -> tuple[int, str]:
@@ -75,6 +89,44 @@ def choose_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationSt
     return stream_plan(stream, n), float(n), note
 
 
+def is_designed_stream(arrays: FleetArrays, stream: CalibrationStream) -> bool:
+    """Whether a unit's calibration stream is its designed calibration: every run it reads is of a
+    designed protocol (`plan<seconds>`), as `calibration_stream` leaves them where the unit has no
+    other runs (a new unit calibrated on the rig's designed plan alone)."""
+    protocols = [r.protocol for r in arrays.runs if r.run_id in stream.runs]
+    return bool(protocols) and all(is_designed(p) for p in protocols)
+
+
+def designed_plan(meta: dict[str, Any], arrays: FleetArrays, unit: str, budget_samples: int | None,
+                  budget_seconds: float | None) -> tuple[CalibrationStream, Plan, float, str]:
+    """A unit's designed calibration (`--plan-strategy designed`, or a unit whose runs are that alone):
+    its runs of the design of the budget's robot seconds (`plan<seconds>`, what `anytip calibrate --plan
+    SECONDS` writes for the rig) as its stream; their presses in recorded order up to the budget, each
+    paying its recorded lead as its move, as the benchmark's `designed` rows read them (`plan_for`);
+    the budget; and a note naming the runs. AnytipError naming the designs the unit holds where it
+    holds none of this budget's."""
+    if meta.get("budget_unit", "samples") != "seconds" or budget_samples is not None:
+        raise AnytipError("a designed calibration is budgeted in robot seconds: give --budget-seconds, with "
+                          "a shared model benchmarked in seconds (options.budget_unit: seconds)")
+    seconds = DEFAULT_SECONDS if budget_seconds is None else budget_seconds
+    if not math.isfinite(seconds) or seconds <= 0:
+        raise AnytipError(f"--budget-seconds must be a finite number > 0 for a designed calibration, "
+                          f"got {seconds}")
+    name = designed_name(seconds)
+    stream = calibration_stream(arrays, unit, name)
+    if stream.protocol != name:
+        held = sorted({str(r.protocol) for r in arrays.runs if r.unit == unit and is_designed(r.protocol)})
+        raise AnytipError(f"unit {unit} holds no runs of the designed calibration of {seconds:g} robot-s "
+                          f"({name}); its designed runs: {', '.join(held) or 'none'} (give --budget-seconds "
+                          f"of one of them, or mark the rig's runs with `anytip data protocol RUN {name}`)")
+    presses = find_presses(arrays, unit, stream.outside(arrays))
+    plan = plan_for(Budget(seconds, "seconds", DESIGNED), stream, presses, rig_of(meta),
+                    int(meta.get("seed", 0)))
+    note = (f"plan: designed, the unit's {name} runs ({plan.presses} of their {len(presses)} presses, "
+            f"{plan.calib_seconds:.1f} robot-s)")
+    return stream, plan, seconds, note
+
+
 @dataclass(frozen=True)
 class PlanRequest:
     """A plan response transfer makes once its model is loaded: `seconds` of robot time of
@@ -101,10 +153,17 @@ def response_plan(path: Path, meta: dict[str, Any], unit: tuple[FleetArrays, Cal
                   ) -> tuple[str, Plan | PlanRequest]:
     """(strategy, plan) of a calibration by the response model `path`: the shared model's plan
     `plan`, or a `PlanRequest` where the response model scored another strategy best
-    (`response_strategy`; budgets in robot seconds), or where another was `asked`."""
+    (`response_strategy`; budgets in robot seconds), or where another was `asked`; `plan` itself as
+    `designed` where that was asked (the unit's designed runs, `designed_plan`)."""
     shared = str(meta.get("plan_strategy", "spread"))
+    if asked == DESIGNED:  # the unit's designed runs (`designed_plan`): nothing to choose
+        if not strategy_table(response_record(path), "val_loss", DESIGNED):
+            notes.append("the response model's benchmark scored no designed plans (options.plan_strategies "
+                         "without designed): the own check and the intervals have no fleet reference "
+                         "for them")
+        return DESIGNED, plan
     if asked is not None and asked not in ASKABLE:
-        raise AnytipError(f"--plan-strategy {asked!r}: expected one of {', '.join(ASKABLE)}")
+        raise AnytipError(f"--plan-strategy {asked!r}: expected one of {', '.join((*ASKABLE, DESIGNED))}")
     if meta.get("budget_unit") != "seconds" or not len(plan.rows):
         if asked is not None and asked != shared:
             raise AnytipError("--plan-strategy needs a run benchmarked in robot seconds and a labeled budget")

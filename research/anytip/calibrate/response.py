@@ -67,18 +67,24 @@ from anytip.train.shared_split import main_rows, unit_main_rows
 class UseRequest:
     """A calibration's ordinary use (`--ordinary-use`): contact seconds of whole presses of the unit's
     stream read without their labels, and how the stream is read (the shared model's protocol,
-    interleaving and rig's effective_hz, the defaults of a response model that records none)."""
+    interleaving and rig's effective_hz, the defaults of a response model that records none); `stream`:
+    the stream it is drawn from where that is not the plan's (a designed plan's runs are a stream of
+    their own; None: the plan's)."""
 
     seconds: float
     protocol: str | None
     interleave: bool
     effective_hz: float
+    stream: CalibrationStream | None = None
 
 
 def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], budget: float, method: str,
-                    adapter: str | None, use_seconds: float = 0.0) -> tuple[Path | None, str]:
+                    adapter: str | None, use_seconds: float = 0.0, strategy: str | None = None
+                    ) -> tuple[Path | None, str]:
     """The response model file to calibrate by (None: the shared model's adapter) and a note why.
-    With ordinary use (`use_seconds` > 0) it is response transfer or an error: nothing else reads it."""
+    With ordinary use (`use_seconds` > 0) it is response transfer or an error: nothing else reads it.
+    `strategy`: the plan's, where it is fixed (`designed`), whose validation loss `auto` compares; else
+    the one response transfer would choose (`response_strategy`)."""
     model = Path(model)
     if use_seconds > 0:
         return _response_for_use(model, seed, meta, budget, method, adapter, use_seconds)
@@ -103,7 +109,8 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
     if adapter is not None:
         return None, ""
     recorded = response_record(path)
-    strategy = response_strategy(recorded, str(meta.get("plan_strategy", "spread")), budget, path=path)
+    strategy = strategy or response_strategy(recorded, str(meta.get("plan_strategy", "spread")), budget,
+                                             path=path)
     table = strategy_table(recorded, "val_loss", strategy)
     theirs = at_budget({b: float(v) for b, v in table.items() if isinstance(v, (int, float))}, budget)
     ours = val_loss_table(meta, budget)
@@ -176,15 +183,16 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     given, used, distilled = None, Plan.empty(), None
     if use is not None:
         fleet = _fleet_use(path, meta, fit, use, (training_arrays, units), seed, notes)
-        given, used, distilled = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays, stream,
-                                                 Labeled(X, Y, plan.n_effective), seed)
+        given, used, distilled = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays,
+                                                 use.stream or stream, Labeled(X, Y, plan.n_effective), seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
                                         extra=[distilled])
     wall_s = time.perf_counter() - tick + plan_s
     own = _response_own_check(loaded, fit, plan, (X, Y, codes[0]), at_budget(
         strategy_table(meta, "residual", strategy), budget), notes)
-    check, on_other = check_on_other_runs((nets.model, nets.in_scaler, nets.out_scaler), arrays, stream)
+    check, on_other = check_on_other_runs((nets.model, nets.in_scaler, nets.out_scaler), arrays, stream,
+                                          used.rows)
     bands = None
     if interval_level is not None and len(plan.rows):
         fitted = predict(nets.model, nets.in_scaler, nets.out_scaler, X[None])[0].numpy()

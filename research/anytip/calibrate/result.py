@@ -54,11 +54,14 @@ def write_calibration(result: Calibrated) -> Calibrated:
 
 
 def check_on_other_runs(net: tuple[Callable[[Tensor], Tensor], Scaler, Scaler], arrays: FleetArrays,
-                        stream: CalibrationStream
+                        stream: CalibrationStream, read: np.ndarray | None = None
                         ) -> tuple[dict[str, Any] | None, tuple[np.ndarray, np.ndarray] | None]:
     """A unit's network (with its input and output scalers) scored on its runs outside the
-    calibration stream (None where it has none), and its predictions and targets there (n, D)."""
+    calibration stream but the rows `read` (indices: ordinary use drawn from those runs, its pressures
+    read), None where none are left, and its predictions and targets there (n, D)."""
     other = stream.outside(arrays)
+    if read is not None:
+        other[read] = False
     if not other.any():
         return None, None
     pred = predict(*net, torch.from_numpy(arrays.pressure[other])[None])[0].numpy()

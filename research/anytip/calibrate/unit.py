@@ -5,15 +5,25 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from anytip.calibrate.adapter import calibrate_by_adapter_unit
 from anytip.calibrate.intervals import interval_records
-from anytip.calibrate.plan_choice import DEFAULT_SECONDS, choose_plan, response_plan, rig_of
+from anytip.calibrate.plan_choice import (
+    DEFAULT_SECONDS,
+    DESIGNED,
+    choose_plan,
+    designed_plan,
+    is_designed_stream,
+    response_plan,
+    rig_of,
+)
 from anytip.calibrate.records import benchmarked_in, find_shared
 from anytip.calibrate.response import UseRequest, calibrate_by_response_unit, choose_response
 from anytip.calibrate.result import Calibrated, write_calibration
-from anytip.data.arrays import load_arrays
-from anytip.data.calibration import calibration_stream
+from anytip.data.arrays import FleetArrays, load_arrays
+from anytip.data.calibration import CalibrationStream, calibration_stream
+from anytip.data.plans import Plan
 from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import load_shared
@@ -39,7 +49,9 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     benchmark (a registry's other unit folds) whose response models' learning units learn the intervals'
     fleet factor and margin with the run's own (`pooled_learners`). `plan_strategy`: the press selection
     response transfer calibrates by, as asked (a choice made on more validation units than the run's;
-    research log entry 100), instead of `response_strategy`'s."""
+    research log entry 100), instead of `response_strategy`'s; `designed`, the unit's runs of the designed
+    calibration of the budget's seconds (`designed_plan`), which a unit whose runs are that alone gets by
+    default, its ordinary use then read from its other runs."""
     if method not in METHODS:
         raise AnytipError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if not 0 <= use_seconds <= MAX_USE_S:
@@ -66,19 +78,22 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     arrays = load_arrays(registry, records)
     stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"),
                                 interleave=bool(meta.get("calibration_interleave", False)))
-    plan, budget, clipped = choose_plan(meta, arrays, stream, budget_samples, budget_seconds)
+    use_stream = stream  # where ordinary use is read: the calibration stream, a designed plan's or not
+    stream, plan, budget, clipped, plan_strategy = _unit_plan(
+        meta, arrays, stream, (budget_samples, budget_seconds), plan_strategy, use_seconds)
     notes = [f"shared model {shared_path.name}: {choice}"] + ([clipped] if clipped else [])
     if unit in meta.get("unit_ids", []):
         notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
                      "calibration check is not an unseen-unit result")
-    response, why = choose_response(model, seed, meta, budget, method, adapter, use_seconds)
+    response, why = choose_response(model, seed, meta, budget, method, adapter, use_seconds,
+                                    DESIGNED if plan_strategy == DESIGNED else None)
     notes += [why] if why else []
     if response is not None:
         use = None
         if use_seconds > 0:
             rig = rig_of(meta)
             use = UseRequest(use_seconds, meta.get("calibration_protocol"),
-                             bool(meta.get("calibration_interleave", False)), rig.effective_hz)
+                             bool(meta.get("calibration_interleave", False)), rig.effective_hz, use_stream)
         pooled = interval_records(factor_from, response)
         strategy, planned = response_plan(response, meta, (arrays, stream), plan, budget, use is not None,
                                           notes, plan_strategy)
@@ -88,11 +103,29 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     if factor_from:
         raise AnytipError("--factor-from is read by response transfer alone: the adapter's intervals have "
                           "their own fleet factor")
-    if plan_strategy is not None:
+    if plan_strategy not in (None, DESIGNED):
         raise AnytipError("--plan-strategy is read by response transfer alone: the adapter calibrates on the "
-                          "plans its benchmark chose")
+                          "plans its benchmark chose, or on the unit's designed runs (--plan-strategy "
+                          "designed)")
     return _written(calibrate_by_adapter_unit((shared, shared_path), arrays, stream, plan, budget, Path(out),
                                               notes, interval_level))
+
+
+def _unit_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationStream,
+               budgets: tuple[int | None, float | None], plan_strategy: str | None, use_seconds: float
+               ) -> tuple[CalibrationStream, Plan, float, str, str | None]:
+    """The unit's stream, plan, budget and a note (`choose_plan`), and the plan strategy asked for: for
+    `designed`, or by default where a benchmark in robot seconds meets a unit whose runs are its designed
+    calibration alone and a labeled budget, the designed runs' stream and plan (`designed_plan`)."""
+    alone = is_designed_stream(arrays, stream)
+    labeled = budgets[1] != 0 and meta.get("budget_unit") == "seconds"
+    if plan_strategy != DESIGNED and not (alone and labeled):
+        return stream, *choose_plan(meta, arrays, stream, *budgets), plan_strategy
+    if use_seconds > 0 and alone:
+        raise AnytipError(f"unit {stream.unit}: its runs are its designed calibration alone "
+                          f"({', '.join(stream.runs)}); --ordinary-use reads whole presses of its other "
+                          "runs, unlabeled, as the log of its ordinary use, and it has none")
+    return *designed_plan(meta, arrays, stream.unit, *budgets), DESIGNED
 
 
 def _written(result: Calibrated) -> Calibrated:
