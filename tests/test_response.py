@@ -49,6 +49,7 @@ from anytip.train.response import (
     transferred,
 )
 from anytip.uncertainty.fleet_margin import Learner, pooled_factor
+from run_factory import make_run
 from test_cross_sensor import REPO, SECONDS, SPEC
 from test_plans import fleet as press_fleet
 
@@ -972,6 +973,13 @@ def test_calibrate_on_the_units_designed_runs(response_run, fleet, tmp_path, cap
         calibrate_unit(run, unit, alone, tmp_path / "d", budget_seconds=40, use_seconds=60)
     with pytest.raises(AnytipError, match="give --budget-seconds"):
         calibrate_unit(run, unit, alone, tmp_path / "e", budget_samples=100, plan_strategy="designed")
+    # a lab's run marked as the design of 1 s whose one press of 2 s does not fit in it
+    lab = make_run("LAB-1", n=1000, optional=False)
+    lab = replace(lab, in_contact=(lab.time >= 1.0) & (lab.time < 3.0))
+    (record,) = alone.add_runs([lab])
+    alone.set_protocol(record.run_id, "plan1")
+    with pytest.raises(AnytipError, match=r"unit LAB-1: its plan1 runs \(.*\) hold no whole press within 1 "):
+        calibrate_unit(run, "LAB-1", alone, tmp_path / "h", budget_seconds=1, method="response")
 
     kept = calibrate_unit(run, unit, both, tmp_path / "f", budget_seconds=40, method="response",
                           plan_strategy="designed")

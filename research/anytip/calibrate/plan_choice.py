@@ -104,7 +104,7 @@ def designed_plan(meta: dict[str, Any], arrays: FleetArrays, unit: str, budget_s
     SECONDS` writes for the rig) as its stream; their presses in recorded order up to the budget, each
     paying its recorded lead as its move, as the benchmark's `designed` rows read them (`plan_for`);
     the budget; and a note naming the runs. AnytipError naming the designs the unit holds where it
-    holds none of this budget's."""
+    holds none of this budget's, or the runs where they hold no press within it."""
     if meta.get("budget_unit", "samples") != "seconds" or budget_samples is not None:
         raise AnytipError("a designed calibration is budgeted in robot seconds: give --budget-seconds, with "
                           "a shared model benchmarked in seconds (options.budget_unit: seconds)")
@@ -122,6 +122,9 @@ def designed_plan(meta: dict[str, Any], arrays: FleetArrays, unit: str, budget_s
     presses = find_presses(arrays, unit, stream.outside(arrays))
     plan = plan_for(Budget(seconds, "seconds", DESIGNED), stream, presses, rig_of(meta),
                     int(meta.get("seed", 0)))
+    if not plan.presses:
+        raise AnytipError(f"unit {unit}: its {name} runs ({', '.join(stream.runs)}) hold no whole press "
+                          f"within {seconds:g} robot-s")
     note = (f"plan: designed, the unit's {name} runs ({plan.presses} of their {len(presses)} presses, "
             f"{plan.calib_seconds:.1f} robot-s)")
     return stream, plan, seconds, note
