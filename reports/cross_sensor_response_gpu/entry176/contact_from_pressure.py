@@ -16,7 +16,8 @@ Thresholds: 6 times each barometer's own rest noise (the standard deviation of i
 Gaussian noise a false alarm about once in 1e9 rows per barometer), and 100, 200 and 400 Pa. Per detector
 and threshold, over all rows: the share of contact rows found (recall), of them at |F| >= 1 N, and the
 share of found rows that are not contact rows (false share); and the found contact segments per true press.
-Prints one markdown table (and the rest noise and the warm-up's drift for scale):
+Prints one markdown table (and the rest noise and the rest baseline's largest departure for scale); a third
+argument names another protocol than `full` (research log entry 177):
 
     python reports/cross_sensor_response_gpu/entry176/contact_from_pressure.py data/fleet88 SIM40 \
         > reports/cross_sensor_response_gpu/entry176/logs/contact.log
@@ -80,9 +81,9 @@ def run_scores(run) -> tuple[dict[tuple[str, str], np.ndarray], float, float]:  
     return out, float(np.median(noise)), drift
 
 
-def main(root: str, prefix: str) -> None:
+def main(root: str, prefix: str, protocol: str = "full") -> None:
     registry = Registry(root)
-    runs = [r for r in registry.list_runs() if r.protocol == "full" and r.unit.startswith(prefix)]
+    runs = [r for r in registry.list_runs() if r.protocol == protocol and r.unit.startswith(prefix)]
     totals: dict[tuple[str, str], np.ndarray] = defaultdict(lambda: np.zeros(7))
     noises, drifts = [], []
     for record in runs:
@@ -92,9 +93,9 @@ def main(root: str, prefix: str) -> None:
         noises.append(noise)
         drifts.append(drift)
     units = len({r.unit for r in runs})
-    print(f"{len(runs)} full runs of {units} units ({prefix}*) in {root}; rest noise per barometer (median "
-          f"per run) {np.min(noises):.1f}-{np.max(noises):.1f} Pa; the rest baseline's largest drift from "
-          f"the run's first rest reading {np.min(drifts):.0f}-{np.max(drifts):.0f} Pa (median "
+    print(f"{len(runs)} {protocol} runs of {units} units ({prefix}*) in {root}; rest noise per barometer "
+          f"(median per run) {np.min(noises):.1f}-{np.max(noises):.1f} Pa; the rest baseline's largest drift "
+          f"from the run's first rest reading {np.min(drifts):.0f}-{np.max(drifts):.0f} Pa (median "
           f"{np.median(drifts):.0f})\n")
     print("| detector | threshold | contact rows found | of them at abs(F) >= 1 N "
           "| found rows not in contact | found segments per true press |")
@@ -105,4 +106,4 @@ def main(root: str, prefix: str) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    main(*sys.argv[1:4])
