@@ -209,7 +209,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
     r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
                        args.budget_seconds, args.adapter, args.seed, args.interval_level or None, args.method,
-                       args.ordinary_use, args.factor_from, args.plan_strategy)
+                       args.ordinary_use, args.factor_from, args.plan_strategy, args.use_log)
     for note in r.notes:
         print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
     if r.response_check is not None:
@@ -470,6 +470,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "entry 100); or designed: the unit's runs of the designed calibration of the "
                           "budget's seconds (plan<seconds>, from --plan), which a unit whose runs are that "
                           "alone gets by default")
+    cal.add_argument("--use-log", nargs="+", default=[], metavar="FILE",
+                     help="ordinary-use logs of the unit (pressures alone, docs/calibration_format.md), read "
+                          "with --ordinary-use instead of its runs: contacts found from the pressures")
     cal.add_argument("--force", action="store_true", help="overwrite a model already in --out")
     cal.set_defaults(func=cmd_calibrate)
     exp = sub.add_parser("export",

@@ -7,8 +7,9 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
+import numpy as np
 import torch
 from torch import Tensor
 
@@ -20,6 +21,7 @@ from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream
 from anytip.data.plans import Plan, stream_ordinary_use
 from anytip.data.registry import Registry
+from anytip.data.use_log import UseLog, use_rows
 from anytip.errors import AnytipError
 from anytip.models.io import (
     LoadedModels,
@@ -76,6 +78,16 @@ class UseRequest:
     interleave: bool
     effective_hz: float
     stream: CalibrationStream | None = None
+    logs: tuple[UseLog, ...] = ()  # ordinary-use logs (`--use-log`): read instead of any stream
+
+
+class UseRead(NamedTuple):
+    """What a calibration read as ordinary use: its rows among the loaded runs' (none for a log), how many
+    rows, and their contact seconds."""
+
+    rows: np.ndarray
+    samples: int
+    contact_seconds: float
 
 
 def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], budget: float, method: str,
@@ -180,11 +192,12 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
             raise AnytipError(f"{start_network_path(path)}: {problem}")
     tick = time.perf_counter()
     source = _source_rows(path, fit, training, recipe.source_rows, seed, notes)
-    given, used, distilled = None, Plan.empty(), None
+    given, used, distilled = None, UseRead(np.zeros(0, np.int64), 0, 0.0), None
     if use is not None:
         fleet = _fleet_use(path, meta, fit, use, (training_arrays, units), seed, notes)
         given, used, distilled = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays,
-                                                 use.stream or stream, Labeled(X, Y, plan.n_effective), seed)
+                                                 (use.stream or stream, use.logs),
+                                                 Labeled(X, Y, plan.n_effective), seed)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
                                         extra=[distilled])
@@ -202,13 +215,13 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
                                    on_other, notes, use is not None, pool)
     method = ("response" if use is None else with_use_method(fleet.free) if len(plan.rows)
               else "response:label_free")
-    result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, len(used.rows), 0.0, check,
+    result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, used.samples, 0.0, check,
                         notes, None, wall_s, bands, 0.0, own, used.contact_seconds)
     save_models(out / "model.safetensors", nets.model, nets.in_scaler, nets.out_scaler, {
         "unit_ids": [stream.unit], "output_names": list(arrays.output_names), "response_model": str(path),
         "method": method, "codes": codes[0].tolist(),
         "calib_samples": result.calib_samples, "calib_seconds": plan.calib_seconds,
-        "calib_presses": plan.presses, "n_effective": plan.n_effective, "unlabeled_samples": len(used.rows),
+        "calib_presses": plan.presses, "n_effective": plan.n_effective, "unlabeled_samples": used.samples,
         "unlabeled_seconds": used.contact_seconds, "calibration_runs": list(stream.runs),
         "check_on_other_runs": check, "response_check": own, "intervals": bands})
     return result
@@ -319,11 +332,13 @@ def _fleet_use(path: Path, meta: dict[str, Any], fit: ResponseFit, use: UseReque
 
 def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUse,
                     fleet_rows: tuple[SourceRows, LoadedModels | None], arrays: FleetArrays,
-                    stream: CalibrationStream, plan: Labeled, seed: int
-                    ) -> tuple[Tensor, Plan, tuple[Tensor, Tensor] | None]:
-    """The unit's codes (1, C, k) from its ordinary use (whole presses of its stream, labels unread)
-    and its plan's labeled rows `plan` (none: label-free), the ordinary use read, and the rows it adds
-    to the unit's network (`distilled_rows`; None unless the benchmark distilled with a plan)."""
+                    where: tuple[CalibrationStream, tuple[UseLog, ...]], plan: Labeled, seed: int
+                    ) -> tuple[Tensor, UseRead, tuple[Tensor, Tensor] | None]:
+    """The unit's codes (1, C, k) from its ordinary use and its plan's labeled rows `plan` (none:
+    label-free), the ordinary use read, and the rows it adds to the unit's network (`distilled_rows`; None
+    unless the benchmark distilled with a plan). `where`: the stream whose whole presses are read, labels
+    unread, or the unit's ordinary-use logs, whose contacts are found from their pressures (`use_rows`)."""
+    stream, logs = where
     source, start = fleet_rows
     if fleet.free.distil == "oracle":
         raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.recipe.distil: 'oracle' reads the true "
@@ -333,12 +348,15 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
         raise AnytipError(f"{path}: its recipe trains a unit's network from scratch; reading ordinary use "
                           "pulls each unlabeled row's contact towards the pooled start network's "
                           "(benchmark with options.response.inverse_start: pooled)")
-    used = stream_ordinary_use(arrays, stream.unit, stream, fleet.free.seconds, seed)
-    if len(used.rows) < 2:
-        raise AnytipError(f"unit {stream.unit}: its calibration stream holds no whole presses to read as "
-                          "ordinary use")
+    if logs:
+        P, read = _logged_use(logs, fleet.free.seconds)
+    else:
+        used = stream_ordinary_use(arrays, stream.unit, stream, fleet.free.seconds, seed)
+        P, read = arrays.pressure[used.rows], UseRead(used.rows, len(used.rows), used.contact_seconds)
+    if len(P) < 2:
+        where_from = "ordinary-use logs hold" if logs else "calibration stream holds"
+        raise AnytipError(f"unit {stream.unit}: its {where_from} no contacts to read as ordinary use")
     coder = fleet.coder if fleet.free.start == "encoder" else None
-    P = arrays.pressure[used.rows]
     X, Y0, _ = use_inputs(P, fleet.free, start, None, "cpu")
     try:
         first = encoder_codes(P, coder, "cpu")
@@ -347,4 +365,18 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
     candidates = search_candidates(source.Y, fleet.free.candidates, seed)
     codes, fitted = unit_codes_with_use(fit, recipe, fleet, X, Y0, candidates, seed, plan, first)
     distilled = distilled_rows(fleet.free, X, fitted) if len(plan.X) else None
-    return codes[None], used, distilled
+    return codes[None], read, distilled
+
+
+def _logged_use(logs: tuple[UseLog, ...], seconds: float) -> tuple[np.ndarray, UseRead]:
+    """The tared pressures (n, C) Pa of the contacts the logs hold, in order, up to `seconds` of contact
+    (`use_rows`), and what was read."""
+    parts, left = [], seconds
+    for log in logs:
+        if left <= 0:
+            break
+        P, got = use_rows(log, left)
+        parts.append(P)
+        left -= got
+    P = np.concatenate(parts) if parts else np.zeros((0, 0), np.float32)
+    return P, UseRead(np.zeros(0, np.int64), len(P), seconds - left)

@@ -25,6 +25,7 @@ from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan
 from anytip.data.registry import Registry
+from anytip.data.use_log import UseLog, read_use_log
 from anytip.errors import AnytipError
 from anytip.models.io import load_shared
 from anytip.train.core_speed import core_gflops
@@ -39,7 +40,7 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
                    adapter: str | None = None, seed: int | None = None,
                    interval_level: float | None = 0.9, method: str = "auto",
                    use_seconds: float = 0.0, factor_from: Sequence[str | Path] = (),
-                   plan_strategy: str | None = None) -> Calibrated:
+                   plan_strategy: str | None = None, use_logs: Sequence[str | Path] = ()) -> Calibrated:
     """Fit, fold and save one unit's model; see the package docstring (`anytip.calibrate`).
     `interval_level`: the nominal coverage of the intervals from the plan (None: none). `method`:
     `adapter` (the shared model's adapter, folded), `response` (response transfer; a run with a response
@@ -51,7 +52,9 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     response transfer calibrates by, as asked (a choice made on more validation units than the run's;
     research log entry 100), instead of `response_strategy`'s; `designed`, the unit's runs of the designed
     calibration of the budget's seconds (`designed_plan`), which a unit whose runs are that alone gets by
-    default, its ordinary use then read from its other runs."""
+    default, its ordinary use then read from its other runs. `use_logs`: ordinary-use logs of the unit
+    (`data.use_log`), whose contacts are found from their pressures, read as its ordinary use instead of
+    any run (with `use_seconds`)."""
     if method not in METHODS:
         raise AnytipError(f"--method must be one of {', '.join(METHODS)}, got {method!r}")
     if not 0 <= use_seconds <= MAX_USE_S:
@@ -78,9 +81,10 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
     arrays = load_arrays(registry, records)
     stream = calibration_stream(arrays, unit, meta.get("calibration_protocol"),
                                 interleave=bool(meta.get("calibration_interleave", False)))
+    logs = _use_logs(use_logs, unit, use_seconds, arrays)
     use_stream = stream  # where ordinary use is read: the calibration stream, a designed plan's or not
     stream, plan, budget, clipped, plan_strategy = _unit_plan(
-        meta, arrays, stream, (budget_samples, budget_seconds), plan_strategy, use_seconds)
+        meta, arrays, stream, (budget_samples, budget_seconds), plan_strategy, 0.0 if logs else use_seconds)
     notes = [f"shared model {shared_path.name}: {choice}"] + ([clipped] if clipped else [])
     if unit in meta.get("unit_ids", []):
         notes.append(f"warning: unit {unit} was a training unit of the shared model; its "
@@ -93,7 +97,8 @@ def calibrate_unit(model: str | Path, unit: str, registry: Registry, out: str | 
         if use_seconds > 0:
             rig = rig_of(meta)
             use = UseRequest(use_seconds, meta.get("calibration_protocol"),
-                             bool(meta.get("calibration_interleave", False)), rig.effective_hz, use_stream)
+                             bool(meta.get("calibration_interleave", False)), rig.effective_hz, use_stream,
+                             logs)
         pooled = interval_records(factor_from, response)
         strategy, planned = response_plan(response, meta, (arrays, stream), plan, budget, use is not None,
                                           notes, plan_strategy)
@@ -126,6 +131,26 @@ def _unit_plan(meta: dict[str, Any], arrays: FleetArrays, stream: CalibrationStr
                           f"({', '.join(stream.runs)}); --ordinary-use reads whole presses of its other "
                           "runs, unlabeled, as the log of its ordinary use, and it has none")
     return *designed_plan(meta, arrays, stream.unit, *budgets), DESIGNED
+
+
+def _use_logs(paths: Sequence[str | Path], unit: str, use_seconds: float, arrays: FleetArrays
+              ) -> tuple[UseLog, ...]:
+    """The unit's ordinary-use logs read and checked against it: its id, sensor model and barometer count;
+    AnytipError naming the file where one is another unit's or sensor's, or where no seconds are asked."""
+    if paths and use_seconds <= 0:
+        raise AnytipError("--use-log is read as ordinary use: give --ordinary-use SECONDS as well")
+    logs = []
+    for path in paths:
+        log = read_use_log(path)
+        model = arrays.runs[0].sensor_model
+        if log.sensor_id != unit or log.sensor_model != model:
+            raise AnytipError(f"{path}: a log of {log.sensor_id} ({log.sensor_model}), not of unit {unit} "
+                              f"({model})")
+        if log.pressure.shape[1] != arrays.pressure.shape[1]:
+            raise AnytipError(f"{path}: {log.pressure.shape[1]} barometers, where the unit's runs have "
+                              f"{arrays.pressure.shape[1]}")
+        logs.append(log)
+    return tuple(logs)
 
 
 def _written(result: Calibrated) -> Calibrated:

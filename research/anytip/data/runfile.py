@@ -312,7 +312,7 @@ def _validate(run: CalibrationRun, path: str | Path) -> None:
                 path, f"optional attribute {key!r} must be one of {OPTIONAL_ATTRS} and a string"
             )
     for key, value in [("sensor_model", run.sensor_model), ("created", run.created), *run.extra.items()]:
-        _check_text(path, key, value)
+        check_text(path, key, value)
     if "simulator" in run.extra:
         try:
             json.loads(run.extra["simulator"])
@@ -337,7 +337,7 @@ def _validate_targets(run: CalibrationRun, path: str | Path) -> None:
             raise _problem(path, f"{where}: a target name must match [A-Za-z][A-Za-z0-9_]{{0,63}}")
         if not isinstance(t.unit, str) or not t.unit.strip():
             raise _problem(path, f"{where}: attribute 'unit' must be a non-empty string, got {t.unit!r}")
-        _check_text(path, f"{where} unit", t.unit)
+        check_text(path, f"{where} unit", t.unit)
         comps = t.components
         if not comps or not all(isinstance(c, str) and c.strip() for c in comps):
             raise _problem(path, f"{where}: attribute 'components' must be a list of non-empty strings, "
@@ -345,10 +345,10 @@ def _validate_targets(run: CalibrationRun, path: str | Path) -> None:
         if len(set(comps)) != len(comps):
             raise _problem(path, f"{where}: attribute 'components' names a column twice: {list(comps)}")
         for c in comps:
-            _check_text(path, f"{where} components", c)
+            check_text(path, f"{where} components", c)
 
 
-def _check_text(path: str | Path, key: str, value: str) -> None:
+def check_text(path: str | Path, key: str, value: str) -> None:
     """HDF5 strings are UTF-8 without NUL characters; refuse text that cannot be stored."""
     try:
         value.encode("utf-8")
@@ -418,7 +418,7 @@ def pressure_outside_range(pressure: np.ndarray) -> tuple[int, int, float] | Non
     return row, column, float(values[row, column])
 
 
-def _attr_value(value: Any) -> Any:
+def attr_value(value: Any) -> Any:
     """h5py returns numpy scalars and bytes; give plain Python values."""
     if isinstance(value, bytes):
         return value.decode("utf-8")
@@ -484,7 +484,7 @@ def _free_memory_bytes() -> int:
         return 2**40
 
 
-def _check_size(f: h5py.File, path: Path) -> None:
+def check_size(f: h5py.File, path: Path) -> None:
     """Refuse datasets that would not fit in memory before reading any (a crafted file can
     declare 10^11 rows in a few bytes)."""
     total = 0
@@ -507,7 +507,7 @@ def _data_nodes(f: h5py.File) -> dict[str, h5py.Dataset]:
 
 
 def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
-    attrs = {k: _attr_value(v) for k, v in f.attrs.items()}
+    attrs = {k: attr_value(v) for k, v in f.attrs.items()}
     for key in REQUIRED_ATTRS:
         if key not in attrs:
             raise _problem(path, f"missing root attribute {key!r}")
@@ -523,8 +523,8 @@ def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
     for key in ("sensor_id", "sensor_model", "source", "created"):
         if not isinstance(attrs[key], str):
             raise _problem(path, f"attribute {key!r} must be a string, got {attrs[key]!r}")
-    _check_size(f, path)
-    arrays = {name: _read_dataset(f, name, path, required=name in REQUIRED_DATASETS)
+    check_size(f, path)
+    arrays = {name: read_dataset(f, name, path, required=name in REQUIRED_DATASETS)
               for name in REQUIRED_DATASETS + OPTIONAL_DATASETS}
     targets = _read_v1_targets(f, path) if version == 1 else _read_v2_targets(f, path)
     extra = {k: attrs[k] for k in OPTIONAL_ATTRS if k in attrs}
@@ -544,7 +544,7 @@ def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
 
 def _read_v1_targets(f: h5py.File, path: Path) -> dict[str, Target]:
     """`force` and `angles` at the root, with the fingertip's units and components."""
-    values = {name: _read_dataset(f, name, path, required=True) for name in V1_TARGET_DATASETS}
+    values = {name: read_dataset(f, name, path, required=True) for name in V1_TARGET_DATASETS}
     return fingertip_targets(values["force"], values["angles"])
 
 
@@ -566,26 +566,26 @@ def _read_v2_targets(f: h5py.File, path: Path) -> dict[str, Target]:
         for key in ("unit", "components"):
             if key not in node.attrs:
                 raise _problem(path, f"target {where}: missing attribute {key!r}")
-        unit = _attr_value(node.attrs["unit"])
-        targets[name] = Target(_read_dataset(f, where, path, required=True), unit,
+        unit = attr_value(node.attrs["unit"])
+        targets[name] = Target(read_dataset(f, where, path, required=True), unit,
                                _components(node.attrs["components"], where, path))
     return targets
 
 
 def _components(value: Any, where: str, path: Path) -> tuple[str, ...]:
     """A `components` attribute as a tuple of strings (h5py gives str, bytes or an array)."""
-    value = _attr_value(value)
+    value = attr_value(value)
     items = [value] if isinstance(value, str) else value
     if not isinstance(items, (np.ndarray, list, tuple)) or np.ndim(items) != 1:
         raise _problem(path, f"target {where}: attribute 'components' must be a list of strings, "
                              f"got {value!r}")
-    out = [_attr_value(c) for c in items]
+    out = [attr_value(c) for c in items]
     if not all(isinstance(c, str) for c in out):
         raise _problem(path, f"target {where}: attribute 'components' must be a list of strings, got {out!r}")
     return tuple(out)
 
 
-def _read_dataset(f: h5py.File, name: str, path: Path, required: bool) -> np.ndarray | None:
+def read_dataset(f: h5py.File, name: str, path: Path, required: bool) -> np.ndarray | None:
     if name not in f:
         if required:
             raise _problem(path, f"missing dataset {name!r}")
