@@ -1727,6 +1727,7 @@ def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> 
     with pytest.raises(AnytipError, match=r"--ordinary-use must lie in \[0, 600\]"):
         calibrate_unit(run, unit, fleet, tmp_path / "b", budget_seconds=40, use_seconds=601)
     _designed_plan_with_ordinary_use(run, fleet, unit, tmp_path)
+    _calibrate_with_a_use_log(run, fleet, unit, tmp_path)
     header["meta"]["label_free"]["recipe"]["rows"] = 0
     response.with_suffix(".json").write_text(json.dumps(header))
     with pytest.raises(AnytipError, match=r"response_seed0.json: meta.label_free: recipe: rows"):
@@ -1754,6 +1755,38 @@ def _designed_plan_with_ordinary_use(run: Path, fleet: Registry, unit: str, tmp_
     assert got.calib_samples == int(np.isin(loaded.run, designed).sum())  # the whole design within 40 s
     assert 0 < got.unlabeled_seconds <= 15 and got.unlabeled_samples > 0
     assert got.check["rows"] == int((~np.isin(loaded.run, designed)).sum()) - got.unlabeled_samples
+
+
+def _calibrate_with_a_use_log(run: Path, fleet: Registry, unit: str, tmp_path: Path) -> None:
+    """`--use-log`: a log of the unit's pressures alone (here its short runs' pressures), its contacts found
+    from them, read as its ordinary use instead of its runs; a log of another unit, a log without
+    `--ordinary-use` and a log with no contact are refused by name."""
+    from anytip.data.use_log import UseLog, write_use_log
+
+    logs = []
+    for record in [r for r in fleet.list_runs(unit=unit) if r.protocol == "short"]:
+        r = fleet.open_run(record.run_id)
+        log = UseLog(r.sensor_id, r.sensor_model, r.sample_rate_hz, r.created, r.time, r.pressure)
+        logs.append(write_use_log(log, tmp_path / f"use_{record.run_id}.h5"))
+    plain = load_models(tmp_path / "plain").meta["codes"]
+    got = calibrate_unit(run, unit, fleet, tmp_path / "logged", budget_seconds=40, use_seconds=15,
+                         use_logs=logs)
+    assert 0 < got.unlabeled_seconds <= 15 and got.unlabeled_samples == round(got.unlabeled_seconds * 200)
+    saved = load_models(tmp_path / "logged").meta
+    assert saved["method"] == "response+use" and saved["codes"] != plain
+    other = next(u for u in {r.unit for r in fleet.list_runs()} if u != unit)
+    stranger = write_use_log(replace(log, sensor_id=other), tmp_path / "stranger.h5")
+    with pytest.raises(AnytipError, match=f"stranger.h5: a log of {other}"):
+        calibrate_unit(run, unit, fleet, tmp_path / "x", budget_seconds=40, use_seconds=15,
+                       use_logs=[stranger])
+    with pytest.raises(AnytipError, match="give --ordinary-use SECONDS"):
+        calibrate_unit(run, unit, fleet, tmp_path / "y", budget_seconds=40, use_logs=logs)
+    still = write_use_log(replace(log, pressure=np.full_like(log.pressure, 1e5)), tmp_path / "still.h5")
+    with pytest.raises(AnytipError, match="ordinary-use logs hold no contacts"):
+        calibrate_unit(run, unit, fleet, tmp_path / "z", budget_seconds=40, use_seconds=15, use_logs=[still])
+    assert main(["calibrate", "--model", str(run), "--unit", unit, "--budget-seconds", "40", "--ordinary-use",
+                 "15", "--use-log", *map(str, logs), "--registry", str(fleet.root),
+                 "--out", str(tmp_path / "logged_cli")]) == 0
 
 
 def test_the_fleet_code_encoder_learns_from_the_units_whose_ordinary_use_the_run_holds(fleet):
