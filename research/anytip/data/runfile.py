@@ -17,16 +17,18 @@ import json
 import math
 import os
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import h5py
 import numpy as np
 
 from anytip.errors import AnytipError
 
+T = TypeVar("T")
 FORMAT = "calibration_run"
 FORMAT_VERSIONS = (1, 2)
 FORMAT_VERSION = 2  # what new runs are written as unless made as v1
@@ -431,17 +433,23 @@ def attr_value(value: Any) -> Any:
 
 def read_run(path: str | Path) -> CalibrationRun:
     """Read and validate one interchange file; raise RunFormatError naming it."""
+    return read_hdf5(path, _read_open, "run")
+
+
+def read_hdf5(path: str | Path, read_open: Callable[[h5py.File, Path], T], what: str) -> T:
+    """`read_open` on the HDF5 file at `path` once it is known to be read from itself alone
+    (`check_self_contained`); any failure a RunFormatError naming the file (`what`: the run, the log)."""
     path = Path(path)
     if not path.is_file():
         raise _problem(path, "no such file")
     try:
         with h5py.File(path, "r") as f:
             check_self_contained(f, path)
-            return _read_open(f, path)
+            return read_open(f, path)
     except RunFormatError:
         raise
     except MemoryError:
-        raise _problem(path, "the run does not fit in memory") from None
+        raise _problem(path, f"the {what} does not fit in memory") from None
     except (OSError, KeyError, RuntimeError, ValueError) as e:
         # h5py reports damaged headers as KeyError or RuntimeError, not only OSError.
         raise _problem(path, f"not a readable HDF5 file (truncated or corrupt?): {e}") from None

@@ -23,13 +23,13 @@ from anytip.data.runfile import (
     PRESSURE_PROBLEM,
     RunFormatError,
     attr_value,
-    check_self_contained,
     check_sensor_id,
     check_size,
     check_text,
     parse_created,
     pressure_outside_range,
     read_dataset,
+    read_hdf5,
 )
 
 USE_LOG_FORMAT, USE_LOG_VERSION = "ordinary_use_log", 1
@@ -52,19 +52,7 @@ class UseLog:
 
 def read_use_log(path: str | Path) -> UseLog:
     """Read and check one ordinary-use log; RunFormatError naming the file and what is wrong."""
-    path = Path(path)
-    if not path.is_file():
-        raise RunFormatError(path, "no such file")
-    try:
-        with h5py.File(path, "r") as f:
-            check_self_contained(f, path)
-            return _read_open(f, path)
-    except RunFormatError:
-        raise
-    except MemoryError:
-        raise RunFormatError(path, "the log does not fit in memory") from None
-    except (OSError, KeyError, RuntimeError, ValueError) as e:
-        raise RunFormatError(path, f"not a readable HDF5 file (truncated or corrupt?): {e}") from None
+    return read_hdf5(path, _read_open, "log")
 
 
 def write_use_log(log: UseLog, path: str | Path) -> Path:
