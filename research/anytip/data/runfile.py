@@ -514,13 +514,20 @@ def _data_nodes(f: h5py.File) -> dict[str, h5py.Dataset]:
     return nodes
 
 
-def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
+def root_attrs(f: h5py.File, path: Path, required: tuple[str, ...], fmt: str) -> dict[str, Any]:
+    """The file's root attributes as plain values; RunFormatError naming `path` where one of `required`
+    is missing or `format` is not `fmt`."""
     attrs = {k: attr_value(v) for k, v in f.attrs.items()}
-    for key in REQUIRED_ATTRS:
+    for key in required:
         if key not in attrs:
             raise _problem(path, f"missing root attribute {key!r}")
-    if attrs["format"] != FORMAT:
-        raise _problem(path, f"attribute 'format' is {attrs['format']!r}, expected {FORMAT!r}")
+    if attrs["format"] != fmt:
+        raise _problem(path, f"attribute 'format' is {attrs['format']!r}, expected {fmt!r}")
+    return attrs
+
+
+def _read_open(f: h5py.File, path: Path) -> CalibrationRun:
+    attrs = root_attrs(f, path, REQUIRED_ATTRS, FORMAT)
     version = attrs["format_version"]
     if not isinstance(version, int) or isinstance(version, bool):
         raise _problem(path, f"attribute 'format_version' must be an integer, got {version!r}")

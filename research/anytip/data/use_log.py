@@ -22,7 +22,6 @@ from anytip.data.contact import ContactDetector
 from anytip.data.runfile import (
     PRESSURE_PROBLEM,
     RunFormatError,
-    attr_value,
     check_sensor_id,
     check_size,
     check_text,
@@ -30,6 +29,7 @@ from anytip.data.runfile import (
     pressure_outside_range,
     read_dataset,
     read_hdf5,
+    root_attrs,
 )
 
 USE_LOG_FORMAT, USE_LOG_VERSION = "ordinary_use_log", 1
@@ -94,12 +94,7 @@ def use_rows(log: UseLog, seconds: float, detector: ContactDetector = DETECTOR) 
 
 
 def _read_open(f: h5py.File, path: Path) -> UseLog:
-    attrs = {k: attr_value(v) for k, v in f.attrs.items()}
-    for key in USE_LOG_ATTRS:
-        if key not in attrs:
-            raise RunFormatError(path, f"missing root attribute {key!r}")
-    if attrs["format"] != USE_LOG_FORMAT:
-        raise RunFormatError(path, f"attribute 'format' is {attrs['format']!r}, expected {USE_LOG_FORMAT!r}")
+    attrs = root_attrs(f, path, USE_LOG_ATTRS, USE_LOG_FORMAT)
     if attrs["format_version"] != USE_LOG_VERSION or isinstance(attrs["format_version"], bool):
         raise RunFormatError(path, f"unknown format_version {attrs['format_version']!r}; this reader knows "
                                    f"[{USE_LOG_VERSION}]")
