@@ -35,17 +35,20 @@ def scored(registry: Registry, unit: str, arm: str) -> dict[str, float]:
 
 def main() -> None:
     registry = Registry("data/other16")
-    rmse = {(arm, u): scored(registry, u, arm) for arm in ("A", "L") for u in UNITS}
+    arms = ("A", "L", "B") if (Path("build/entry181") / "B").is_dir() else ("A", "L")
+    rmse = {(arm, u): scored(registry, u, arm) for arm in arms for u in UNITS}
     print("| unit | A force / angle | L force / angle |")
     print("|---|---|---|")
     for u in UNITS:
         print(f"| {u} | " + " | ".join(f"{rmse[a, u][OUTPUTS[0]]:.3f} / {rmse[a, u][OUTPUTS[1]]:.4f}"
                                        for a in "AL") + " |")
-    cells = []
-    for k in OUTPUTS:
-        m, lo, hi = np.exp(t_interval(np.log([rmse["L", u][k] / rmse["A", u][k] for u in UNITS])))
-        cells.append(f"x{m:.3f} [{lo:.3f}, {hi:.3f}]")
-    print(f"\nL over A, per unit (16 units): force {cells[0]}, angle {cells[1]}")
+    pairs = [("L", "A")] + ([("B", "A"), ("L", "B")] if "B" in arms else [])
+    for top, bottom in pairs:  # B (flag_arm.py, after the entry's rule) where it was run
+        cells = []
+        for k in OUTPUTS:
+            m, lo, hi = np.exp(t_interval(np.log([rmse[top, u][k] / rmse[bottom, u][k] for u in UNITS])))
+            cells.append(f"x{m:.3f} [{lo:.3f}, {hi:.3f}]")
+        print(f"\n{top} over {bottom}, per unit (16 units): force {cells[0]}, angle {cells[1]}")
 
 
 if __name__ == "__main__":
