@@ -37,6 +37,20 @@ def scored(registry: Registry, unit: str, arm: str) -> dict[str, float]:
     return {k: float(got[k]) for k in OUTPUTS}
 
 
+def ratio_table(rmse: dict[tuple[str, str], dict[str, float]], pairs: tuple[tuple[str, str], ...]) -> None:
+    """Per (top, bottom) arm pair, top over bottom per unit, force and angle, the geometric mean with its 95%
+    t-interval over UNITS: a markdown table (entries 178-180)."""
+    print("| ratio | force | angle |")
+    print("|---|---|---|")
+    for top, bottom in pairs:
+        cells = []
+        for k in OUTPUTS:
+            logs = np.log([rmse[top, u][k] / rmse[bottom, u][k] for u in UNITS])
+            m, lo, hi = np.exp(t_interval(logs))
+            cells.append(f"x{m:.3f} [{lo:.3f}, {hi:.3f}]")
+        print(f"| {top} over {bottom} | " + " | ".join(cells) + " |")
+
+
 def main() -> None:
     hashes = {}
     for line in (HERE / "logs" / "run.log").read_text().splitlines():
@@ -52,15 +66,7 @@ def main() -> None:
         cells = [f"{rmse[a, u][OUTPUTS[0]]:.3f} / {rmse[a, u][OUTPUTS[1]]:.4f}" for a in "ABC"]
         print(f"| {u} | " + " | ".join(cells) + " |")
     print("\nrule 2, per unit (geometric mean [95% t-interval] over units)")
-    print("| ratio | force | angle |")
-    print("|---|---|---|")
-    for top, bottom in (("B", "A"), ("C", "A"), ("C", "B")):
-        cells = []
-        for k in OUTPUTS:
-            logs = np.log([rmse[top, u][k] / rmse[bottom, u][k] for u in UNITS])
-            m, lo, hi = np.exp(t_interval(logs))
-            cells.append(f"x{m:.3f} [{lo:.3f}, {hi:.3f}]")
-        print(f"| {top} over {bottom} | " + " | ".join(cells) + " |")
+    ratio_table(rmse, (("B", "A"), ("C", "A"), ("C", "B")))
     print("\n" + json.dumps({f"{a} {u}": rmse[a, u] for a in "ABC" for u in UNITS}))
 
 

@@ -11,28 +11,23 @@ from __future__ import annotations
 import runpy
 from pathlib import Path
 
-import numpy as np
-
 from anytip.data.registry import Registry
 
 HERE = Path(__file__).parent
 E178 = runpy.run_path(str(HERE.parent / "entry178" / "score.py"))
-UNITS, OUTPUTS, t_interval = E178["UNITS"], E178["OUTPUTS"], E178["t_interval"]
+UNITS = E178["UNITS"]
+
+
+def table(top: str, bottoms: tuple[str, ...]) -> None:
+    """Arm `top` over each of `bottoms` (build/entry178/ARM), per unit, force and angle: a markdown table."""
+    registry = Registry("data/fleet88g")
+    rmse = {(arm, u): E178["scored"](registry, u, arm) for arm in (*bottoms, top) for u in UNITS}
+    print("per unit, 16 units (geometric mean [95% t-interval] over units)")
+    E178["ratio_table"](rmse, tuple((top, bottom) for bottom in bottoms))
 
 
 def main() -> None:
-    registry = Registry("data/fleet88g")
-    rmse = {(arm, u): E178["scored"](registry, u, arm) for arm in ("A", "B", "C", "C2") for u in UNITS}
-    print("per unit, 16 units (geometric mean [95% t-interval] over units)")
-    print("| ratio | force | angle |")
-    print("|---|---|---|")
-    for bottom in ("A", "B", "C"):
-        cells = []
-        for k in OUTPUTS:
-            logs = np.log([rmse["C2", u][k] / rmse[bottom, u][k] for u in UNITS])
-            m, lo, hi = np.exp(t_interval(logs))
-            cells.append(f"x{m:.3f} [{lo:.3f}, {hi:.3f}]")
-        print(f"| C2 over {bottom} | " + " | ".join(cells) + " |")
+    table("C2", ("A", "B", "C"))
 
 
 if __name__ == "__main__":
