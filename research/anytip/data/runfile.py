@@ -388,19 +388,27 @@ def _validate_arrays(run: CalibrationRun, path: str | Path) -> None:
     if n == 0:
         raise _problem(path, "the run has no rows")
     checked = {"pressure": run.pressure} | {prefix + k: t.values for k, t in run.targets.items()}
+    check_values(path, run.time, run.pressure, checked)
+
+
+def check_values(path: str | Path, time: np.ndarray, pressure: np.ndarray, checked: dict[str, np.ndarray]
+                 ) -> None:
+    """The format's checks of values (shapes already checked): every dataset of `checked` finite,
+    `pressure` (N, C) Pa inside PRESSURE_RANGE_PA, `time` (N,) s finite and never decreasing;
+    RunFormatError naming `path` and the first row at fault."""
     for name, values in checked.items():
         bad = ~np.isfinite(values)
         if bad.any():
             row = int(np.argwhere(bad)[0][0])
             raise _problem(path, f"dataset {name!r} holds NaN or infinite values (first at row {row})")
-    outside = pressure_outside_range(run.pressure)
+    outside = pressure_outside_range(pressure)
     if outside is not None:
         row, column, value = outside
         raise _problem(path, f"dataset 'pressure' holds {value:.6g} Pa at row {row}, column {column}: "
                              f"{PRESSURE_PROBLEM}")
-    if not np.isfinite(run.time).all():
+    if not np.isfinite(time).all():
         raise _problem(path, "dataset 'time' holds NaN or infinite values")
-    steps = np.diff(run.time)
+    steps = np.diff(time)
     if (steps < 0).any():
         row = int(np.argmax(steps < 0)) + 1
         raise _problem(path, f"dataset 'time' decreases at row {row}")

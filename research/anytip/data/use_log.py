@@ -18,15 +18,15 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from anytip.data.arrays import rest_reading
 from anytip.data.contact import ContactDetector
 from anytip.data.runfile import (
-    PRESSURE_PROBLEM,
     RunFormatError,
     check_sensor_id,
     check_size,
     check_text,
+    check_values,
     parse_created,
-    pressure_outside_range,
     read_dataset,
     read_hdf5,
     root_attrs,
@@ -80,17 +80,15 @@ DETECTOR = ContactDetector()
 
 def use_rows(log: UseLog, seconds: float, detector: ContactDetector = DETECTOR) -> tuple[np.ndarray, float]:
     """The log's ordinary use as a calibration reads it: the pressures (n, C) float32 Pa of the rows
-    `detector` finds in contact, tared by the mean of the rows before its first contact, in recorded
-    order up to `seconds` of contact; and their contact seconds (rows over the sample rate). None found:
-    (0, C) and 0."""
+    `detector` finds in contact, tared as a run's rows are (`arrays.rest_reading`: the mean of the rows
+    before its first contact), in recorded order up to `seconds` of contact; and their contact seconds
+    (rows over the sample rate). None found: (0, C) and 0."""
     contact = detector.contact(log.time, log.pressure, log.sample_rate_hz)
     if not contact.any():
         return np.zeros((0, log.pressure.shape[1]), np.float32), 0.0
-    first = int(np.argmax(contact))
-    rest = log.pressure[:first] if first else log.pressure[log.time - log.time[0] < detector.rest_s]
+    rest = rest_reading(log.pressure, contact, f"ordinary-use log of {log.sensor_id}", log.time)
     rows = np.flatnonzero(contact)[: max(1, int(math.floor(seconds * log.sample_rate_hz)))]
-    tared = (log.pressure[rows].astype(np.float64) - rest.astype(np.float64).mean(0)).astype(np.float32)
-    return tared, len(rows) / log.sample_rate_hz
+    return (log.pressure[rows].astype(np.float64) - rest).astype(np.float32), len(rows) / log.sample_rate_hz
 
 
 def _read_open(f: h5py.File, path: Path) -> UseLog:
@@ -134,14 +132,5 @@ def _check(log: UseLog, path: Path) -> None:
     if log.temperature is not None and np.shape(log.temperature) != pressure.shape:
         raise RunFormatError(path, f"dataset 'temperature' must have shape {pressure.shape}, "
                                    f"got {np.shape(log.temperature)}")
-    for name, values in (("time", time), ("pressure", pressure), ("temperature", log.temperature)):
-        if values is not None and not np.isfinite(values).all():
-            row = int(np.argwhere(~np.isfinite(np.asarray(values)))[0][0])
-            raise RunFormatError(path, f"dataset {name!r} holds NaN or infinite values (first at row {row})")
-    outside = pressure_outside_range(pressure)
-    if outside is not None:
-        row, column, value = outside
-        raise RunFormatError(path, f"dataset 'pressure' holds {value:.6g} Pa at row {row}, column {column}: "
-                                   f"{PRESSURE_PROBLEM}")
-    if (np.diff(time) < 0).any():
-        raise RunFormatError(path, f"dataset 'time' decreases at row {int(np.argmax(np.diff(time) < 0)) + 1}")
+    temperature = {} if log.temperature is None else {"temperature": np.asarray(log.temperature)}
+    check_values(path, time, pressure, {"pressure": pressure} | temperature)
