@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from anytip.data.contact import ContactDetector
 from anytip.data.simulated import as_run
 from anytip.sensor.fleet import FleetConfig
 from anytip.sensor.simulate import draw_unit, simulate_unit, unit_rng
@@ -30,20 +31,11 @@ TUNING = [f"SIM40-{i:03d}" for i in (36, 39, 41, 42, 46, 47, 50, 51)]  # fold 0'
 FRACTIONS, WINDOW_S, THRESHOLD_PA, FIRM_KEPT = (0.05, 0.1, 0.2, 0.3), 2.0, 200.0, 0.99
 
 
-def deviation(run) -> np.ndarray:  # noqa: ANN001 - a CalibrationRun
-    """(n,) Pa: each row's largest deviation from entry 176's tracked rest baseline (200 Pa)."""
-    t, p = run.time, run.pressure.astype(np.float64)
-    rest = p[t - t[0] < E176["REST_S"]].mean(0)
-    fixed = (np.abs(p - rest) > THRESHOLD_PA).any(1)
-    return np.abs(p - E176["tracking_baseline"](t, p, ~fixed)).max(1)
-
-
 def trimmed_contact(run, f: float) -> np.ndarray:  # noqa: ANN001 - a CalibrationRun
-    """(n,) bool: rows over 200 Pa from the tracked baseline and at least f of the preceding window's peak."""
-    m = deviation(run)
-    width = max(1, int(round(WINDOW_S * run.sample_rate_hz)))
-    recent = np.lib.stride_tricks.sliding_window_view(np.pad(m, (width - 1, 0)), width).max(1)
-    return (m > THRESHOLD_PA) & (m >= f * recent)
+    """(n,) bool: the detector at fraction f (`anytip.data.contact.ContactDetector`, which holds this entry's
+    detector since: rows over 200 Pa from the tracked baseline and at least f of the preceding 2 s's peak)."""
+    detector = ContactDetector(threshold_pa=THRESHOLD_PA, fraction=f, window_s=WINDOW_S)
+    return detector.contact(run.time, run.pressure, run.sample_rate_hz)
 
 
 def sessions(units: list[str]) -> list:
