@@ -139,10 +139,9 @@ def _use_logs(paths: Sequence[str | Path], unit: str, use_seconds: float, arrays
     AnytipError naming the file where one is another unit's or sensor's, or where no seconds are asked."""
     if paths and use_seconds <= 0:
         raise AnytipError("--use-log is read as ordinary use: give --ordinary-use SECONDS as well")
-    logs = []
+    logs, model = [], arrays.runs[0].sensor_model  # every run of the unit's is of one sensor model
     for path in paths:
         log = read_use_log(path)
-        model = arrays.runs[0].sensor_model
         if log.sensor_id != unit or log.sensor_model != model:
             raise AnytipError(f"{path}: a log of {log.sensor_id} ({log.sensor_model}), not of unit {unit} "
                               f"({model})")
