@@ -27,10 +27,10 @@ UNITS = runpy.run_path(str(HERE / "make_registries.py"))["UNITS"]
 OUTPUTS = ("force_rmse_n", "angle_rmse_rad")
 
 
-def scored(registry: Registry, unit: str, arm: str) -> dict[str, float]:
-    """The arm's network for `unit` on the unit's full runs: {force_rmse_n, angle_rmse_rad}."""
+def scored(registry: Registry, unit: str, arm: str, root: Path = Path("build/entry178")) -> dict[str, float]:
+    """The arm's network for `unit` (under `root`) on the unit's full runs: {force_rmse_n, angle_rmse_rad}."""
     arrays = load_arrays(registry, [r for r in registry.list_runs(unit=unit) if r.protocol == "full"])
-    net = load_models(Path("build/entry178") / arm / unit / "model.safetensors")
+    net = load_models(root / arm / unit / "model.safetensors")
     X = torch.from_numpy(arrays.pressure)[None]
     pred = predict(net.model, net.in_scaler, net.out_scaler, X)[0].numpy()
     got = scores(pred, arrays.targets, arrays.layout)
