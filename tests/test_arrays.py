@@ -3,7 +3,14 @@
 import numpy as np
 import pytest
 
-from anytip.data.arrays import load_arrays, patch_index, rest_reading
+from anytip.data.arrays import (
+    CONTACT_FORCE_N,
+    CONTACT_RELEASE_N,
+    force_contact,
+    load_arrays,
+    patch_index,
+    rest_reading,
+)
 from anytip.errors import AnytipError
 
 
@@ -19,6 +26,19 @@ def test_rest_reading_uses_rows_before_first_contact():
     assert rest_reading(p, contact, "x")[0] == 2.0
     with pytest.raises(AnytipError, match="x: no contact-free rows"):
         rest_reading(p, np.ones(4, bool), "x")
+
+
+def test_force_contact_keeps_a_press_whole_where_its_reading_dithers_about_the_threshold():
+    """Without `in_contact` a contact starts at |F| >= CONTACT_FORCE_N and lasts until |F| falls below
+    CONTACT_RELEASE_N: a reading in between keeps the state before it (rest at the run's start)."""
+    lo, hi = CONTACT_RELEASE_N, CONTACT_FORCE_N
+    band = (lo + hi) / 2
+    magnitude = [0.1, band, hi, 5.0, band, hi + 0.05, band, lo - 0.01, 0.1, band, hi + 0.1]
+    force = np.zeros((len(magnitude), 3))
+    force[:, 2] = -np.array(magnitude)
+    expected = [False, False, True, True, True, True, True, False, False, False, True]
+    assert force_contact(force).tolist() == expected
+    assert force_contact(np.zeros((0, 3))).tolist() == []
 
 
 def test_load_arrays_tares_and_keeps_contact_rows(small_registry):

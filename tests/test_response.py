@@ -992,6 +992,51 @@ def test_calibrate_on_the_units_designed_runs(response_run, fleet, tmp_path, cap
     assert "plan: designed, the unit's plan40 runs" in capsys.readouterr().out
 
 
+def test_designed_runs_without_in_contact_read_their_presses_from_the_force(response_run, fleet, tmp_path):
+    """A lab's designed runs need not hold `in_contact` or `temperature` (both optional in the format):
+    their presses are then the contacts their force shows, from |F| >= CONTACT_FORCE_N until it falls
+    below CONTACT_RELEASE_N. Written as a lab writes them (the simulator's record dropped, the runs
+    marked `plan40` by hand), the unit's designed plan holds as many presses as the same runs with
+    their flag (the F/T noise on a press's ramps cuts none in pieces), each shorter (the flag also
+    holds the ramps' lowest rows), as `select_presses` reads them within the budget, every labeled
+    row bearing at least the release force and each press starting at the threshold."""
+    from anytip.data.arrays import CONTACT_FORCE_N, CONTACT_RELEASE_N
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    unit = _held_out(response_run)
+    flagged = Registry(tmp_path / "flagged")
+    shutil.copytree(fleet.root, flagged.root, dirs_exist_ok=True)
+    simulate_into(flagged, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "plan40"))
+    lab = Registry(tmp_path / "lab")
+    shutil.copytree(flagged.root, lab.root, dirs_exist_ok=True)
+    for record in lab.list_runs(unit=unit):
+        run = lab.open_run(record.run_id)
+        lab.remove(record.run_id)
+        if record.protocol == "plan40":
+            bare = replace(run, in_contact=None, temperature=None,
+                           extra={k: v for k, v in run.extra.items() if k != "simulator"})
+            (added,) = lab.add_runs([bare])
+            lab.set_protocol(added.run_id, "plan40")
+    arrays = load_arrays(lab, lab.list_runs(unit=unit))
+    assert all(r.protocol == "plan40" for r in arrays.runs)
+    stream = calibration_stream(arrays, unit, "plan40")
+    expected = select_presses(find_presses(arrays, unit, stream.outside(arrays)), 40.0, RigTiming(), "first",
+                              recorded_moves=True)
+    force = np.linalg.norm(arrays.targets[expected.rows, :3], axis=1)
+    assert expected.presses and np.all(force >= CONTACT_RELEASE_N)
+    assert np.all(force[expected.bounds[:-1]] >= CONTACT_FORCE_N)  # each press starts at the threshold
+
+    with_flag = calibrate_unit(response_run, unit, flagged, tmp_path / "a", budget_seconds=40,
+                               method="response", plan_strategy="designed")
+    bare_got = calibrate_unit(response_run, unit, lab, tmp_path / "b", budget_seconds=40, method="response")
+    assert any(n.startswith("plan: designed, the unit's plan40 runs") for n in bare_got.notes)
+    assert bare_got.response_check["presses"] == with_flag.response_check["presses"] == expected.presses
+    assert bare_got.calib_samples == len(expected.rows) < with_flag.calib_samples
+    assert bare_got.calib_seconds == pytest.approx(expected.calib_seconds) and bare_got.calib_seconds <= 40
+
+
 def test_response_transfer_calibrates_by_the_plans_its_validation_units_scored_best():
     record = {"val_loss_by_strategy": {"spread": {"40": 0.2, "120": 0.1}, "first": {"40": 0.01},
                                        "cover_informative": {"40": 0.1, "120": 0.3}},

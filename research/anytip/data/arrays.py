@@ -2,8 +2,10 @@
 
 Tare follows the firmware: each run's rest reading is subtracted, so inputs are pressure
 changes in Pa. The rest reading is the mean of the contact-free rows before the first
-contact (as the firmware's power-up mean); a run without `in_contact` tares from its
-first 0.5 s, which the format guarantees to be at rest. Only contact rows carry labels.
+contact (as the firmware's power-up mean); a run without `in_contact` finds its contacts
+from its force where it has the fingertip's (`force_contact`), and otherwise labels every row
+and tares from its first 0.5 s, which the format guarantees to be at rest. Only contact rows
+carry labels.
 Each row keeps the index of its unit, its run and its patch, so every split can be made
 by unit and by patch: the fingertip's patches are cells of its contact angles; a sensor
 model without that grid is cut into contiguous blocks of rows within each run.
@@ -24,6 +26,7 @@ PATCH_DEG = 15.0
 THETA_MIN_DEG, PHI_MIN_DEG = -45.0, -135.0
 PATCH_GRID = (6, 12)  # theta cells x phi cells of the sensing region
 CONTACT_FORCE_N = 0.5  # |F| threshold that marks contact when a run with `force` has no in_contact
+CONTACT_RELEASE_N = 0.25  # ... and the |F| below which such a contact ends (`force_contact`)
 REST_S = 0.5  # a run starts with at least this long at rest (the format's promise)
 BLOCKS_PER_RUN = 16  # the blocked split's patches: contiguous blocks of each run's label rows
 # the fingertip's columns, in the order of FleetArrays.targets: force in N, then angles in rad
@@ -140,13 +143,31 @@ def block_index(n: int) -> np.ndarray:
 
 
 def contact_mask(run: CalibrationRun) -> np.ndarray:
-    """(n,) bool label rows: the run's `in_contact` flag; without it, |F| >= CONTACT_FORCE_N
-    for a run with the fingertip's `force` target, else every row (as the format says)."""
+    """(n,) bool label rows: the run's `in_contact` flag; without it, the contacts its force
+    reading shows (`force_contact`) for a run with the fingertip's `force` target, else every
+    row (as the format says)."""
     if run.in_contact is not None:
         return run.in_contact.astype(bool)
     if "force" in run.targets and run.targets["force"].layout == V1_LAYOUT["force"]:
-        return np.linalg.norm(run.force, axis=1) >= CONTACT_FORCE_N
+        return force_contact(run.force)
     return np.ones(len(run.time), bool)
+
+
+def force_contact(force: np.ndarray) -> np.ndarray:
+    """(n,) bool: the rows in contact by a force reading (n, 3) N, with hysteresis: a contact starts
+    at a row where |F| >= CONTACT_FORCE_N and lasts until |F| falls below CONTACT_RELEASE_N. An F/T
+    sensor's noise on a press's loading and unloading ramps crosses a single threshold several times
+    and would cut one press into fragments, each counted as a press of its own by a plan; the run
+    starts at rest (the format's promise), so a row in the band before any contact is rest."""
+    magnitude = np.linalg.norm(force, axis=1)
+    event = np.full(len(magnitude), -1, np.int8)  # -1: in the band, keep the state before
+    event[magnitude < CONTACT_RELEASE_N] = 0
+    event[magnitude >= CONTACT_FORCE_N] = 1
+    if not len(event):
+        return np.zeros(0, bool)
+    event[0] = max(event[0], 0)
+    last = np.maximum.accumulate(np.where(event >= 0, np.arange(len(event)), 0))
+    return event[last] == 1
 
 
 def rest_rows(contact: np.ndarray, time: np.ndarray | None = None) -> np.ndarray:
