@@ -6,6 +6,7 @@ import pytest
 from anytip.data.arrays import (
     CONTACT_FORCE_N,
     CONTACT_RELEASE_N,
+    REST_S,
     force_contact,
     load_arrays,
     patch_index,
@@ -30,15 +31,21 @@ def test_rest_reading_uses_rows_before_first_contact():
 
 def test_force_contact_keeps_a_press_whole_where_its_reading_dithers_about_the_threshold():
     """Without `in_contact` a contact starts at |F| >= CONTACT_FORCE_N and lasts until |F| falls below
-    CONTACT_RELEASE_N: a reading in between keeps the state before it (rest at the run's start)."""
+    CONTACT_RELEASE_N, the reading taken from its median over the run's first REST_S seconds at rest:
+    an F/T offset over the threshold is no contact, and a reading in between keeps the state before."""
     lo, hi = CONTACT_RELEASE_N, CONTACT_FORCE_N
     band = (lo + hi) / 2
+    rest = int(REST_S * 200)
     magnitude = [0.1, band, hi, 5.0, band, hi + 0.05, band, lo - 0.01, 0.1, band, hi + 0.1]
-    force = np.zeros((len(magnitude), 3))
-    force[:, 2] = -np.array(magnitude)
-    expected = [False, False, True, True, True, True, True, False, False, False, True]
-    assert force_contact(force).tolist() == expected
-    assert force_contact(np.zeros((0, 3))).tolist() == []
+    expected = [False] * rest + [False, False, True, True, True, True, True, False, False, False, True]
+    offset = np.array([0.4, -0.3, 0.2])  # |offset| 0.54 N, over the threshold by itself
+    force = np.tile(offset, (rest + len(magnitude), 1))
+    force[rest:, 2] -= magnitude
+    force[rest // 4, 2] -= 1.0  # one row of the rest in contact, as a file may break the promise
+    time = np.arange(len(force)) / 200.0
+    expected[rest // 4] = True
+    assert force_contact(force, time).tolist() == expected
+    assert force_contact(np.zeros((0, 3)), np.zeros(0)).tolist() == []
 
 
 def test_load_arrays_tares_and_keeps_contact_rows(small_registry):

@@ -149,22 +149,26 @@ def contact_mask(run: CalibrationRun) -> np.ndarray:
     if run.in_contact is not None:
         return run.in_contact.astype(bool)
     if "force" in run.targets and run.targets["force"].layout == V1_LAYOUT["force"]:
-        return force_contact(run.force)
+        return force_contact(run.force, run.time)
     return np.ones(len(run.time), bool)
 
 
-def force_contact(force: np.ndarray) -> np.ndarray:
-    """(n,) bool: the rows in contact by a force reading (n, 3) N, with hysteresis: a contact starts
-    at a row where |F| >= CONTACT_FORCE_N and lasts until |F| falls below CONTACT_RELEASE_N. An F/T
-    sensor's noise on a press's loading and unloading ramps crosses a single threshold several times
-    and would cut one press into fragments, each counted as a press of its own by a plan; the run
-    starts at rest (the format's promise), so a row in the band before any contact is rest."""
-    magnitude = np.linalg.norm(force, axis=1)
+def force_contact(force: np.ndarray, time: np.ndarray) -> np.ndarray:
+    """(n,) bool: the rows in contact by a force reading (n, 3) N at `time` (n,) s. The reading is
+    taken from its zero, each component's median over the run's first REST_S seconds (at rest, the
+    format's promise; the median stands where a file breaks it for under half of them), so an F/T
+    sensor's offset is no contact. With hysteresis: a contact starts at a row where |F| >=
+    CONTACT_FORCE_N and lasts until |F| falls below CONTACT_RELEASE_N. The sensor's noise on a
+    press's loading and unloading ramps crosses a single threshold several times and would cut one
+    press into fragments, each counted as a press of its own by a plan; a row in the band before
+    any contact is rest."""
+    if not len(force):
+        return np.zeros(0, bool)
+    zero = np.median(force[time - time[0] < REST_S], axis=0)
+    magnitude = np.linalg.norm(force - zero, axis=1)
     event = np.full(len(magnitude), -1, np.int8)  # -1: in the band, keep the state before
     event[magnitude < CONTACT_RELEASE_N] = 0
     event[magnitude >= CONTACT_FORCE_N] = 1
-    if not len(event):
-        return np.zeros(0, bool)
     event[0] = max(event[0], 0)
     last = np.maximum.accumulate(np.where(event >= 0, np.arange(len(event)), 0))
     return event[last] == 1
