@@ -569,6 +569,25 @@ def _held_out(run: Path) -> str:
     return _held_out_units(run)[0]
 
 
+@pytest.fixture(scope="module")
+def designed_fleet(fleet, tmp_path_factory) -> Registry:
+    """The fleet with each unit's short and quick runs and its designed calibration of 40 s (`plan40`, what
+    `anytip calibrate --plan 40` writes for the rig) simulated after them."""
+    from anytip.data.simulated import simulate_into
+    from anytip.sensor.fleet import FleetConfig
+    from test_cross_sensor import QUICK
+
+    registry = _copied(fleet, tmp_path_factory.mktemp("designed") / "registry")
+    simulate_into(registry, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "plan40"))
+    return registry
+
+
+def _copied(registry: Registry, root: Path) -> Registry:
+    """A registry at `root` holding a copy of `registry`'s catalog and runs."""
+    shutil.copytree(registry.root, root, dirs_exist_ok=True)
+    return Registry(root)
+
+
 def test_calibrate_by_response_writes_the_units_own_network(response_run, fleet, tmp_path, capsys):
     unit = _held_out(response_run)
     assert main(["calibrate", "--model", str(response_run), "--unit", unit, "--budget-seconds", "40",
@@ -919,7 +938,7 @@ def test_calibrate_by_response_reads_the_records_of_the_plans_it_makes(response_
     assert got.intervals["fleet_factor"] == meta["intervals"]["fleet_factor_by_strategy"]["first"]["40"]
 
 
-def test_calibrate_on_the_units_designed_runs(response_run, fleet, tmp_path, capsys):
+def test_calibrate_on_the_units_designed_runs(response_run, designed_fleet, tmp_path, capsys):
     """A new unit whose runs are its designed calibration alone (`plan40`, what `anytip calibrate --plan 40`
     writes for the rig) is calibrated on them as the benchmark's `designed` rows read them: every press of
     those runs in recorded order within the budget, each paying its recorded lead as its move, under the
@@ -928,16 +947,9 @@ def test_calibrate_on_the_units_designed_runs(response_run, fleet, tmp_path, cap
     to read, or a budget in samples are refused by name. With its other runs kept, `--plan-strategy
     designed` reads the same plan, draws ordinary use from the other runs and checks the network on those
     of their rows it did not read."""
-    from anytip.data.simulated import simulate_into
-    from anytip.sensor.fleet import FleetConfig
-    from test_cross_sensor import QUICK
-
     unit = _held_out(response_run)
-    both = Registry(tmp_path / "both")
-    shutil.copytree(fleet.root, both.root, dirs_exist_ok=True)
-    simulate_into(both, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "plan40"))
-    alone = Registry(tmp_path / "alone")
-    shutil.copytree(both.root, alone.root, dirs_exist_ok=True)
+    both = _copied(designed_fleet, tmp_path / "both")
+    alone = _copied(designed_fleet, tmp_path / "alone")
     for run in alone.list_runs(unit=unit):
         if run.protocol != "plan40":
             alone.remove(run.run_id)
@@ -992,7 +1004,8 @@ def test_calibrate_on_the_units_designed_runs(response_run, fleet, tmp_path, cap
     assert "plan: designed, the unit's plan40 runs" in capsys.readouterr().out
 
 
-def test_designed_runs_without_in_contact_read_their_presses_from_the_force(response_run, fleet, tmp_path):
+def test_designed_runs_without_in_contact_read_their_presses_from_the_force(response_run, designed_fleet,
+                                                                            tmp_path):
     """A lab's designed runs need not hold `in_contact` or `temperature` (both optional in the format):
     their presses are then the contacts their force shows (`force_contact`). Written as a lab writes
     them (the simulator's record dropped, the runs marked `plan40` by hand), the runs hold as many
@@ -1000,16 +1013,9 @@ def test_designed_runs_without_in_contact_read_their_presses_from_the_force(resp
     contacts nor cut a press in pieces), and the unit's designed plan reads them as `select_presses`
     does within the budget: as many presses as with the flag, each shorter (the flag also holds the
     ramps' lowest rows)."""
-    from anytip.data.simulated import simulate_into
-    from anytip.sensor.fleet import FleetConfig
-    from test_cross_sensor import QUICK
-
     unit = _held_out(response_run)
-    flagged = Registry(tmp_path / "flagged")
-    shutil.copytree(fleet.root, flagged.root, dirs_exist_ok=True)
-    simulate_into(flagged, FleetConfig(), 8, seed=11, protocols=("short", QUICK, "plan40"))
-    lab = Registry(tmp_path / "lab")
-    shutil.copytree(flagged.root, lab.root, dirs_exist_ok=True)
+    flagged = _copied(designed_fleet, tmp_path / "flagged")
+    lab = _copied(designed_fleet, tmp_path / "lab")
     for record in lab.list_runs(unit=unit):
         run = lab.open_run(record.run_id)
         lab.remove(record.run_id)
