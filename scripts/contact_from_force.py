@@ -1,9 +1,10 @@
 """How a run without `in_contact` finds its contacts from its force reading, against the flag its
 simulator wrote: per protocol, the flagged presses cut into more than one found contact, those missed,
 found contacts that join flagged presses, found contacts outside every flagged row, and the found rows
-outside the flag as a share of the flag's. Three rules: one threshold at CONTACT_FORCE_N on the raw
-reading (the rule before `force_contact`), the same on the reading taken from its rest median, and
-`force_contact` (that, with hysteresis down to CONTACT_RELEASE_N).
+outside the flag as a share of the flag's. Four rules: one threshold at CONTACT_FORCE_N on the raw
+reading (the rule before `force_contact`), the same on the reading taken from its rest median, that with
+hysteresis down to CONTACT_RELEASE_N, and `force_contact` (the two thresholds scaled up to the sensor's
+noise at rest where it is larger).
 
     python scripts/contact_from_force.py data/fleet88p full,short,plan120,plan60 60
 """
@@ -15,7 +16,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from anytip.data.arrays import CONTACT_FORCE_N, REST_S, force_contact
+from anytip.data.arrays import CONTACT_FORCE_N, CONTACT_RELEASE_N, REST_S, force_contact
 from anytip.data.registry import Registry
 
 
@@ -25,6 +26,15 @@ def one_threshold(tared: bool) -> Callable[[np.ndarray, np.ndarray], np.ndarray]
         zero = np.median(force[time - time[0] < REST_S], axis=0) if tared else 0.0
         return np.linalg.norm(force - zero, axis=1) >= CONTACT_FORCE_N
     return rule
+
+
+def fixed_hysteresis(force: np.ndarray, time: np.ndarray) -> np.ndarray:
+    """`force_contact` without its noise scaling: from the rest median, on at CONTACT_FORCE_N, off
+    below CONTACT_RELEASE_N."""
+    magnitude = np.linalg.norm(force - np.median(force[time - time[0] < REST_S], axis=0), axis=1)
+    event = np.where(magnitude >= CONTACT_FORCE_N, 1, np.where(magnitude < CONTACT_RELEASE_N, 0, -1))
+    event[0] = max(event[0], 0)
+    return event[np.maximum.accumulate(np.where(event >= 0, np.arange(len(event)), 0))] == 1
 
 
 def segments(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -53,7 +63,7 @@ def compare(flag: np.ndarray, found: np.ndarray) -> np.ndarray:
 def main(root: str, protocols: str, per_protocol: int) -> None:
     registry = Registry(root)
     rules = {"one threshold, raw": one_threshold(False), "one threshold, from rest": one_threshold(True),
-             "force_contact": force_contact}
+             "two fixed thresholds, from rest": fixed_hysteresis, "force_contact": force_contact}
     print("| protocol | runs | rule | flagged presses | split | missed | found joining presses | "
           "found outside the flag | found rows outside the flag |")
     print("|---|---|---|---|---|---|---|---|---|")

@@ -31,8 +31,9 @@ def test_rest_reading_uses_rows_before_first_contact():
 
 def test_force_contact_keeps_a_press_whole_where_its_reading_dithers_about_the_threshold():
     """Without `in_contact` a contact starts at |F| >= CONTACT_FORCE_N and lasts until |F| falls below
-    CONTACT_RELEASE_N, the reading taken from its median over the run's first REST_S seconds at rest:
-    an F/T offset over the threshold is no contact, and a reading in between keeps the state before."""
+    CONTACT_RELEASE_N (a noiseless reading: the thresholds' floors), the reading taken from its median
+    over the run's first REST_S seconds at rest: an F/T offset over the threshold is no contact, and a
+    reading in between keeps the state before."""
     lo, hi = CONTACT_RELEASE_N, CONTACT_FORCE_N
     band = (lo + hi) / 2
     rest = int(REST_S * 200)
@@ -46,6 +47,40 @@ def test_force_contact_keeps_a_press_whole_where_its_reading_dithers_about_the_t
     expected[rest // 4] = True
     assert force_contact(force, time).tolist() == expected
     assert force_contact(np.zeros((0, 3)), np.zeros(0)).tolist() == []
+
+
+def test_force_contact_reads_a_noisy_sensor_by_its_own_noise():
+    """An F/T sensor with 0.3 N of noise per axis and an offset: its contacts start at 7 and end at 3.5
+    times the noise its first 0.5 s at rest show, so five trapezoid presses of 5 N are five contacts,
+    each within its press, where the fixed thresholds alone find contacts all through the rest."""
+    g = np.random.default_rng(0)
+    time = np.arange(int(12 * 200)) / 200.0
+    truth = np.zeros_like(time)
+    for start in (1.0, 3.0, 5.0, 7.0, 9.0):  # 0.1 s ramps either side of 0.8 s at 5 N
+        truth += 5 * np.clip(np.minimum(time - start, start + 1.0 - time) / 0.1, 0, 1)
+    force = np.array([0.5, -0.2, 0.3]) + 0.3 * g.standard_normal((len(time), 3))
+    force[:, 2] -= truth
+    found = force_contact(force, time)
+    edges = np.diff(np.concatenate([[0], found.astype(int), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    assert len(starts) == 5 and all(truth[a:b].min() > 0 for a, b in zip(starts, ends, strict=True))
+    fixed = np.linalg.norm(force - np.median(force[time < REST_S], axis=0), axis=1) >= CONTACT_FORCE_N
+    assert np.count_nonzero(fixed & (truth == 0)) > 100
+
+
+def test_a_run_whose_force_cannot_show_its_contacts_is_refused_by_name(tmp_path):
+    """A run without `in_contact` whose force spreads over its first 0.5 s (at rest, the format says) by as
+    much as a contact's threshold: no threshold tells its contacts from that, and reading it says so."""
+    from anytip.data.registry import Registry
+    from run_factory import make_run
+
+    registry = Registry(tmp_path / "r")
+    registry.add_runs([make_run("LAB-1", n=600, optional=False)])  # random forces from its first row
+    (record,) = registry.list_runs()
+    said = (rf"run {record.run_id}: it has no in_contact, and its force over its first 0.5 s, which the "
+            r"format keeps at rest, spreads by [0-9.]+ N per axis")
+    with pytest.raises(AnytipError, match=said):
+        load_arrays(registry, [record])
 
 
 def test_load_arrays_tares_and_keeps_contact_rows(small_registry):

@@ -323,8 +323,11 @@ def test_a_labs_test_session_marked_in_the_registry_joins_its_test_rows_on_runs_
     from run_factory import make_run
 
     registry = Registry(tmp_path / "r")
-    registry.add_runs([make_run(f"LAB-{u}", 0.0, f"2024-05-0{k + 1}T12:00:00Z", n=600, seed=10 * u + k,
-                                source="rig", optional=False) for u in range(4) for k in range(2)])
+    runs = [make_run(f"LAB-{u}", 0.0, f"2024-05-0{k + 1}T12:00:00Z", n=600, seed=10 * u + k, source="rig",
+                     optional=False) for u in range(4) for k in range(2)]
+    for run in runs:
+        run.force[run.time < 0.5] = 0.0  # the format's half second at rest before any contact
+    registry.add_runs(runs)
     for u in range(4):
         registry.set_protocol(max(r.run_id for r in registry.list_runs(unit=f"LAB-{u}")), "retest")
     arrays = load_arrays(registry, registry.list_runs())

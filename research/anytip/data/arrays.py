@@ -27,6 +27,8 @@ THETA_MIN_DEG, PHI_MIN_DEG = -45.0, -135.0
 PATCH_GRID = (6, 12)  # theta cells x phi cells of the sensing region
 CONTACT_FORCE_N = 0.5  # |F| threshold that marks contact when a run with `force` has no in_contact
 CONTACT_RELEASE_N = 0.25  # ... and the |F| below which such a contact ends (`force_contact`)
+ONSET_SIGMAS, RELEASE_SIGMAS = 7.0, 3.5  # the same in units of the F/T noise at rest, where larger
+MAD_TO_SIGMA = 1.4826  # a Gaussian's standard deviation over its median absolute deviation
 REST_S = 0.5  # a run starts with at least this long at rest (the format's promise)
 BLOCKS_PER_RUN = 16  # the blocked split's patches: contiguous blocks of each run's label rows
 # the fingertip's columns, in the order of FleetArrays.targets: force in N, then angles in rad
@@ -142,33 +144,48 @@ def block_index(n: int) -> np.ndarray:
     return (np.arange(n) * BLOCKS_PER_RUN // max(n, 1)).astype(np.int16)
 
 
-def contact_mask(run: CalibrationRun) -> np.ndarray:
+def contact_mask(run: CalibrationRun, name: str = "run") -> np.ndarray:
     """(n,) bool label rows: the run's `in_contact` flag; without it, the contacts its force
     reading shows (`force_contact`) for a run with the fingertip's `force` target, else every
-    row (as the format says)."""
+    row (as the format says). AnytipError naming the run (`name`) where its force cannot show them."""
     if run.in_contact is not None:
         return run.in_contact.astype(bool)
     if "force" in run.targets and run.targets["force"].layout == V1_LAYOUT["force"]:
-        return force_contact(run.force, run.time)
+        try:
+            return force_contact(run.force, run.time)
+        except ValueError as e:
+            raise AnytipError(f"{name}: {e}") from None
     return np.ones(len(run.time), bool)
 
 
 def force_contact(force: np.ndarray, time: np.ndarray) -> np.ndarray:
-    """(n,) bool: the rows in contact by a force reading (n, 3) N at `time` (n,) s. The reading is
-    taken from its zero, each component's median over the run's first REST_S seconds (at rest, the
-    format's promise; the median stands where a file breaks it for under half of them), so an F/T
-    sensor's offset is no contact. With hysteresis: a contact starts at a row where |F| >=
-    CONTACT_FORCE_N and lasts until |F| falls below CONTACT_RELEASE_N. The sensor's noise on a
-    press's loading and unloading ramps crosses a single threshold several times and would cut one
-    press into fragments, each counted as a press of its own by a plan; a row in the band before
-    any contact is rest."""
+    """(n,) bool: the rows in contact by a force reading (n, 3) N at `time` (n,) s.
+
+    The run's first REST_S seconds are at rest (the format's promise). Each component's median over
+    them is the reading's zero, so an F/T sensor's offset is no contact; 1.4826 times each
+    component's median absolute deviation there is its noise (Gaussian), s the largest. Both stand
+    where a file breaks the promise for under half of those rows. A contact starts at a row where
+    |F - zero| >= max(CONTACT_FORCE_N, 7 s) and lasts until it falls below max(CONTACT_RELEASE_N,
+    3.5 s). At rest 3D Gaussian noise passes 7 s with a chance of 1.3e-10 a row (no contact out of
+    noise) and stays over 3.5 s with 0.0066 (a press ends within a row or two of its force). The two
+    thresholds keep the noise on a press's loading and unloading ramps from cutting one press into
+    fragments, each counted as a press of its own by a plan; a row in between before any contact is
+    rest. ValueError where s reaches CONTACT_FORCE_N: no threshold then tells a contact from the noise
+    (or the first REST_S seconds were not at rest)."""
     if not len(force):
         return np.zeros(0, bool)
-    zero = np.median(force[time - time[0] < REST_S], axis=0)
+    rest = force[time - time[0] < REST_S]
+    zero = np.median(rest, axis=0)
+    noise = float((MAD_TO_SIGMA * np.median(np.abs(rest - zero), axis=0)).max())
+    if noise >= CONTACT_FORCE_N:
+        raise ValueError(f"it has no in_contact, and its force over its first {REST_S:g} s, which the format "
+                         f"keeps at rest, spreads by {noise:.3g} N per axis, as much as a contact's "
+                         f"{CONTACT_FORCE_N:g} N: its contacts cannot be told from its force (start the run "
+                         f"with {REST_S:g} s at rest, or give it an in_contact dataset)")
     magnitude = np.linalg.norm(force - zero, axis=1)
     event = np.full(len(magnitude), -1, np.int8)  # -1: in the band, keep the state before
-    event[magnitude < CONTACT_RELEASE_N] = 0
-    event[magnitude >= CONTACT_FORCE_N] = 1
+    event[magnitude < max(CONTACT_RELEASE_N, RELEASE_SIGMAS * noise)] = 0
+    event[magnitude >= max(CONTACT_FORCE_N, ONSET_SIGMAS * noise)] = 1
     event[0] = max(event[0], 0)
     last = np.maximum.accumulate(np.where(event >= 0, np.arange(len(event)), 0))
     return event[last] == 1
@@ -215,7 +232,7 @@ def load_arrays(registry: Registry, runs: Sequence[RunRecord]) -> FleetArrays:
         elif run.target_layout != layout:
             raise AnytipError(f"run {rec.run_id}: targets differ from the other runs of sensor model "
                               f"{rec.sensor_model!r}; a sensor model has one layout")
-        contact = contact_mask(run)
+        contact = contact_mask(run, f"run {rec.run_id}")
         tare = rest_reading(run.pressure, contact, f"run {rec.run_id}", run.time)
         tares.append(tare)
         n = int(contact.sum())

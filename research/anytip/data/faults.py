@@ -78,7 +78,7 @@ def rest_rows(registry: Registry, runs: Sequence[RunRecord]) -> np.ndarray:
     parts = []
     for rec in runs:
         run = registry.open_run(rec.run_id)
-        pressure, contact = run.pressure, contact_mask(run)
+        pressure, contact = run.pressure, contact_mask(run, f"run {rec.run_id}")
         tare = rest_reading(pressure, contact, rec.run_id, run.time)
         after = np.arange(len(contact)) > np.argmax(contact)
         parts.append((pressure[after & ~contact] - tare).astype(np.float32))
@@ -123,7 +123,7 @@ def run_streams(registry: Registry, runs: Sequence[RunRecord], indices: Sequence
         if run.temperature is None:
             raise MissingData(f"run {rec.run_id} has no 'temperature' dataset")
         pressure, temp = run.pressure.astype(np.float64), run.temperature.astype(np.float64)
-        contact = contact_mask(run)
+        contact = contact_mask(run, f"run {rec.run_id}")
         first = int(np.argmax(contact)) if contact.any() else len(contact)
         temp = temp.reshape(len(temp), -1)
         if temp.shape[1] != pressure.shape[1]:  # one sensor for the board: every channel reads it
