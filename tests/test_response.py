@@ -1232,7 +1232,8 @@ def _lab_registry(tmp_path: Path) -> Registry:
 
 def test_a_budgets_rows_do_not_depend_on_the_other_budgets_and_distil_reads_a_labs_runs(tmp_path):
     """On runs written from the format alone: each budget's networks train apart (entry 79), so a
-    run that adds a 40 s budget gives the 20 s rows of a run without it, bit for bit; ordinary use
+    run that adds a 40 s budget gives the 20 s rows of a run without it, their plans exactly and their
+    scores within float32 rounding; ordinary use
     distilled into the unit's network (`distil: fitted`) scores every held-out unit at both budgets
     and `anytip calibrate` reads it so."""
     reg = _lab_registry(tmp_path)
@@ -1248,8 +1249,15 @@ def test_a_budgets_rows_do_not_depend_on_the_other_budgets_and_distil_reads_a_la
     scored = ("_rmse", "_rmse_n", "_halfwidth", "response_residual_pa", "unit", "method", "calib_samples")
     at20 = {b: [{k: v for k, v in r.items() if k.endswith(scored)} for r in got
                 if r["method"].startswith("response") and r["budget_s"] == 20] for b, got in rows.items()}
-    # errors, widths and plans alike (the coverage diagnostics redraw test patches by the run's job count)
-    assert len(at20[(0, 20)]) == 4 and at20[(0, 20)] == at20[(0, 20, 40)]
+    # errors, widths and plans alike (the coverage diagnostics redraw test patches by the run's job count),
+    # each score within float32 rounding: the networks are scored as one batched model of every job, whose
+    # kernels may round a row's prediction in its last bit otherwise when the batch holds more networks;
+    # a network trained otherwise would move them by orders of magnitude more
+    assert len(at20[(0, 20)]) == 4
+    for alone, beside in zip(at20[(0, 20)], at20[(0, 20, 40)], strict=True):
+        assert alone.keys() == beside.keys()
+        assert alone == {k: pytest.approx(v, rel=1e-6) if isinstance(v, float) else v
+                         for k, v in beside.items()}
     test = _held_out_units(runs[(0, 20)])
     for budget in (20, 40):
         got = {r["unit"]: r for r in rows[(0, 20, 40)]
