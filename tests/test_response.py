@@ -1836,6 +1836,16 @@ def _calibrate_with_a_use_log(run: Path, fleet: Registry, unit: str, tmp_path: P
     assert 0 < got.unlabeled_seconds <= 15 and got.unlabeled_samples == round(got.unlabeled_seconds * 200)
     saved = load_models(tmp_path / "logged").meta
     assert saved["method"] == "response+use" and saved["codes"] != plain
+    # asked for more than the logs hold, the rows weigh as the seconds they hold: the same codes as asked
+    # for just those seconds, and a note says what was read of what was asked
+    held = calibrate_unit(run, unit, fleet, tmp_path / "held", budget_seconds=40, use_seconds=600,
+                          use_logs=logs)
+    exact = calibrate_unit(run, unit, fleet, tmp_path / "exact", budget_seconds=40,
+                           use_seconds=held.unlabeled_seconds + 1e-3, use_logs=logs)
+    assert 15 < held.unlabeled_seconds < 600 and exact.unlabeled_samples == held.unlabeled_samples
+    assert load_models(tmp_path / "held").meta["codes"] == load_models(tmp_path / "exact").meta["codes"]
+    said = f"ordinary use: {held.unlabeled_seconds:.1f} s of contact read of the 600 s asked"
+    assert any(n.startswith(said) for n in held.notes)
     other = next(u for u in {r.unit for r in fleet.list_runs()} if u != unit)
     stranger = write_use_log(replace(log, sensor_id=other), tmp_path / "stranger.h5")
     with pytest.raises(AnytipError, match=f"stranger.h5: a log of {other}"):

@@ -198,6 +198,9 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         given, used, distilled = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays,
                                                  (use.stream or stream, use.logs),
                                                  Labeled(X, Y, plan.n_effective), seed)
+        if used.contact_seconds < use.seconds:
+            notes.append(f"ordinary use: {used.contact_seconds:.1f} s of contact read of the {use.seconds:g} "
+                         "s asked, weighed as what was read")
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
                                         extra=[distilled])
@@ -337,7 +340,8 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
     """The unit's codes (1, C, k) from its ordinary use and its plan's labeled rows `plan` (none:
     label-free), the ordinary use read, and the rows it adds to the unit's network (`distilled_rows`; None
     unless the benchmark distilled with a plan). `where`: the stream whose whole presses are read, labels
-    unread, or the unit's ordinary-use logs, whose contacts are found from their pressures (`use_rows`)."""
+    unread, or the unit's ordinary-use logs, whose contacts are found from their pressures (`use_rows`).
+    The rows weigh in the joint fit as the contact seconds read where those fall short of `fleet`'s."""
     stream, logs = where
     source, start = fleet_rows
     if fleet.free.distil == "oracle":
@@ -356,6 +360,8 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
     if len(P) < 2:
         where_from = "ordinary-use logs hold" if logs else "calibration stream holds"
         raise AnytipError(f"unit {stream.unit}: its {where_from} no contacts to read as ordinary use")
+    # the rows weigh as the contact seconds they hold, where fewer than asked (research log entry 184)
+    fleet = replace(fleet, free=replace(fleet.free, seconds=min(fleet.free.seconds, read.contact_seconds)))
     coder = fleet.coder if fleet.free.start == "encoder" else None
     X, Y0, _ = use_inputs(P, fleet.free, start, None, "cpu")
     try:
