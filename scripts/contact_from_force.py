@@ -16,14 +16,14 @@ from collections.abc import Callable
 
 import numpy as np
 
-from anytip.data.arrays import CONTACT_FORCE_N, CONTACT_RELEASE_N, REST_S, force_contact
+from anytip.data.arrays import CONTACT_FORCE_N, CONTACT_RELEASE_N, force_contact, force_rest, hysteresis
 from anytip.data.registry import Registry
 
 
 def one_threshold(tared: bool) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
     """|F| >= CONTACT_FORCE_N of a reading (n, 3) N at time (n,) s, from its rest median where `tared`."""
     def rule(force: np.ndarray, time: np.ndarray) -> np.ndarray:
-        zero = np.median(force[time - time[0] < REST_S], axis=0) if tared else 0.0
+        zero = force_rest(force, time)[0] if tared else 0.0
         return np.linalg.norm(force - zero, axis=1) >= CONTACT_FORCE_N
     return rule
 
@@ -31,10 +31,8 @@ def one_threshold(tared: bool) -> Callable[[np.ndarray, np.ndarray], np.ndarray]
 def fixed_hysteresis(force: np.ndarray, time: np.ndarray) -> np.ndarray:
     """`force_contact` without its noise scaling: from the rest median, on at CONTACT_FORCE_N, off
     below CONTACT_RELEASE_N."""
-    magnitude = np.linalg.norm(force - np.median(force[time - time[0] < REST_S], axis=0), axis=1)
-    event = np.where(magnitude >= CONTACT_FORCE_N, 1, np.where(magnitude < CONTACT_RELEASE_N, 0, -1))
-    event[0] = max(event[0], 0)
-    return event[np.maximum.accumulate(np.where(event >= 0, np.arange(len(event)), 0))] == 1
+    magnitude = np.linalg.norm(force - force_rest(force, time)[0], axis=1)
+    return hysteresis(magnitude, CONTACT_FORCE_N, CONTACT_RELEASE_N)
 
 
 def segments(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

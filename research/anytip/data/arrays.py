@@ -174,19 +174,33 @@ def force_contact(force: np.ndarray, time: np.ndarray) -> np.ndarray:
     (or the first REST_S seconds were not at rest)."""
     if not len(force):
         return np.zeros(0, bool)
-    rest = force[time - time[0] < REST_S]
-    zero = np.median(rest, axis=0)
-    noise = float((MAD_TO_SIGMA * np.median(np.abs(rest - zero), axis=0)).max())
+    zero, noise = force_rest(force, time)
     if noise >= CONTACT_FORCE_N:
         raise ValueError(f"it has no in_contact, and its force over its first {REST_S:g} s, which the format "
                          f"keeps at rest, spreads by {noise:.3g} N per axis, as much as a contact's "
                          f"{CONTACT_FORCE_N:g} N: its contacts cannot be told from its force (start the run "
                          f"with {REST_S:g} s at rest, or give it an in_contact dataset)")
-    magnitude = np.linalg.norm(force - zero, axis=1)
+    return hysteresis(np.linalg.norm(force - zero, axis=1), max(CONTACT_FORCE_N, ONSET_SIGMAS * noise),
+                      max(CONTACT_RELEASE_N, RELEASE_SIGMAS * noise))
+
+
+def force_rest(force: np.ndarray, time: np.ndarray) -> tuple[np.ndarray, float]:
+    """A force reading's (n, 3) N zero (3,) N, each component's median over its first REST_S seconds
+    of `time` (n,) s, and its noise there, N: the largest component's MAD_TO_SIGMA x median absolute
+    deviation (`force_contact`)."""
+    rest = force[time - time[0] < REST_S]
+    zero = np.median(rest, axis=0)
+    return zero, float((MAD_TO_SIGMA * np.median(np.abs(rest - zero), axis=0)).max())
+
+
+def hysteresis(magnitude: np.ndarray, onset: float, release: float) -> np.ndarray:
+    """(n,) bool: on from a row where `magnitude` (n,) >= `onset` until it falls below `release`; off
+    before any onset."""
     event = np.full(len(magnitude), -1, np.int8)  # -1: in the band, keep the state before
-    event[magnitude < max(CONTACT_RELEASE_N, RELEASE_SIGMAS * noise)] = 0
-    event[magnitude >= max(CONTACT_FORCE_N, ONSET_SIGMAS * noise)] = 1
-    event[0] = max(event[0], 0)
+    event[magnitude < release] = 0
+    event[magnitude >= onset] = 1
+    if len(event):
+        event[0] = max(event[0], 0)
     last = np.maximum.accumulate(np.where(event >= 0, np.arange(len(event)), 0))
     return event[last] == 1
 
