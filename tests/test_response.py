@@ -1828,7 +1828,7 @@ def _calibrate_with_a_use_log(run: Path, fleet: Registry, unit: str, tmp_path: P
     logs = []
     for record in [r for r in fleet.list_runs(unit=unit) if r.protocol == "short"]:
         r = fleet.open_run(record.run_id)
-        log = UseLog(r.sensor_id, r.sensor_model, r.sample_rate_hz, r.created, r.time, r.pressure)
+        log = UseLog.of_run(r)
         logs.append(write_use_log(log, tmp_path / f"use_{record.run_id}.h5"))
     plain = load_models(tmp_path / "plain").meta["codes"]
     got = calibrate_unit(run, unit, fleet, tmp_path / "logged", budget_seconds=40, use_seconds=15,

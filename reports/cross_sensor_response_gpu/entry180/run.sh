@@ -17,7 +17,7 @@ out.mkdir(parents=True, exist_ok=True)
 for record in registry.list_runs():
     if record.protocol == "use":
         r = registry.open_run(record.run_id)
-        log = UseLog(r.sensor_id, r.sensor_model, r.sample_rate_hz, r.created, r.time, r.pressure, r.temperature)
+        log = UseLog.of_run(r)
         write_use_log(log, out / f"{record.run_id}.h5")
 PY
 half() {  # CORE FIRST STEP

@@ -32,9 +32,7 @@ def main() -> None:
     for index in range(UNITS):
         params = draw_unit(config, unit_rng(SEED, index))
         for run in map(as_run, simulate_unit(params, USE, SEED, index, None, config.run, 100)):
-            log = UseLog(run.sensor_id, run.sensor_model, run.sample_rate_hz, run.created, run.time,
-                         run.pressure, run.temperature)
-            write_use_log(log, OUT / f"{run.sensor_id}_o{run.orientation_deg:g}.h5")
+            write_use_log(UseLog.of_run(run), OUT / f"{run.sensor_id}_o{run.orientation_deg:g}.h5")
             found = ContactDetector().contact(run.time, run.pressure, run.sample_rate_hz)
             firm = np.linalg.norm(run.force, axis=1) >= E176["FIRM_N"]
             counts += E176["score"](found, run.in_contact.astype(bool), firm)

@@ -39,10 +39,7 @@ def main(source: str, target: str) -> None:
     written = 0
     for record in reg.list_runs():
         if record.protocol == "use":
-            r = reg.open_run(record.run_id)
-            log = UseLog(r.sensor_id, r.sensor_model, r.sample_rate_hz, r.created, r.time, r.pressure,
-                         r.temperature)
-            write_use_log(log, LOGS / f"{record.run_id}.h5")
+            write_use_log(UseLog.of_run(reg.open_run(record.run_id)), LOGS / f"{record.run_id}.h5")
             written += 1
     print(f"{len(E178['UNITS'])} units; {written} use runs written as logs under {LOGS}")
 

@@ -13,12 +13,30 @@ from pathlib import Path
 
 from anytip.data.simulated import as_run
 from anytip.data.use_log import UseLog, use_rows, write_use_log
-from anytip.sensor.fleet import FleetConfig
+from anytip.sensor.fleet import FleetConfig, RunConditions
 from anytip.sensor.simulate import draw_unit, simulate_unit, unit_rng
+from anytip.sensor.variation import UnitParams
 
 HERE = Path(__file__).parent
 E178 = runpy.run_path(str(HERE.parent / "entry178" / "make_registries.py"))
 OUT = Path("build/entry185_logs")
+
+
+def more_sessions(params: UnitParams, conditions: RunConditions, unit: tuple[int, int, str], first: int,
+                  out: Path) -> list[float]:
+    """Sessions 2 and 3 of entry 177's `use` protocol for a unit (`unit`: the fleet's seed, the unit's index
+    and name; `params`, under `conditions`), their runs numbered from `first` (after session 1's three),
+    written as ordinary-use logs NAME_s2_*.h5 and NAME_s3_*.h5 under `out`; each log's contact seconds as
+    `--use-log` finds them."""
+    seed, index, name = unit
+    held = []
+    for session in (2, 3):
+        runs = simulate_unit(params, E178["USE"], seed, index, None, conditions, first + 3 * (session - 2))
+        for run in map(as_run, runs):
+            log = UseLog.of_run(run)
+            write_use_log(log, out / f"{name}_s{session}_o{run.orientation_deg:g}.h5")
+            held.append(use_rows(log, 1e9)[1])
+    return held
 
 
 def main() -> None:
@@ -27,15 +45,7 @@ def main() -> None:
     for unit in E178["UNITS"]:
         index = int(unit.split("-")[1])
         params = draw_unit(config, unit_rng(E178["SEED"], index))
-        held = []
-        for session in (2, 3):
-            first = E178["RUNS_BEFORE"] + 3 * (session - 1)
-            for run in map(as_run, simulate_unit(params, E178["USE"], E178["SEED"], index, None, config.run,
-                                                 first)):
-                log = UseLog(run.sensor_id, run.sensor_model, run.sample_rate_hz, run.created, run.time,
-                             run.pressure, run.temperature)
-                write_use_log(log, OUT / f"{unit}_s{session}_o{run.orientation_deg:g}.h5")
-                held.append(use_rows(log, 1e9)[1])
+        held = more_sessions(params, config.run, (E178["SEED"], index, unit), E178["RUNS_BEFORE"] + 3, OUT)
         print(f"{unit}: sessions 2-3, {len(held)} logs, {sum(held):.1f} contact-s found")
 
 

@@ -12,13 +12,12 @@ from __future__ import annotations
 import runpy
 from pathlib import Path
 
-from anytip.data.simulated import as_run
-from anytip.data.use_log import UseLog, use_rows, write_use_log
 from anytip.sensor.fleet import load_fleet_config
-from anytip.sensor.simulate import draw_unit, simulate_unit, unit_rng
+from anytip.sensor.simulate import draw_unit, unit_rng
 
 HERE = Path(__file__).parent
 E181 = runpy.run_path(str(HERE.parent / "entry181" / "make_logs.py"))
+E185 = runpy.run_path(str(HERE.parent / "entry185" / "make_logs.py"))
 OUT, FIRST_RUN = Path("build/entry186_logs"), 100  # entry 181's session: runs 100-102
 
 
@@ -27,16 +26,8 @@ def main() -> None:
     config = load_fleet_config(E181["FLEET"])
     for index in range(E181["UNITS"]):
         params = draw_unit(config, unit_rng(E181["SEED"], index))
-        held, unit = [], ""
-        for session in (2, 3):
-            first = FIRST_RUN + 3 * (session - 1)
-            for run in map(as_run, simulate_unit(params, E181["USE"], E181["SEED"], index, None, config.run,
-                                                 first)):
-                unit = run.sensor_id
-                log = UseLog(run.sensor_id, run.sensor_model, run.sample_rate_hz, run.created, run.time,
-                             run.pressure, run.temperature)
-                write_use_log(log, OUT / f"{unit}_s{session}_o{run.orientation_deg:g}.h5")
-                held.append(use_rows(log, 1e9)[1])
+        unit = f"SIM{E181['SEED']}-{index:03d}"
+        held = E185["more_sessions"](params, config.run, (E181["SEED"], index, unit), FIRST_RUN + 3, OUT)
         print(f"{unit}: sessions 2-3, {len(held)} logs, {sum(held):.1f} contact-s found")
 
 

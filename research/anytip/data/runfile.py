@@ -648,7 +648,7 @@ def write_run(run: CalibrationRun, path: str | Path, *, compression: str | None 
                 f.attrs[key] = value
             for name, arr in run.datasets().items():
                 dtype = DTYPES.get(name, TARGET_DTYPE)
-                _write_dataset(f, name, np.ascontiguousarray(arr, dtype=dtype), compression)
+                write_dataset(f, name, np.ascontiguousarray(arr, dtype=dtype), compression)
             if run.format_version != 1:
                 for name, t in run.targets.items():
                     node = f[f"{TARGETS_GROUP}/{name}"]
@@ -660,7 +660,7 @@ def write_run(run: CalibrationRun, path: str | Path, *, compression: str | None 
     return path
 
 
-def _write_dataset(f: h5py.File, name: str, arr: np.ndarray, compression: str | None) -> None:
+def write_dataset(f: h5py.File, name: str, arr: np.ndarray, compression: str | None = "gzip") -> None:
     """One dataset in chunks of about 256 KiB of rows, shuffled, compressed, fletcher32."""
     chunk_rows = int(min(arr.shape[0], max(1, 2**18 // max(1, arr[:1].nbytes))))
     f.create_dataset(

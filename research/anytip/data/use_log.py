@@ -21,6 +21,8 @@ import numpy as np
 from anytip.data.arrays import rest_reading
 from anytip.data.contact import ContactDetector
 from anytip.data.runfile import (
+    DTYPES,
+    CalibrationRun,
     RunFormatError,
     check_sensor_id,
     check_size,
@@ -30,6 +32,7 @@ from anytip.data.runfile import (
     read_dataset,
     read_hdf5,
     root_attrs,
+    write_dataset,
 )
 
 USE_LOG_FORMAT, USE_LOG_VERSION = "ordinary_use_log", 1
@@ -49,6 +52,13 @@ class UseLog:
     pressure: np.ndarray
     temperature: np.ndarray | None = None
 
+    @classmethod
+    def of_run(cls, run: CalibrationRun) -> UseLog:
+        """What `run`'s unit logged during it, its targets and contact flag left out: its pressures and
+        temperature as an ordinary-use log (a simulated session read as a deployed unit would log it)."""
+        return cls(run.sensor_id, run.sensor_model, run.sample_rate_hz, run.created, run.time, run.pressure,
+                   run.temperature)
+
 
 def read_use_log(path: str | Path) -> UseLog:
     """Read and check one ordinary-use log; RunFormatError naming the file and what is wrong."""
@@ -59,16 +69,16 @@ def write_use_log(log: UseLog, path: str | Path) -> Path:
     """Write `log` (checked first; nothing is left of a failed write) as an ordinary-use log at `path`."""
     path = Path(path)
     _check(log, path)
+    datasets = {"time": log.time, "pressure": log.pressure, "temperature": log.temperature}
     try:
-        with h5py.File(path, "w") as f:
+        with h5py.File(path, "w", libver=("earliest", "v110")) as f:
             for key, value in (("format", USE_LOG_FORMAT), ("format_version", USE_LOG_VERSION),
                                ("sensor_id", log.sensor_id), ("sensor_model", log.sensor_model),
                                ("sample_rate_hz", float(log.sample_rate_hz)), ("created", log.created)):
                 f.attrs[key] = value
-            f.create_dataset("time", data=np.asarray(log.time, np.float64))
-            f.create_dataset("pressure", data=np.asarray(log.pressure, np.float32))
-            if log.temperature is not None:
-                f.create_dataset("temperature", data=np.asarray(log.temperature, np.float32))
+            for name, values in datasets.items():
+                if values is not None:  # as a run's: chunked, shuffled, gzip, fletcher32
+                    write_dataset(f, name, np.ascontiguousarray(values, dtype=DTYPES[name]))
     except BaseException:
         path.unlink(missing_ok=True)
         raise
