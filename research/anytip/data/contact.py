@@ -19,6 +19,8 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.ndimage import median_filter
 
+from anytip.data.arrays import REST_S
+
 
 @dataclass(frozen=True)
 class ContactDetector:
@@ -28,7 +30,7 @@ class ContactDetector:
     threshold_pa: float = 200.0
     fraction: float = 0.1
     window_s: float = 2.0
-    rest_s: float = 0.5
+    rest_s: float = REST_S  # the run format's rest before any contact
     median_s: float = 2.0
     grid_s: float = 0.05
 
