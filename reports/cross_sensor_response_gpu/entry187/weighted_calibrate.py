@@ -1,8 +1,10 @@
-"""Research log entry 187: `anytip calibrate` with the joint fit's weights scaled, nothing else changed. The use's
-independent rows (`FleetUse.n_effective`) are multiplied by U and the plan's labeled rows' (`Labeled.n_eff`, which
-also weighs the plan's own start fit) by P, inside `unit_codes_with_use` as `anytip calibrate` calls it.
+"""Research log entry 187: `anytip calibrate` with the joint fit's weights scaled, nothing else changed. The
+use's independent rows (`FleetUse.n_effective`) are multiplied by U and the plan's labeled rows'
+(`Labeled.n_eff`, which also weighs the plan's own start fit) by P, inside `unit_codes_with_use` as `anytip
+calibrate` calls it.
 
-    python reports/cross_sensor_response_gpu/entry187/weighted_calibrate.py U P calibrate --model ... --out ...
+    python reports/cross_sensor_response_gpu/entry187/weighted_calibrate.py U P \\
+        calibrate --model ... --out ...
 """
 
 from __future__ import annotations

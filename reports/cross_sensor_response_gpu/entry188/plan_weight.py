@@ -1,8 +1,9 @@
 """Research log entry 188: `anytip calibrate` with the plan's independent rows times P where
-`calibrate_by_response` fits the unit's codes from them (the code fit and the code draws' covariance), nothing else
-changed.
+`calibrate_by_response` fits the unit's codes from them (the code fit and the code draws' covariance), nothing
+else changed.
 
-    python reports/cross_sensor_response_gpu/entry188/plan_weight.py P calibrate --model ... --out ...
+    python reports/cross_sensor_response_gpu/entry188/plan_weight.py P \\
+        calibrate --model ... --out ...
 """
 
 from __future__ import annotations
