@@ -1779,8 +1779,10 @@ def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> 
     assert codes["both"]["method"] == "response+use" and codes["plain"]["method"] == "response"
     assert codes["both"]["codes"] != codes["plain"]["codes"]
     assert both.intervals is not None and not any("no fleet factor" in n for n in both.notes)
-    alone = calibrate_unit(run, unit, fleet, tmp_path / "alone", budget_seconds=0, use_seconds=15)
-    assert alone.calib_samples == 0 and alone.unlabeled_samples > 0
+    alone = calibrate_unit(run, unit, fleet, tmp_path / "alone", budget_seconds=0, use_seconds=600)
+    assert alone.calib_samples == 0 and 0 < alone.unlabeled_seconds < 600
+    said = f"{alone.unlabeled_seconds:.1f} s of contact read of the 600 s asked (all the stream holds)"
+    assert said in " ".join(alone.notes)
     assert load_models(tmp_path / "alone").meta["method"] == "response:label_free"
     assert main(["calibrate", "--model", str(run), "--unit", unit, "--budget-seconds", "0", "--ordinary-use",
                  "15", "--registry", str(fleet.root), "--out", str(tmp_path / "cli")]) == 0
@@ -1817,6 +1819,8 @@ def _designed_plan_with_ordinary_use(run: Path, fleet: Registry, unit: str, tmp_
     assert got.calib_samples == int(np.isin(loaded.run, designed).sum())  # the whole design within 40 s
     assert 0 < got.unlabeled_seconds <= 15 and got.unlabeled_samples > 0
     assert got.check["rows"] == int((~np.isin(loaded.run, designed)).sum()) - got.unlabeled_samples
+    # whole presses stop short of the 15 s asked where the stream holds more: routine, no note
+    assert not any(n.startswith("ordinary use:") for n in got.notes)
 
 
 def _calibrate_with_a_use_log(run: Path, fleet: Registry, unit: str, tmp_path: Path) -> None:
@@ -1834,6 +1838,7 @@ def _calibrate_with_a_use_log(run: Path, fleet: Registry, unit: str, tmp_path: P
     got = calibrate_unit(run, unit, fleet, tmp_path / "logged", budget_seconds=40, use_seconds=15,
                          use_logs=logs)
     assert 0 < got.unlabeled_seconds <= 15 and got.unlabeled_samples == round(got.unlabeled_seconds * 200)
+    assert not any(n.startswith("ordinary use:") for n in got.notes)  # the logs hold more than asked
     saved = load_models(tmp_path / "logged").meta
     assert saved["method"] == "response+use" and saved["codes"] != plain
     # asked for more than the logs hold, the rows weigh as the seconds they hold: the same codes as asked
@@ -1844,7 +1849,7 @@ def _calibrate_with_a_use_log(run: Path, fleet: Registry, unit: str, tmp_path: P
                            use_seconds=held.unlabeled_seconds + 1e-3, use_logs=logs)
     assert 15 < held.unlabeled_seconds < 600 and exact.unlabeled_samples == held.unlabeled_samples
     assert load_models(tmp_path / "held").meta["codes"] == load_models(tmp_path / "exact").meta["codes"]
-    said = f"ordinary use: {held.unlabeled_seconds:.1f} s of contact read of the 600 s asked"
+    said = f"ordinary use: {held.unlabeled_seconds:.1f} s of contact read of the 600 s asked (all the logs"
     assert any(n.startswith(said) for n in held.notes)
     other = next(u for u in {r.unit for r in fleet.list_runs()} if u != unit)
     stranger = write_use_log(replace(log, sensor_id=other), tmp_path / "stranger.h5")

@@ -19,7 +19,7 @@ from anytip.calibrate.records import at_budget, response_record, strategy_table,
 from anytip.calibrate.result import OWN_CHECK_ALARM, Calibrated, check_on_other_runs
 from anytip.data.arrays import FleetArrays, load_arrays
 from anytip.data.calibration import CalibrationStream
-from anytip.data.plans import Plan, stream_ordinary_use
+from anytip.data.plans import Plan, stream_ordinary_use, stream_presses
 from anytip.data.registry import Registry
 from anytip.data.use_log import UseLog, use_rows
 from anytip.errors import AnytipError
@@ -83,11 +83,14 @@ class UseRequest:
 
 class UseRead(NamedTuple):
     """What a calibration read as ordinary use: its rows among the loaded runs' (none for a log), how many
-    rows, and their contact seconds."""
+    rows, their contact seconds, and whether the stream or logs held less contact than asked (`ran_out`;
+    otherwise reading whole presses, or whole samples of a log, stops short of the seconds asked by less than
+    one press or one sample)."""
 
     rows: np.ndarray
     samples: int
     contact_seconds: float
+    ran_out: bool = False
 
 
 def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], budget: float, method: str,
@@ -198,9 +201,10 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         given, used, distilled = _codes_from_use(path, fit, recipe, fleet, (source, start), arrays,
                                                  (use.stream or stream, use.logs),
                                                  Labeled(X, Y, plan.n_effective), seed)
-        if used.contact_seconds < use.seconds:
+        if used.ran_out:
+            held = "all the logs hold" if use.logs else "all the stream holds"
             notes.append(f"ordinary use: {used.contact_seconds:.1f} s of contact read of the {use.seconds:g} "
-                         "s asked, weighed as what was read")
+                         f"s asked ({held}), weighed as what was read")
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
                                         extra=[distilled])
@@ -355,8 +359,11 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
     if logs:
         P, read = _logged_use(logs, fleet.free.seconds)
     else:
-        used = stream_ordinary_use(arrays, stream.unit, stream, fleet.free.seconds, seed)
-        P, read = arrays.pressure[used.rows], UseRead(used.rows, len(used.rows), used.contact_seconds)
+        presses = stream_presses(arrays, stream.unit, stream)
+        used = stream_ordinary_use(arrays, stream.unit, stream, fleet.free.seconds, seed, presses)
+        P = arrays.pressure[used.rows]
+        ran_out = used.presses == len(presses) and used.contact_seconds < fleet.free.seconds
+        read = UseRead(used.rows, len(used.rows), used.contact_seconds, ran_out)
     if len(P) < 2:
         where_from = "ordinary-use logs hold" if logs else "calibration stream holds"
         raise AnytipError(f"unit {stream.unit}: its {where_from} no contacts to read as ordinary use")
@@ -376,13 +383,14 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
 
 def _logged_use(logs: tuple[UseLog, ...], seconds: float) -> tuple[np.ndarray, UseRead]:
     """The tared pressures (n, C) Pa of the contacts the logs hold, in order, up to `seconds` of contact
-    (`use_rows`), and what was read."""
-    parts, left = [], seconds
+    (`use_rows`), and what was read: the logs ran out where a sample or more of the seconds asked is left
+    after the last of them (a log that holds enough is read to within one sample)."""
+    parts, left, rate = [], seconds, np.inf
     for log in logs:
         if left <= 0:
             break
         P, got = use_rows(log, left)
         parts.append(P)
-        left -= got
+        left, rate = left - got, log.sample_rate_hz
     P = np.concatenate(parts) if parts else np.zeros((0, 0), np.float32)
-    return P, UseRead(np.zeros(0, np.int64), len(P), seconds - left)
+    return P, UseRead(np.zeros(0, np.int64), len(P), seconds - left, left * rate >= 1)

@@ -317,12 +317,18 @@ def ordinary_use(presses: Presses, seconds: float, seed: int) -> Plan:
     return select_presses(presses, seconds, RigTiming(move_s=0.0, remount_s=0.0), "random", seed)
 
 
+def stream_presses(arrays: FleetArrays, unit: str, stream: CalibrationStream) -> Presses:
+    """Every press of a unit's calibration stream `stream` (its other runs left out)."""
+    return find_presses(arrays, unit, stream.outside(arrays))
+
+
 def stream_ordinary_use(arrays: FleetArrays, unit: str, stream: CalibrationStream, seconds: float,
-                        seed: int) -> Plan:
-    """`ordinary_use` of every press of a unit's calibration stream `stream` (its other runs left out),
-    drawn under the run's `seed` and the unit's id (`ordinary_use_seed`)."""
-    presses = find_presses(arrays, unit, stream.outside(arrays))
-    return ordinary_use(presses, seconds, ordinary_use_seed(seed, unit))
+                        seed: int, presses: Presses | None = None) -> Plan:
+    """`ordinary_use` of every press of a unit's calibration stream `stream` (`stream_presses`, or
+    `presses` where the caller found them), drawn under the run's `seed` and the unit's id
+    (`ordinary_use_seed`)."""
+    found = stream_presses(arrays, unit, stream) if presses is None else presses
+    return ordinary_use(found, seconds, ordinary_use_seed(seed, unit))
 
 
 def _spread(presses: Presses, cost: np.ndarray, budget_s: float, remount_s: float, seed: int) -> list[int]:
