@@ -263,6 +263,10 @@ def test_a_plans_rows_are_thinned_in_the_joint_fit_still_weighing_the_whole_plan
     every = plan_and_use_codes(*args, whole, *rest, plan, start)[0]
     torch.testing.assert_close(thinned, handed)
     assert not torch.equal(thinned, every)
+    # use_weight: the unlabeled rows worth that many times their n_eff, the same fit as their n_eff scaled
+    heavier = plan_and_use_codes(*args, replace(whole, use_weight=4.0), *rest, plan, start)[0]
+    scaled = plan_and_use_codes(*args, whole, X, rest[1], 4 * 80.0, *rest[3:], plan, start)[0]
+    assert torch.equal(heavier, scaled) and not torch.equal(heavier, every)
 
 
 def test_how_a_fleet_reads_ordinary_use_survives_json_and_a_bad_value_is_named():
@@ -289,6 +293,7 @@ def test_how_a_fleet_reads_ordinary_use_survives_json_and_a_bad_value_is_named()
         "recipe: start": ("recipe", {**values["recipe"], "start": "anywhere"}),
         "recipe: rows": ("recipe", {**values["recipe"], "rows": 2.5}),
         "recipe: seconds": ("recipe", {**values["recipe"], "seconds": 900}),
+        "recipe: use_weight": ("recipe", {**values["recipe"], "use_weight": 0}),
         "recipe: unknown keys": ("recipe", {**values["recipe"], "extra": 1}),
         "effective_hz": ("effective_hz", 0),
     }

@@ -173,6 +173,10 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.plan_iterations, ge=1, le=100_000, description="steps of the joint fit "
         "with a plan's labeled rows (null: `iterations`; research log entry 81: 10 give the validation "
         "units' error of 30 in a third of the time)")
+    use_weight: float = Field(
+        default=LabelFreeRecipe.use_weight, gt=0, le=1e6, description="with_plans: in the joint fit with a "
+        "plan's labeled rows, the unlabeled rows weigh this times their independent rows (research log "
+        "entry 187: the fit follows the ratio of the two weights)")
     with_plans: bool = Field(
         default=False, description="also calibrate every labeled budget with the unit's ordinary use: its "
         "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "

@@ -77,7 +77,9 @@ class LabelFreeRecipe:
     join the unit's network's rows `distil_repeat` times, labeled with the joint fit's contacts
     (`fitted`), with their true contacts (`oracle`, a research ceiling: ordinary use has none), or
     not at all (`none`; entry 78); `plan_iterations`: the joint fit's steps with a plan's labeled rows
-    (None: `iterations`, as runs before entry 81 recorded it; 10 lose nothing to 30, entry 81)."""
+    (None: `iterations`, as runs before entry 81 recorded it; 10 lose nothing to 30, entry 81);
+    `use_weight`: in a joint fit with a plan's labeled rows, the unlabeled rows weigh this times their
+    independent rows (the fit follows the ratio of the two weights, not their scale, entry 187)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -91,6 +93,7 @@ class LabelFreeRecipe:
     distil: Literal["none", "fitted", "oracle"] = "none"
     distil_repeat: int = 1
     plan_iterations: int | None = 10
+    use_weight: float = 1.0
 
     def __post_init__(self) -> None:
         counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
@@ -99,7 +102,7 @@ class LabelFreeRecipe:
             v = getattr(self, key)
             if not (v is None and key in OPTIONAL) and (type(v) is not int or v < least):
                 raise ValueError(f"{key}: expected a whole number >= {least}, got {v!r}")
-        for key, most in (("seconds", 600.0), ("pull", math.inf)):
+        for key, most in (("seconds", 600.0), ("pull", math.inf), ("use_weight", 1e6)):
             v = getattr(self, key)
             if type(v) not in (int, float) or not 0 < v <= most:
                 raise ValueError(f"{key}: expected a number in (0, {most:g}], got {v!r}")
@@ -506,10 +509,11 @@ def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFree
     X (n, C) Pa together (entry 45), and the unlabeled rows' fitted contacts (n, D) physical: each
     unlabeled row's first contact is its nearest candidate under the plan's own codes `codes` (C, k),
     scaled to the force prior where given, then `free.steps_with_plan()` steps of the joint fit with
-    at most `free.plan_rows` of the labeled rows (entry 46), pulled towards contacts Y0 (n, D).
-    Without unlabeled rows: `codes`."""
+    at most `free.plan_rows` of the labeled rows (entry 46), pulled towards contacts Y0 (n, D), the
+    unlabeled rows worth `n_eff` times `free.use_weight`. Without unlabeled rows: `codes`."""
     if not len(X):
         return codes, Y0
+    n_eff = n_eff * free.use_weight
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, 0, scale, codes)
     z, c, _ = joint_fit(fit, X, Y0, n_eff, free.steps_with_plan(), free.pull, start, scale,
                         labeled.thinned(free.plan_rows))
