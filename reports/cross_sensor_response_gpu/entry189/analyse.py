@@ -30,9 +30,11 @@ def data_check(new: list[dict[str, Any]], old: list[dict[str, Any]], shared: tup
     the designed plan's seconds count its presses' recorded leads since commit 86f53d6b, after entries
     130-131, where they counted 2 s a move; its rows are the same. Prints how far the seconds moved."""
     def plans(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
-        return sorted((r for r in rows if r["method"] in shared), key=lambda r: (r["method"], r["unit"], r["seed"]))
+        mine = [r for r in rows if r["method"] in shared]
+        return sorted(mine, key=lambda r: (r["method"], r["unit"], r["seed"]))
 
-    moved = max(abs(a["calib_seconds"] - b["calib_seconds"]) for a, b in zip(plans(new), plans(old), strict=True))
+    pairs = zip(plans(new), plans(old), strict=True)
+    moved = max(abs(a["calib_seconds"] - b["calib_seconds"]) for a, b in pairs)
     print(f"  the plans' robot seconds move by up to {moved:.3f} s")
     unpriced = ([{**r, "calib_seconds": None} for r in rows] for rows in (new, old))
     return OTHER16["data_check"](*unpriced, shared)
