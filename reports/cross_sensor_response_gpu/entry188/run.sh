@@ -7,10 +7,7 @@
 #   bash reports/cross_sensor_response_gpu/entry188/run.sh > reports/cross_sensor_response_gpu/entry188/logs/run.log
 set -euo pipefail
 G=reports/cross_sensor_response_gpu
-other=(SIM23-000 SIM23-002 SIM23-013 SIM23-014 SIM23-004 SIM23-008 SIM23-011 SIM23-012
-       SIM23-001 SIM23-003 SIM23-006 SIM23-007 SIM23-005 SIM23-009 SIM23-010 SIM23-015)
-fleet=(SIM40-001 SIM40-002 SIM40-004 SIM40-005 SIM40-006 SIM40-011 SIM40-014 SIM40-015
-       SIM40-020 SIM40-022 SIM40-023 SIM40-024 SIM40-025 SIM40-027 SIM40-032 SIM40-033)
+. $G/entry187/units.sh
 ARMS=("P1 1" "P0.25 0.25" "P4 4")
 one() {  # CORE PART ARM P UNIT CALIBRATE-OPTION...
   local core=$1 part=$2 arm=$3 p=$4 unit=$5; shift 5
