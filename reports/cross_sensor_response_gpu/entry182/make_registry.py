@@ -23,10 +23,12 @@ E178 = runpy.run_path(str(HERE.parent / "entry178" / "make_registries.py"))
 LOGS = Path("build/entry182_logs")
 
 
-def main(source: str, target: str) -> None:
+def main(source: str, target: str, units: list[str] = E178["UNITS"], logs: Path = LOGS) -> None:
+    """`target` from `source` for `units` (entry 178's by default; entry 190 gives fleet88 fold 0's validation
+    units), their sessions written as logs under `logs`."""
     reg = E178["linked_copy"](Path(source), Path(target))
     config = FleetConfig()
-    for unit in E178["UNITS"]:
+    for unit in units:
         for record in reg.list_runs(unit=unit):
             if record.protocol in ("full", "short", "quick"):
                 reg.remove(record.run_id)
@@ -35,13 +37,13 @@ def main(source: str, target: str) -> None:
         session = simulate_unit(params, E178["USE"], E178["SEED"], index, None, config.run,
                                 E178["RUNS_BEFORE"])
         reg.add_runs([as_run(r) for r in session])
-    LOGS.mkdir(parents=True, exist_ok=True)
+    logs.mkdir(parents=True, exist_ok=True)
     written = 0
     for record in reg.list_runs():
         if record.protocol == "use":
-            write_use_log(UseLog.of_run(reg.open_run(record.run_id)), LOGS / f"{record.run_id}.h5")
+            write_use_log(UseLog.of_run(reg.open_run(record.run_id)), logs / f"{record.run_id}.h5")
             written += 1
-    print(f"{len(E178['UNITS'])} units; {written} use runs written as logs under {LOGS}")
+    print(f"{len(units)} units; {written} use runs written as logs under {logs}")
 
 
 if __name__ == "__main__":
