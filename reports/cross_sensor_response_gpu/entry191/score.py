@@ -1,6 +1,7 @@
 """Research log entry 191's reading: rule 1 (S and H read the same rows), then log(S / H) per fresh validation
 unit, force and angle, over all 64 and per elastomer (geometric means with 95% t-intervals), each network of
-build/entry191/ARM-FOLD/UNIT scored on its unit's three full runs as entries 183-190 scored theirs.
+build/entry191/ARM-FOLD/UNIT scored on its unit's three full runs as entries 183-190 scored theirs. Entry 192
+reads its arms with the same functions.
 
     python reports/cross_sensor_response_gpu/entry191/score.py > \\
         reports/cross_sensor_response_gpu/entry191/logs/score.log
@@ -20,31 +21,43 @@ HERE = Path(__file__).parent
 E178 = runpy.run_path(str(HERE.parent / "entry178" / "score.py"))
 interval = runpy.run_path(str(HERE.parent / "entry183" / "score.py"))["interval"]
 PAIRS = runpy.run_path(str(HERE / "units.py"))["PAIRS"]
-ROOT = Path("build/entry191")
+GROUPS = (("all 64", "fo"), ("default fingertip's 32 (SIM41)", "f"), ("other elastomer's 32 (SIM24)", "o"))
 
 
-def record(arm: str, fold: str, unit: str) -> dict:
-    return json.loads((ROOT / f"{arm}-{fold}" / unit / "calibration.json").read_text())
+def same_rows(root: Path, arms: str) -> str:
+    """Rule 1: how many units' two arms read the same rows of their logs, and the contact seconds read."""
+    def record(arm: str, fold: str, unit: str) -> dict:
+        return json.loads((root / f"{arm}-{fold}" / unit / "calibration.json").read_text())
+    rows = {a: [record(a, f, u)["unlabeled_samples"] for f, u in PAIRS] for a in arms}
+    same = sum(x == y for x, y in zip(*rows.values(), strict=True))
+    held = [record(arms[0], f, u)["unlabeled_seconds"] for f, u in PAIRS]
+    return (f"rule 1: {' and '.join(arms)} read the same rows for {same} of {len(PAIRS)} units "
+            f"({min(held):.1f}-{max(held):.1f} contact-s)")
 
 
-def main() -> None:
-    rows = {a: [record(a, f, u)["unlabeled_samples"] for f, u in PAIRS] for a in "SH"}
-    same = sum(s == h for s, h in zip(rows["S"], rows["H"], strict=True))
-    held = [record("H", f, u)["unlabeled_seconds"] for f, u in PAIRS]
-    print(f"rule 1: S and H read the same rows for {same} of {len(PAIRS)} units "
-          f"({min(held):.1f}-{max(held):.1f} contact-s)")
+def scored(root: Path, arms: str) -> dict[tuple[str, str, str], dict[str, float]]:
+    """Each arm's network per (arm, fold, unit) on the unit's full runs: {force_rmse_n, angle_rmse_rad}."""
     registries = {"f": Registry("data/val191d"), "o": Registry("data/val191o")}
-    rmse = {(a, f, u): E178["scored"](registries[f[0]], u, f"{a}-{f}", ROOT) for a in "SH" for f, u in PAIRS}
-    print("\nrule 2, S (weighed as 600 s) over H (as held), per fresh validation unit")
+    return {(a, f, u): E178["scored"](registries[f[0]], u, f"{a}-{f}", root) for a in arms for f, u in PAIRS}
+
+
+def ratio_table(rmse: dict[tuple[str, str, str], dict[str, float]], top: str, bottom: str) -> None:
+    """`top` over `bottom` per unit, force and angle, per group of GROUPS: a markdown table."""
     print("| units | force | angle |")
     print("|---|---|---|")
-    for name, keep in (("all 64", "fo"), ("default fingertip's 32 (SIM41)", "f"),
-                       ("other elastomer's 32 (SIM24)", "o")):
+    for name, keep in GROUPS:
         chosen = [(f, u) for f, u in PAIRS if f[0] in keep]
-        cells = [interval([np.log(rmse["S", f, u][k] / rmse["H", f, u][k]) for f, u in chosen])
+        cells = [interval([np.log(rmse[top, f, u][k] / rmse[bottom, f, u][k]) for f, u in chosen])
                  for k in E178["OUTPUTS"]]
         print(f"| {name} | " + " | ".join(cells) + " |")
     print("\n" + json.dumps({f"{a} {f} {u}": v for (a, f, u), v in rmse.items()}))
+
+
+def main() -> None:
+    root = Path("build/entry191")
+    print(same_rows(root, "SH"))
+    print("\nrule 2, S (weighed as 600 s) over H (as held), per fresh validation unit")
+    ratio_table(scored(root, "SH"), "S", "H")
 
 
 if __name__ == "__main__":
