@@ -41,8 +41,10 @@ def scored(root: Path, arms: str) -> dict[tuple[str, str, str], dict[str, float]
     return {(a, f, u): E178["scored"](registries[f[0]], u, f"{a}-{f}", root) for a in arms for f, u in PAIRS}
 
 
-def ratio_table(rmse: dict[tuple[str, str, str], dict[str, float]], top: str, bottom: str) -> None:
-    """`top` over `bottom` per unit, force and angle, per group of GROUPS: a markdown table."""
+def ratio_table(rmse: dict[tuple[str, str, str], dict[str, float]], top: str, bottom: str,
+                dump: bool = True) -> None:
+    """`top` over `bottom` per unit, force and angle, per group of GROUPS: a markdown table, then (`dump`)
+    every arm's RMSEs as JSON."""
     print("| units | force | angle |")
     print("|---|---|---|")
     for name, keep in GROUPS:
@@ -50,7 +52,8 @@ def ratio_table(rmse: dict[tuple[str, str, str], dict[str, float]], top: str, bo
         cells = [interval([np.log(rmse[top, f, u][k] / rmse[bottom, f, u][k]) for f, u in chosen])
                  for k in E178["OUTPUTS"]]
         print(f"| {name} | " + " | ".join(cells) + " |")
-    print("\n" + json.dumps({f"{a} {f} {u}": v for (a, f, u), v in rmse.items()}))
+    if dump:
+        print("\n" + json.dumps({f"{a} {f} {u}": v for (a, f, u), v in rmse.items()}))
 
 
 def main() -> None:
