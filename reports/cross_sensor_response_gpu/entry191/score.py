@@ -24,30 +24,33 @@ PAIRS = runpy.run_path(str(HERE / "units.py"))["PAIRS"]
 GROUPS = (("all 64", "fo"), ("default fingertip's 32 (SIM41)", "f"), ("other elastomer's 32 (SIM24)", "o"))
 
 
-def same_rows(root: Path, arms: str) -> str:
-    """Rule 1: how many units' two arms read the same rows of their logs, and the contact seconds read."""
+def same_rows(root: Path, arms: str, pairs: list[tuple[str, str]] = PAIRS) -> str:
+    """Rule 1: how many of `pairs`' units' two arms read the same rows of their logs, and the contact seconds
+    read."""
     def record(arm: str, fold: str, unit: str) -> dict:
         return json.loads((root / f"{arm}-{fold}" / unit / "calibration.json").read_text())
-    rows = {a: [record(a, f, u)["unlabeled_samples"] for f, u in PAIRS] for a in arms}
+    rows = {a: [record(a, f, u)["unlabeled_samples"] for f, u in pairs] for a in arms}
     same = sum(x == y for x, y in zip(*rows.values(), strict=True))
-    held = [record(arms[0], f, u)["unlabeled_seconds"] for f, u in PAIRS]
-    return (f"rule 1: {' and '.join(arms)} read the same rows for {same} of {len(PAIRS)} units "
+    held = [record(arms[0], f, u)["unlabeled_seconds"] for f, u in pairs]
+    return (f"rule 1: {' and '.join(arms)} read the same rows for {same} of {len(pairs)} units "
             f"({min(held):.1f}-{max(held):.1f} contact-s)")
 
 
-def scored(root: Path, arms: str) -> dict[tuple[str, str, str], dict[str, float]]:
-    """Each arm's network per (arm, fold, unit) on the unit's full runs: {force_rmse_n, angle_rmse_rad}."""
+def scored(root: Path, arms: str, pairs: list[tuple[str, str]] = PAIRS
+           ) -> dict[tuple[str, str, str], dict[str, float]]:
+    """Each arm's network per (arm, fold, unit) of `pairs` on the unit's full runs: {force_rmse_n,
+    angle_rmse_rad}."""
     registries = {"f": Registry("data/val191d"), "o": Registry("data/val191o")}
-    return {(a, f, u): E178["scored"](registries[f[0]], u, f"{a}-{f}", root) for a in arms for f, u in PAIRS}
+    return {(a, f, u): E178["scored"](registries[f[0]], u, f"{a}-{f}", root) for a in arms for f, u in pairs}
 
 
 def ratio_table(rmse: dict[tuple[str, str, str], dict[str, float]], top: str, bottom: str,
-                dump: bool = True) -> None:
+                dump: bool = True, groups: tuple[tuple[str, str], ...] = GROUPS) -> None:
     """`top` over `bottom` per unit, force and angle, per group of GROUPS: a markdown table, then (`dump`)
     every arm's RMSEs as JSON."""
     print("| units | force | angle |")
     print("|---|---|---|")
-    for name, keep in GROUPS:
+    for name, keep in groups:
         chosen = [(f, u) for f, u in PAIRS if f[0] in keep]
         cells = [interval([np.log(rmse[top, f, u][k] / rmse[bottom, f, u][k]) for f, u in chosen])
                  for k in E178["OUTPUTS"]]
