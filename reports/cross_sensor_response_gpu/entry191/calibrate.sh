@@ -2,7 +2,9 @@
 # `anytip calibrate` of UNIT with its log, under the network and on the registry its FOLD names (fFOLD: fleet88's
 # fold under entry 147's run, on data/val191d; oFOLD: other16's under entry 146's at-120 run, draw 0, on
 # data/val191o), pinned to CORE, into OUT; `halves ARMS` runs ARMS (`one CORE ARM FOLD UNIT`, the sourcing
-# script's) over units.py's pairs, two at a time.
+# script's) over units.py's pairs, two at a time. `weighed CORE ARM FOLD UNIT ENTRY BUDGET WEIGHT` is one
+# calibration at `--budget-seconds BUDGET` with the log weighed as WEIGHT seconds (entry 190's as_asked.py), into
+# build/ENTRY/ARM-FOLD/UNIT (entries 192-195).
 G=reports/cross_sensor_response_gpu
 mapfile -t pairs < <(python $G/entry191/units.py)
 calibrate_arm() {
@@ -30,4 +32,7 @@ half() {  # CORE FIRST STEP ARMS
 halves() {  # ARMS
   half 0 0 2 "$1" & half 1 1 2 "$1"
   wait
+}
+weighed() {
+  calibrate_arm "$1" "build/$5/$2-$3/$4" "$3" "$4" python $G/entry190/as_asked.py "$7" -- --budget-seconds "$6"
 }

@@ -6,10 +6,6 @@
 #   bash reports/cross_sensor_response_gpu/entry192/run.sh > reports/cross_sensor_response_gpu/entry192/logs/run.log
 set -euo pipefail
 source reports/cross_sensor_response_gpu/entry191/calibrate.sh
-one() {  # CORE ARM FOLD UNIT
-  local weight=600
-  [ "$2" = Q ] && weight=150
-  calibrate_arm "$1" "build/entry192/$2-$3/$4" "$3" "$4" python $G/entry190/as_asked.py $weight -- \
-    --budget-seconds 30
-}
+declare -A WEIGHT=([F]=600 [Q]=150)
+one() { weighed "$@" entry192 30 "${WEIGHT[$2]}"; }  # CORE ARM FOLD UNIT
 halves "F Q"

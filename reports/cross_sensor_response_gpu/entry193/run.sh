@@ -6,10 +6,6 @@
 #   bash reports/cross_sensor_response_gpu/entry193/run.sh > reports/cross_sensor_response_gpu/entry193/logs/run.log
 set -euo pipefail
 source reports/cross_sensor_response_gpu/entry191/calibrate.sh
-one() {  # CORE ARM FOLD UNIT
-  local weight=1200
-  [ "$2" = X ] && weight=2400
-  calibrate_arm "$1" "build/entry193/$2-$3/$4" "$3" "$4" python $G/entry190/as_asked.py $weight -- \
-    --budget-seconds 30
-}
+declare -A WEIGHT=([D]=1200 [X]=2400)
+one() { weighed "$@" entry193 30 "${WEIGHT[$2]}"; }  # CORE ARM FOLD UNIT
 halves "D X"

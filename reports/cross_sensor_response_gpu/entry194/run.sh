@@ -6,8 +6,5 @@
 #   bash reports/cross_sensor_response_gpu/entry194/run.sh > reports/cross_sensor_response_gpu/entry194/logs/run.log
 set -euo pipefail
 source reports/cross_sensor_response_gpu/entry191/calibrate.sh
-one() {  # CORE ARM FOLD UNIT
-  calibrate_arm "$1" "build/entry194/$2-$3/$4" "$3" "$4" python $G/entry190/as_asked.py 1200 -- \
-    --budget-seconds 120
-}
+one() { weighed "$@" entry194 120 1200; }  # CORE ARM FOLD UNIT
 halves D

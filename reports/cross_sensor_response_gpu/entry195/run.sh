@@ -7,10 +7,6 @@
 set -euo pipefail
 source reports/cross_sensor_response_gpu/entry191/calibrate.sh
 mapfile -t pairs < <(printf '%s\n' "${pairs[@]}" | grep ' SIM24-')
-one() {  # CORE ARM FOLD UNIT
-  local weight=600
-  [ "$2" = X ] && weight=2400
-  calibrate_arm "$1" "build/entry195/$2-$3/$4" "$3" "$4" python $G/entry190/as_asked.py $weight -- \
-    --budget-seconds 60
-}
+declare -A WEIGHT=([F]=600 [X]=2400)
+one() { weighed "$@" entry195 60 "${WEIGHT[$2]}"; }  # CORE ARM FOLD UNIT
 halves "F X"
