@@ -1,10 +1,10 @@
-# Sourced by entries 191 and 192's run.sh: `calibrate_arm CORE OUT FOLD UNIT WRAPPER... -- OPTION...` runs one
-# `anytip calibrate` of UNIT with its log, under the network and on the registry its FOLD names (fFOLD: fleet88's
-# fold under entry 147's run, on data/val191d; oFOLD: other16's under entry 146's at-120 run, draw 0, on
-# data/val191o), pinned to CORE, into OUT; `halves ARMS` runs ARMS (`one CORE ARM FOLD UNIT`, the sourcing
-# script's) over units.py's pairs, two at a time. `weighed CORE ARM FOLD UNIT ENTRY BUDGET WEIGHT` is one
-# calibration at `--budget-seconds BUDGET` with the log weighed as WEIGHT seconds (entry 190's as_asked.py), into
-# build/ENTRY/ARM-FOLD/UNIT (entries 192-195).
+# Sourced by entries 191-195's run.sh: `calibrate_arm CORE OUT FOLD UNIT WRAPPER... -- OPTION...` runs one
+# `anytip calibrate` of UNIT with its log, under the network and on the registry its FOLD names (fFOLD:
+# fleet88's fold under entry 147's run, on data/val191d; oFOLD: other16's under entry 146's at-120 run, draw
+# 0, on data/val191o), pinned to CORE, into OUT; `halves ARMS` runs ARMS (`one CORE ARM FOLD UNIT`, the
+# sourcing script's) over units.py's pairs, two at a time. `weighed CORE ARM FOLD UNIT ENTRY BUDGET WEIGHT` is
+# one calibration at `--budget-seconds BUDGET` with the log weighed as WEIGHT seconds (entry 190's
+# as_asked.py), into build/ENTRY/ARM-FOLD/UNIT (entries 192-195).
 G=reports/cross_sensor_response_gpu
 mapfile -t pairs < <(python $G/entry191/units.py)
 calibrate_arm() {
@@ -34,5 +34,6 @@ halves() {  # ARMS
   wait
 }
 weighed() {
-  calibrate_arm "$1" "build/$5/$2-$3/$4" "$3" "$4" python $G/entry190/as_asked.py "$7" -- --budget-seconds "$6"
+  calibrate_arm "$1" "build/$5/$2-$3/$4" "$3" "$4" python $G/entry190/as_asked.py "$7" -- \
+    --budget-seconds "$6"
 }
