@@ -24,11 +24,12 @@ PAIRS = runpy.run_path(str(HERE / "units.py"))["PAIRS"]
 GROUPS = (("all 64", "fo"), ("default fingertip's 32 (SIM41)", "f"), ("other elastomer's 32 (SIM24)", "o"))
 
 
-def same_rows(root: Path, arms: str, pairs: list[tuple[str, str]] = PAIRS) -> str:
-    """Rule 1: how many of `pairs`' units' two arms read the same rows of their logs, and the contact seconds
-    read."""
+def same_rows(roots: dict[str, Path], pairs: list[tuple[str, str]] = PAIRS) -> str:
+    """Rule 1: how many of `pairs`' units' two arms (`roots`: arm -> the directory of its ARM-FOLD/UNIT
+    networks) read the same rows of their logs, and the contact seconds the first read."""
     def record(arm: str, fold: str, unit: str) -> dict:
-        return json.loads((root / f"{arm}-{fold}" / unit / "calibration.json").read_text())
+        return json.loads((roots[arm] / f"{arm}-{fold}" / unit / "calibration.json").read_text())
+    arms = list(roots)
     rows = {a: [record(a, f, u)["unlabeled_samples"] for f, u in pairs] for a in arms}
     same = sum(x == y for x, y in zip(*rows.values(), strict=True))
     held = [record(arms[0], f, u)["unlabeled_seconds"] for f, u in pairs]
@@ -36,12 +37,13 @@ def same_rows(root: Path, arms: str, pairs: list[tuple[str, str]] = PAIRS) -> st
             f"({min(held):.1f}-{max(held):.1f} contact-s)")
 
 
-def scored(root: Path, arms: str, pairs: list[tuple[str, str]] = PAIRS
+def scored(roots: dict[str, Path], pairs: list[tuple[str, str]] = PAIRS
            ) -> dict[tuple[str, str, str], dict[str, float]]:
-    """Each arm's network per (arm, fold, unit) of `pairs` on the unit's full runs: {force_rmse_n,
-    angle_rmse_rad}."""
+    """Each arm's network (`roots`: arm -> the directory of its ARM-FOLD/UNIT networks) per (arm, fold, unit)
+    of `pairs` on the unit's full runs: {force_rmse_n, angle_rmse_rad}."""
     registries = {"f": Registry("data/val191d"), "o": Registry("data/val191o")}
-    return {(a, f, u): E178["scored"](registries[f[0]], u, f"{a}-{f}", root) for a in arms for f, u in pairs}
+    return {(a, f, u): E178["scored"](registries[f[0]], u, f"{a}-{f}", root)
+            for a, root in roots.items() for f, u in pairs}
 
 
 def ratio_table(rmse: dict[tuple[str, str, str], dict[str, float]], top: str, bottom: str,
@@ -60,10 +62,10 @@ def ratio_table(rmse: dict[tuple[str, str, str], dict[str, float]], top: str, bo
 
 
 def main() -> None:
-    root = Path("build/entry191")
-    print(same_rows(root, "SH"))
+    roots = dict.fromkeys("SH", Path("build/entry191"))
+    print(same_rows(roots))
     print("\nrule 2, S (weighed as 600 s) over H (as held), per fresh validation unit")
-    ratio_table(scored(root, "SH"), "S", "H")
+    ratio_table(scored(roots), "S", "H")
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ from pathlib import Path
 E191 = runpy.run_path(str(Path(__file__).parent.parent / "entry191" / "score.py"))
 
 if __name__ == "__main__":
-    root = Path("build/entry192")
-    print(E191["same_rows"](root, "FQ"))
+    roots = dict.fromkeys("FQ", Path("build/entry192"))
+    print(E191["same_rows"](roots))
     print("\nrule 2, Q (weighed as 150 s) over F (as 600 s), the designed plan of 30 s, per fresh unit")
-    E191["ratio_table"](E191["scored"](root, "FQ"), "Q", "F")
+    E191["ratio_table"](E191["scored"](roots), "Q", "F")

@@ -9,22 +9,17 @@ each network scored on its unit's three full runs.
 from __future__ import annotations
 
 import runpy
-import tempfile
 from pathlib import Path
 
 E191 = runpy.run_path(str(Path(__file__).parent.parent / "entry191" / "score.py"))
 
 if __name__ == "__main__":
-    with tempfile.TemporaryDirectory() as tmp:  # the three arms under one root, as links
-        root = Path(tmp)
-        for arm, source in (("F", "build/entry192"), ("D", "build/entry193"), ("X", "build/entry193")):
-            for folder in Path(source).glob(f"{arm}-*"):
-                (root / folder.name).symlink_to(folder.resolve())
-        for arm in "DX":
-            print(E191["same_rows"](root, f"F{arm}"))
-        rmse = E191["scored"](root, "FDX")
-        for arm, seconds in (("D", "1,200"), ("X", "2,400")):
-            which = "rule 2" if arm == "D" else "beside rule 2"
-            print(f"\n{which}: {arm} (weighed as {seconds} s) over F (as 600 s), the designed plan of 30 s, "
-                  "per fresh unit")
-            E191["ratio_table"](rmse, arm, "F", dump=arm == "X")
+    roots = {"F": Path("build/entry192"), "D": Path("build/entry193"), "X": Path("build/entry193")}
+    for arm in "DX":
+        print(E191["same_rows"]({a: roots[a] for a in ("F", arm)}))
+    rmse = E191["scored"](roots)
+    for arm, seconds in (("D", "1,200"), ("X", "2,400")):
+        which = "rule 2" if arm == "D" else "beside rule 2"
+        print(f"\n{which}: {arm} (weighed as {seconds} s) over F (as 600 s), the designed plan of 30 s, "
+              "per fresh unit")
+        E191["ratio_table"](rmse, arm, "F", dump=arm == "X")

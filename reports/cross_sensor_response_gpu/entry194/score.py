@@ -9,17 +9,12 @@ on its unit's three full runs.
 from __future__ import annotations
 
 import runpy
-import tempfile
 from pathlib import Path
 
 E191 = runpy.run_path(str(Path(__file__).parent.parent / "entry191" / "score.py"))
 
 if __name__ == "__main__":
-    with tempfile.TemporaryDirectory() as tmp:  # both arms under one root, as links
-        root = Path(tmp)
-        for arm, source in (("S", "build/entry191"), ("D", "build/entry194")):
-            for folder in Path(source).glob(f"{arm}-*"):
-                (root / folder.name).symlink_to(folder.resolve())
-        print(E191["same_rows"](root, "SD"))
-        print("\nrule 2: D (weighed as 1,200 s) over S (as 600 s), the designed plan of 120 s, per unit")
-        E191["ratio_table"](E191["scored"](root, "SD"), "D", "S")
+    roots = {"S": Path("build/entry191"), "D": Path("build/entry194")}
+    print(E191["same_rows"](roots))
+    print("\nrule 2: D (weighed as 1,200 s) over S (as 600 s), the designed plan of 120 s, per unit")
+    E191["ratio_table"](E191["scored"](roots), "D", "S")

@@ -10,14 +10,8 @@ from __future__ import annotations
 import runpy
 from pathlib import Path
 
-from anytip.data.registry import Registry
-from anytip.data.simulated import simulate_into
-from anytip.sensor.fleet import load_fleet_config
-
+E192 = runpy.run_path(str(Path(__file__).parent.parent / "entry192" / "make_data.py"))
 E191 = runpy.run_path(str(Path(__file__).parent.parent / "entry191" / "make_data.py"))
 
 if __name__ == "__main__":
-    _, target, fleet, seed = E191["REGISTRIES"][1]
-    added, unchanged = simulate_into(Registry(target), load_fleet_config(fleet), E191["UNITS"], seed=seed,
-                                     protocols=("full", "plan120", "plan30", "plan60"))
-    print(f"{target}: {added} plan60 runs added, {unchanged} runs unchanged")
+    E192["main"](("full", "plan120", "plan30", "plan60"), E191["REGISTRIES"][1:])

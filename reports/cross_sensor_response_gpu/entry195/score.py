@@ -15,7 +15,7 @@ E191 = runpy.run_path(str(Path(__file__).parent.parent / "entry191" / "score.py"
 
 if __name__ == "__main__":
     pairs = [(f, u) for f, u in E191["PAIRS"] if f[0] == "o"]
-    root = Path("build/entry195")
-    print(E191["same_rows"](root, "FX", pairs))
+    roots = dict.fromkeys("FX", Path("build/entry195"))
+    print(E191["same_rows"](roots, pairs))
     print("\nrule 2: X (weighed as 2,400 s) over F (as 600 s), the designed plan of 60 s, per fresh unit")
-    E191["ratio_table"](E191["scored"](root, "FX", pairs), "X", "F", groups=E191["GROUPS"][2:])
+    E191["ratio_table"](E191["scored"](roots, pairs), "X", "F", groups=E191["GROUPS"][2:])
