@@ -54,19 +54,27 @@ def _autograd_grads(model, x, y):
     return loss.detach(), [p.grad.clone() for p in model.parameters()]
 
 
-def _grad_rounding_bound(model, x, y):
+def _autograd_activations(model, x):
+    """The float32 hidden activations (after each ReLU) as autograd's forward computes them."""
+    acts, h = [], x
+    with torch.no_grad():
+        for k in range(len(model.weights) - 1):
+            h = torch.relu(torch.baddbmm(model.biases[k], h, model.weights[k]))
+            acts.append(h)
+    return acts
+
+
+def _grad_rounding_bound(model, x, y, hidden=None):
     """Bounds (float64) on |float32 gradient - exact gradient| of each weight of a ReLU `model`,
-    for any summation order of every product and sum, given the float32 hidden activations both
-    computations share (Higham's |fl(A B) - A B| <= gamma_K |A| |B|, carried through the chain
-    rule on magnitudes), and on the loss."""
+    for any summation order of every product and sum, given the float32 hidden activations `hidden`
+    the computation used (default: autograd's) (Higham's |fl(A B) - A B| <= gamma_K |A| |B|, carried
+    through the chain rule on magnitudes), and on the loss; and the exact loss and gradients through
+    those activations."""
     u = U_FLOAT32
     W = [w.detach().double() for w in model.weights]
     b = [v.detach().double() for v in model.biases]
-    acts, h = [x.double()], x
-    with torch.no_grad():
-        for k in range(len(W) - 1):  # the float32 hidden activations, as both compute them
-            h = torch.relu(torch.baddbmm(model.biases[k], h, model.weights[k]))
-            acts.append(h.double())
+    hidden = _autograd_activations(model, x) if hidden is None else hidden
+    acts = [x.double(), *(h.double() for h in hidden)]
     a = acts[-1]
     e_h = gamma(W[-1].shape[1] + 1, u) * (a.abs() @ W[-1].abs() + b[-1].abs())
     err = a @ W[-1] + b[-1] - y.double()
@@ -76,18 +84,20 @@ def _grad_rounding_bound(model, x, y):
     loss_bound = (2 * err.abs() * e_err + e_err**2 + u * (err.abs() + e_err) ** 2).mean(dim=(1, 2))
     n_out = err.shape[1] * err.shape[2]
     loss_bound = loss_bound + gamma(n_out + 1, u) * ((err.abs() + e_err) ** 2).mean(dim=(1, 2))
-    bounds = [None] * (2 * len(W))
+    bounds, exact = [None] * (2 * len(W)), [None] * (2 * len(W))
     B = x.shape[1]
     for k in range(len(W) - 1, -1, -1):
         a, mag = acts[k], g.abs() + e_g
         bounds[k] = a.abs().transpose(1, 2) @ e_g + gamma(B, u) * (a.abs().transpose(1, 2) @ mag)
         bounds[len(W) + k] = e_g.sum(1, keepdim=True) + gamma(B, u) * mag.sum(1, keepdim=True)
+        exact[k], exact[len(W) + k] = a.transpose(1, 2) @ g, g.sum(1, keepdim=True)
         if k > 0:
             mask = (a > 0).double()
             W_abs = W[k].abs().transpose(1, 2)
             e_g = e_g @ W_abs + gamma(W[k].shape[2], u) * (mag @ W_abs)
             g, e_g = (g @ W[k].transpose(1, 2)) * mask, e_g * mask
-    return loss_bound, bounds  # bounds in parameters() order: weights, then biases
+    # bounds and exact gradients in parameters() order: weights, then biases
+    return loss_bound, bounds, (err**2).mean(dim=(1, 2)), exact
 
 
 @pytest.mark.parametrize("sizes", [(8, 12, 64, 64, 5), (6, 3), (8, 40, 20), (8, 4, 5)])
@@ -102,7 +112,7 @@ def test_mse_grads_equal_autograd_within_float32_rounding(sizes):
     for p in model.parameters():
         p.grad = torch.full_like(p, 7.0)  # replaced, not added to
     got = model.mse_grads(x, y)
-    loss_bound, bounds = _grad_rounding_bound(model, x, y)
+    loss_bound, bounds, _, _ = _grad_rounding_bound(model, x, y)
     assert not got.requires_grad and bool(((got - loss).double().abs() <= 2 * loss_bound).all())
     for p, want, bound in zip(model.parameters(), grads, bounds, strict=True):
         # the weight's own layout (a fused optimizer kernel walks weight and gradient as flat memory)
@@ -110,6 +120,62 @@ def test_mse_grads_equal_autograd_within_float32_rounding(sizes):
         assert bool(((p.grad - want).double().abs() <= 2 * bound).all())
         # a slip (a wrong or missing product) moves a gradient by its own size; the bound is 0.01-0.2% of it
         assert float(bound.max()) < 1e-2 * float(want.abs().max())
+
+
+@pytest.mark.parametrize("sizes", [(8, 12, 64, 64, 5), (6, 3), (8, 40, 20), (8, 4, 5)])
+def test_one_network_on_a_cpu_steps_in_numpy_within_float32_rounding(sizes):
+    """One ReLU network on a CPU takes the chain rule in numpy: its loss and gradients lie within the
+    rounding bound of the exact ones through the float32 activations it computed, which lie within
+    float32 rounding of autograd's (the masks agree where a unit is not within rounding of its kink)."""
+    model = BatchedMLP(1, MLPConfig(sizes=sizes), seed=2)
+    g = torch.Generator().manual_seed(0)
+    x, y = torch.randn(1, 512, sizes[0], generator=g), torch.randn(1, 512, sizes[-1], generator=g)
+    x[:, :8] = 0.0
+    for p in model.parameters():
+        p.grad = torch.full_like(p, 7.0)  # replaced, not added to
+    got = model.mse_grads(x, y)
+    assert model._numpy_grads is not None  # the numpy path ran
+    hidden = [torch.from_numpy(h.copy())[None] for h in model._numpy_grads.h[:-1]]
+    for ours, theirs in zip(hidden, _autograd_activations(model, x), strict=True):
+        assert float((ours - theirs).abs().max()) <= 1e-5 * float(theirs.abs().max())
+    loss_bound, bounds, loss, exact = _grad_rounding_bound(model, x, y, hidden)
+    assert got.shape == (1,) and bool(((got.double() - loss).abs() <= loss_bound).all())
+    for p, want, bound in zip(model.parameters(), exact, bounds, strict=True):
+        assert p.grad.shape == want.shape and p.grad.stride() == p.stride()
+        assert bool(((p.grad.double() - want).abs() <= bound).all())
+        assert float(bound.max()) < 1e-2 * float(want.abs().max())
+    first = [p.grad for p in model.parameters()]
+    with torch.no_grad():
+        for p in model.parameters():
+            p.mul_(0.5)  # the weights' memory, read again at the next step
+    model.mse_grads(x, y)
+    _, bounds, _, exact = _grad_rounding_bound(model, x, y, [torch.from_numpy(h.copy())[None]
+                                                              for h in model._numpy_grads.h[:-1]])
+    for p, want, bound, kept in zip(model.parameters(), exact, bounds, first, strict=True):
+        assert p.grad is kept and bool(((p.grad.double() - want).abs() <= bound).all())
+
+
+def test_one_network_steps_in_numpy_for_any_batch_and_new_weights():
+    """A new batch size or weights moved to new memory remake the numpy step's buffers."""
+    model = BatchedMLP(1, CONFIG, seed=3)
+    g = torch.Generator().manual_seed(1)
+    for B in (256, 100, 256):
+        x, y = torch.randn(1, B, 8, generator=g), torch.randn(1, B, 5, generator=g)
+        got = model.mse_grads(x, y)
+        loss, grads = _autograd_grads(model, x, y)
+        model.mse_grads(x, y)
+        torch.testing.assert_close(got, loss, rtol=1e-5, atol=0)
+        for p, want in zip(model.parameters(), grads, strict=True):
+            torch.testing.assert_close(p.grad, want, rtol=1e-4, atol=1e-6)
+    other = BatchedMLP(1, CONFIG, seed=4)
+    model.load_state_dict(other.state_dict())  # in place: the same memory
+    model.weights[0] = nn.Parameter(other.weights[0].detach().clone())  # new memory
+    x, y = torch.randn(1, 64, 8, generator=g), torch.randn(1, 64, 5, generator=g)
+    model.mse_grads(x, y)
+    got = [p.grad.clone() for p in model.parameters()]
+    _, grads = _autograd_grads(other, x, y)
+    for p, want in zip(got, grads, strict=True):
+        torch.testing.assert_close(p, want, rtol=1e-4, atol=1e-6)
 
 
 @pytest.mark.parametrize(("sizes", "activation", "output"), [((8, 16, 5), "tanh", None),

@@ -18,20 +18,23 @@ timing_line = runpy.run_path(str(HERE.parent / "entry171" / "analyse.py"))["timi
 TARGET_S = 10.0
 
 
-def calibrations() -> dict[tuple[str, str, str, int], tuple[float, str]]:
-    """(code, arm, unit, round) -> (wall_s, model hash)."""
-    lines = map(timing_line, (HERE / "logs" / "time_calibrate.log").read_text().splitlines())
+LOG = HERE / "logs" / "time_calibrate.log"
+
+
+def calibrations(log: Path = LOG) -> dict[tuple[str, str, str, int], tuple[float, str]]:
+    """(code, arm, unit, round) -> (wall_s, model hash), from an alternated timing's log (entry 196's too)."""
+    lines = map(timing_line, log.read_text().splitlines())
     return {(t["code"], t["arm"], t["unit"], t["round"]): (float(t["wall_s"]), t["model"])
             for t in lines if t is not None and "model" in t}
 
 
-def main() -> None:
-    got = calibrations()
+def main(log: Path = LOG, rule: str = "rule 2") -> None:
+    got = calibrations(log)
     pairs = sorted({k[1:] for k in got if ("old", *k[1:]) in got and ("new", *k[1:]) in got})
     equal = sum(got["old", *p][1] == got["new", *p][1] for p in pairs)
     print(f"rule 1: {equal} of {len(pairs)} pairs' model files equal"
           + ("" if equal == len(pairs) else ": DIFFER"))
-    print("\nrule 2, new over old wall_s, paired (geometric mean [95% t-interval])")
+    print(f"\n{rule}, new over old wall_s, paired (geometric mean [95% t-interval])")
     print("| arm | pairs | old wall_s | new wall_s | new / old | new under 10 s |")
     print("|---|---|---|---|---|---|")
     for arm in ("alone", "use", "both"):

@@ -17,6 +17,7 @@ from torch import Tensor, nn
 
 from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
+from anytip.models.cpu_step import NumpyGrads, numpy_serves
 
 # leaky_relu (negative slope 0.01, torch's default) and hardswish (x * clamp(x + 3, 0, 6) / 6) need
 # only compares, adds and multiplies, so they export without libm; tanh, gelu and silu do not.
@@ -122,6 +123,9 @@ class BatchedMLP(nn.Module):
         self.biases = nn.ParameterList(nn.Parameter(torch.empty(n_models, 1, o)) for _, o in pairs)
         seeds = [unit_seed(seed, u) for u in range(n_models)] if isinstance(seed, int) else seed
         self.reset_parameters(seeds)
+        # one ReLU network steps in numpy on a CPU (mse_grads)
+        self._numpy_kind = numpy_serves(n_models, config.activation, config.output_activation)
+        self._numpy_grads: NumpyGrads | None = None
 
     @torch.no_grad()
     def reset_parameters(self, seeds: Sequence[int]) -> None:
@@ -161,7 +165,11 @@ class BatchedMLP(nn.Module):
         same values; the output layer's product and the gradients' products with fewer than
         NARROW_OUT output columns are taken transposed (`_bmm`), so the gradients equal autograd's
         within float32 rounding rather than bit for bit (tests/test_models_mlp.py bounds the
-        difference). Any other activation goes through autograd."""
+        difference). One such network on a CPU takes the same chain rule in numpy (`NumpyGrads`),
+        whose calls cost less; its gradients then live in tensors it keeps. Any other activation goes
+        through autograd."""
+        if self._numpy_kind and x.is_cpu and x.dtype == torch.float32:
+            return self._numpy_step(x, y)
         if self.config.activation != "relu" or self.config.output_activation is not None:
             for p in self.parameters():
                 p.grad = None
@@ -188,6 +196,22 @@ class BatchedMLP(nn.Module):
                 b.grad = g.sum(1, keepdim=True)
                 if k > 0:  # back through W and the ReLU that made a (autograd's own ReLU backward)
                     g = torch.ops.aten.threshold_backward(_bmm(g, W.transpose(1, 2)), a, 0)
+        return loss
+
+    def steps_in_numpy(self, device: torch.device) -> bool:
+        """Whether `mse_grads` takes its numpy path for float32 rows on `device`."""
+        return self._numpy_kind and device.type == "cpu" and self.weights[0].dtype == torch.float32
+
+    def _numpy_step(self, x: Tensor, y: Tensor) -> Tensor:
+        """`mse_grads` by `NumpyGrads`, made again where the batch or the weights' memory changed."""
+        params = (*self.weights._parameters.values(), *self.biases._parameters.values())
+        step = self._numpy_grads
+        if step is None or not step.current(params, x.shape[1]):
+            step = self._numpy_grads = NumpyGrads(params, len(self.weights), x.shape[1])
+        loss = step(x, y)
+        for p, g in zip(params, step.grads, strict=True):
+            if p.grad is not g:
+                p.grad = g
         return loss
 
     def to_plain(self, i: int) -> Plain:

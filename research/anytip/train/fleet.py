@@ -8,6 +8,7 @@ update and per-unit samplers, unit u's trained weights do not depend on any othe
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -19,6 +20,7 @@ from rich.progress import Progress
 from torch import Tensor
 
 from anytip.data.arrays import OUTPUT_NAMES
+from anytip.models.cpu_step import one_blas_thread
 from anytip.models.io import LoadedModels, save_models
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
@@ -125,31 +127,33 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     train_s, loss_sum, n_loss = 0.0, torch.zeros(U, device=device), 0
     bar = ProgressBar(progress, total, f"fleet of {U} ({recipe.name})")
     tick = time.perf_counter()
-    for step, (x, y) in sampler.batches(total, X, Y):
-        lr = lr_at(step, total, recipe)
-        set_lr(opt, lr)
-        loss_u = model.mse_grads(x, y)  # (U,), each unit's gradient in its weights' .grad
-        opt.step()
-        loss_sum += loss_u
-        n_loss += 1
-        bar.update(step + 1)
+    # one network steps in numpy (models/cpu_step.py), whose BLAS would spread each product over every core
+    with one_blas_thread() if model.steps_in_numpy(device) else contextlib.nullcontext():
+        for step, (x, y) in sampler.batches(total, X, Y):
+            lr = lr_at(step, total, recipe)
+            set_lr(opt, lr)
+            loss_u = model.mse_grads(x, y)  # (U,), each unit's gradient in its weights' .grad
+            opt.step()
+            loss_sum += loss_u
+            n_loss += 1
+            bar.update(step + 1)
 
-        if step % steps_per_epoch + 1 not in eval_at and step + 1 < total:
-            continue
-        train_s += _lap(tick, device)
-        model.eval()
-        val = evaluate(model, in_scaler, out_scaler, data.X_val, data.Y_val, data.n_val)
-        model.train()
-        history.append({"epoch": (step + 1) / steps_per_epoch, "step": step + 1,
-                        "elapsed_s": train_s, "lr": lr, "train_loss": (loss_sum / n_loss).tolist(),
-                        "val_loss": val["loss"].tolist(), **history_fields(val)})
-        loss_sum.zero_()
-        n_loss = 0
-        all_stopped = snapshot.update(model, val["loss"])
-        bar.update(step + 1, f"fleet of {U}: {progress_text(val)}")
-        if all_stopped:
-            break
-        tick = time.perf_counter()
+            if step % steps_per_epoch + 1 not in eval_at and step + 1 < total:
+                continue
+            train_s += _lap(tick, device)
+            model.eval()
+            val = evaluate(model, in_scaler, out_scaler, data.X_val, data.Y_val, data.n_val)
+            model.train()
+            history.append({"epoch": (step + 1) / steps_per_epoch, "step": step + 1,
+                            "elapsed_s": train_s, "lr": lr, "train_loss": (loss_sum / n_loss).tolist(),
+                            "val_loss": val["loss"].tolist(), **history_fields(val)})
+            loss_sum.zero_()
+            n_loss = 0
+            all_stopped = snapshot.update(model, val["loss"])
+            bar.update(step + 1, f"fleet of {U}: {progress_text(val)}")
+            if all_stopped:
+                break
+            tick = time.perf_counter()
     bar.close()
     if recipe.keep_best:
         snapshot.restore(model)

@@ -1,0 +1,44 @@
+"""Research log entry 196's timing reading: `anytip calibrate` with the code before the numpy step ("old")
+and this entry's ("new"), alternated (logs/time_calibrate.log): new over old `wall_s`, paired per (unit, arm,
+round), the geometric mean with its 95% t-interval (entry 172's table), then entry 171's threshold per arm on
+the new code (the largest work `wall_s x core_gflops` over 10 s, and the median's). From the repository root:
+
+    python reports/cross_sensor_response_gpu/entry196/analyse.py > \\
+        reports/cross_sensor_response_gpu/entry196/logs/analyse.log
+"""
+
+import runpy
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).parent
+timing_line = runpy.run_path(str(HERE.parent / "entry171" / "analyse.py"))["timing_line"]
+E172 = runpy.run_path(str(HERE.parent / "entry172" / "analyse.py"))
+LOG = HERE / "logs" / "time_calibrate.log"
+TARGET_S = 10.0
+
+
+def lines() -> list[dict[str, str]]:
+    """The log's calibrations, parsed."""
+    parsed = map(timing_line, LOG.read_text().splitlines())
+    return [t for t in parsed if t is not None and "model" in t]
+
+
+def main() -> None:
+    print("(entry 172's rule 1 below reads as a note here: the numpy step moves each network by its "
+          "rounding, so no pair's model files are expected equal)")
+    E172["main"](LOG, "rule 2")
+    print("\nentry 171's threshold on the new code: the work wall_s x core_gflops (GFLOP) over 10 s")
+    print("| arm | core_gflops | work | threshold, largest work | threshold, median work |")
+    print("|---|---|---|---|---|")
+    for arm in ("alone", "use"):
+        mine = [t for t in lines() if t["code"] == "new" and t["arm"] == arm]
+        gflops = np.array([float(t["core_gflops"]) for t in mine])
+        work = np.array([float(t["wall_s"]) for t in mine]) * gflops
+        print(f"| {arm} | {gflops.min():.1f}-{gflops.max():.1f} | {work.min():.0f}-{work.max():.0f} | "
+              f"{work.max() / TARGET_S:.0f} GFLOP/s | {np.median(work) / TARGET_S:.0f} GFLOP/s |")
+
+
+if __name__ == "__main__":
+    main()
