@@ -5,6 +5,7 @@
 # step (eeee16de, a worktree under build/: "old") and with the current tree ("new") in turn, the order alternating
 # by round. Prints 'CODE ARM UNIT round R wall_s S command_s C core_gflops G model H' per calibration.
 #   bash reports/cross_sensor_response_gpu/entry196/time_calibrate.sh 3 > reports/cross_sensor_response_gpu/entry196/logs/time_calibrate.log
+# (b2, the same again: > .../logs/time_calibrate_b2.log)
 set -euo pipefail
 rounds=${1:-3}
 G=reports/cross_sensor_response_gpu old=build/entry196_eeee16de
