@@ -1,15 +1,17 @@
 """How fast this process's CPU runs the product a tiny network's training is made of.
 
 Most of a unit network's (8-12-64-64-5) arithmetic in a training step is the 64-by-64 layer's forward
-and backward products at the batch's 256 rows; the products are 53-61% of the step, the rest small
+and backward products at the batch's 256 rows; the products are 53-61% of torch's step, the rest small
 kernels' passes and the Python between calls (research log entries 172, 175), which a faster clock
-shortens as well. The same single-core code ran `anytip calibrate` 1.44 times slower on one day than on
-another (entry 168), so a calibration's seconds say little without the speed of the core that spent
-them. `core_gflops` times that product alone, with torch's own kernel: a reference workload that does
-not depend on this package's code, recorded beside a calibration's time (`calibration.json`'s
-`core_gflops`) so that times from different machines or days can be set side by side. Within one
-session on one core a calibration's seconds still move by a few percent that the product's rate does
-not see (entry 171).
+shortens as well. One network on a CPU now steps in numpy (`models.cpu_step`, entry 196), whose
+products are OpenBLAS's, not the kernel timed here: the probe still reads the core's speed. The same
+single-core code ran `anytip calibrate` 1.44 times slower on one day than on another (entry 168), so
+a calibration's seconds say little without the speed of the core that spent them. `core_gflops` times
+that product alone, with torch's own kernel: a reference workload that does not depend on this
+package's code, recorded beside a calibration's time (`calibration.json`'s `core_gflops`) so that
+times from different machines or days can be set side by side. Within one session on one core a
+calibration's seconds still move by a few percent that the product's rate does not see (entry 171),
+and on a disturbed day by more (entry 196).
 """
 
 from __future__ import annotations
