@@ -178,6 +178,20 @@ def test_one_network_steps_in_numpy_for_any_batch_and_new_weights():
         torch.testing.assert_close(p, want, rtol=1e-4, atol=1e-6)
 
 
+def test_one_network_of_float64_weights_keeps_torchs_path():
+    """Weights of another dtype than the rows' float32 are not read as numpy's: torch's path names the
+    mismatch, as it does for a fleet; float64 rows with float64 weights take torch's path and work."""
+    model = BatchedMLP(1, CONFIG, seed=5).double()
+    x, y = torch.randn(1, 32, 8), torch.randn(1, 32, 5)
+    with pytest.raises(RuntimeError):
+        model.mse_grads(x, y)
+    assert model._numpy_grads is None
+    loss, grads = _autograd_grads(model, x.double(), y.double())
+    torch.testing.assert_close(model.mse_grads(x.double(), y.double()), loss)
+    for p, want in zip(model.parameters(), grads, strict=True):
+        torch.testing.assert_close(p.grad, want)
+
+
 @pytest.mark.parametrize(("sizes", "activation", "output"), [((8, 16, 5), "tanh", None),
                                                              ((8, 16, 5), "relu", "tanh")])
 def test_mse_grads_equal_autograd_bit_for_bit_off_relu(sizes, activation, output):

@@ -72,7 +72,7 @@ class NumpyGrads:
     def __call__(self, x: Tensor, y: Tensor) -> Tensor:
         """The mean squared error (1,) of rows x (1, batch, in) against y (1, batch, out), with its
         gradients left in `grads`."""
-        h, target = x.numpy()[0], y.numpy()[0]
+        h, target = x.detach().numpy()[0], y.detach().numpy()[0]
         inputs, last = [], len(self.W) - 1
         for k, (W, b, out) in enumerate(zip(self.W, self.b, self.h, strict=True)):
             inputs.append(h)

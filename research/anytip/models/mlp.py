@@ -165,11 +165,13 @@ class BatchedMLP(nn.Module):
         same values; the output layer's product and the gradients' products with fewer than
         NARROW_OUT output columns are taken transposed (`_bmm`), so the gradients equal autograd's
         within float32 rounding rather than bit for bit (tests/test_models_mlp.py bounds the
-        difference). One such network on a CPU takes the same chain rule in numpy (`NumpyGrads`),
-        whose calls cost less; its gradients then live in tensors it keeps. Any other activation goes
-        through autograd."""
+        difference). One such network whose weights and rows are float32 on a CPU takes the same chain
+        rule in numpy (`NumpyGrads`), whose calls cost less; its gradients then live in tensors it keeps.
+        Any other activation goes through autograd."""
         if self._numpy_kind and x.is_cpu and x.dtype == torch.float32:
-            return self._numpy_step(x, y)
+            loss = self._numpy_step(x, y)
+            if loss is not None:
+                return loss
         if self.config.activation != "relu" or self.config.output_activation is not None:
             for p in self.parameters():
                 p.grad = None
@@ -202,11 +204,14 @@ class BatchedMLP(nn.Module):
         """Whether `mse_grads` takes its numpy path for float32 rows on `device`."""
         return self._numpy_kind and device.type == "cpu" and self.weights[0].dtype == torch.float32
 
-    def _numpy_step(self, x: Tensor, y: Tensor) -> Tensor:
-        """`mse_grads` by `NumpyGrads`, made again where the batch or the weights' memory changed."""
+    def _numpy_step(self, x: Tensor, y: Tensor) -> Tensor | None:
+        """`mse_grads` by `NumpyGrads`, made again where the batch or the weights' memory changed; None
+        where a weight is not float32 on a CPU (torch's path then computes, or names the mismatch)."""
         params = (*self.weights._parameters.values(), *self.biases._parameters.values())
         step = self._numpy_grads
         if step is None or not step.current(params, x.shape[1]):
+            if not all(p.is_cpu and p.dtype == torch.float32 for p in params):
+                return None
             step = self._numpy_grads = NumpyGrads(params, len(self.weights), x.shape[1])
         loss = step(x, y)
         for p, g in zip(params, step.grads, strict=True):
