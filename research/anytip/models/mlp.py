@@ -202,15 +202,24 @@ class BatchedMLP(nn.Module):
 
     def steps_in_numpy(self, device: torch.device) -> bool:
         """Whether `mse_grads` takes its numpy path for float32 rows on `device`."""
-        return self._numpy_kind and device.type == "cpu" and self.weights[0].dtype == torch.float32
+        return device.type == "cpu" and self._numpy_takes(self._params())
+
+    def _params(self) -> tuple[Tensor, ...]:
+        """The weights, then the biases (the ParameterLists' own dicts: iterating a ParameterList
+        costs 10-20 us of a tiny network's step)."""
+        return (*self.weights._parameters.values(), *self.biases._parameters.values())
+
+    def _numpy_takes(self, params: tuple[Tensor, ...]) -> bool:
+        """Whether `NumpyGrads` serves these weights: one ReLU network, every weight float32 on a CPU."""
+        return self._numpy_kind and all(p.is_cpu and p.dtype == torch.float32 for p in params)
 
     def _numpy_step(self, x: Tensor, y: Tensor) -> Tensor | None:
         """`mse_grads` by `NumpyGrads`, made again where the batch or the weights' memory changed; None
         where a weight is not float32 on a CPU (torch's path then computes, or names the mismatch)."""
-        params = (*self.weights._parameters.values(), *self.biases._parameters.values())
+        params = self._params()
         step = self._numpy_grads
         if step is None or not step.current(params, x.shape[1]):
-            if not all(p.is_cpu and p.dtype == torch.float32 for p in params):
+            if not self._numpy_takes(params):
                 return None
             step = self._numpy_grads = NumpyGrads(params, len(self.weights), x.shape[1])
         loss = step(x, y)
