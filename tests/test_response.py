@@ -1779,6 +1779,15 @@ def _calibrate_with_ordinary_use(run: Path, fleet: Registry, tmp_path: Path) -> 
     assert codes["both"]["method"] == "response+use" and codes["plain"]["method"] == "response"
     assert codes["both"]["codes"] != codes["plain"]["codes"]
     assert both.intervals is not None and not any("no fleet factor" in n for n in both.notes)
+    # at the benchmark's level: 15 s of use weighs less than the 20 s its use factor was learnt on, so the
+    # intervals take the plan alone's factor, as without use; 20 s take the use factor
+    at = {s: calibrate_unit(run, unit, fleet, tmp_path / f"level_{s}", budget_seconds=40, use_seconds=s,
+                            interval_level=0.8, method="response") for s in (0, 15, 20)}
+    assert at[15].intervals["fleet_factor"] == at[0].intervals["fleet_factor"]
+    said = "intervals: the plan alone's fleet factor, as the ordinary use read weighs 15.0 s, less than"
+    assert any(n.startswith(said) and " the 20 s " in n for n in at[15].notes)
+    assert at[20].intervals["fleet_factor"] != at[0].intervals["fleet_factor"]
+    assert not any("the plan alone's fleet factor" in n for n in at[20].notes + at[0].notes)
     alone = calibrate_unit(run, unit, fleet, tmp_path / "alone", budget_seconds=0, use_seconds=600)
     assert alone.calib_samples == 0 and 0 < alone.unlabeled_seconds < 600
     said = f"{alone.unlabeled_seconds:.1f} s of contact read of the 600 s asked (all the stream holds)"
@@ -1844,13 +1853,15 @@ def _calibrate_with_a_use_log(run: Path, fleet: Registry, unit: str, tmp_path: P
     # asked for more than the logs hold, the rows weigh as the seconds they hold: the same codes as asked
     # for just those seconds, and a note says what was read of what was asked
     held = calibrate_unit(run, unit, fleet, tmp_path / "held", budget_seconds=40, use_seconds=600,
-                          use_logs=logs)
+                          use_logs=logs, interval_level=0.8)
     exact = calibrate_unit(run, unit, fleet, tmp_path / "exact", budget_seconds=40,
-                           use_seconds=held.unlabeled_seconds + 1e-3, use_logs=logs)
+                           use_seconds=held.unlabeled_seconds + 1e-3, use_logs=logs, interval_level=0.8)
     assert 15 < held.unlabeled_seconds < 600 and exact.unlabeled_samples == held.unlabeled_samples
     assert load_models(tmp_path / "held").meta["codes"] == load_models(tmp_path / "exact").meta["codes"]
     said = f"ordinary use: {held.unlabeled_seconds:.1f} s of contact read of the 600 s asked (all the logs"
     assert any(n.startswith(said) for n in held.notes)
+    assert held.intervals["fleet_factor"] == exact.intervals["fleet_factor"]  # weighed alike: one factor
+    assert any("the plan alone's fleet factor" in n for n in held.notes) == (held.unlabeled_seconds < 20)
     other = next(u for u in {r.unit for r in fleet.list_runs()} if u != unit)
     stranger = write_use_log(replace(log, sensor_id=other), tmp_path / "stranger.h5")
     with pytest.raises(AnytipError, match=f"stranger.h5: a log of {other}"):

@@ -1,15 +1,19 @@
-"""Research log entry 198's reading: the 90% intervals of `anytip calibrate --plan-strategy designed --use-log`
-(120 s, a log weighed as the contact seconds it holds) under three fleet factors, each applied to the half-widths
-the calibration recorded (`intervals.own_halfwidth`) and scored on the unit's full runs, which no calibration
-reads. U: the factor the benchmark learnt for codes fitted with its 600 s of ordinary use (today's); A: the one it
-learnt for the plan alone; I: between them, geometric in the share s of the benchmark's use seconds the log held,
-A^(1 - s) U^s. Nothing is trained or calibrated again.
+"""Research log entry 198's reading: the 90% intervals of `anytip calibrate --plan-strategy designed
+--use-log` (120 s, a log weighed as the contact seconds it holds) under three fleet factors, each applied
+to the half-widths the calibration recorded (`intervals.own_halfwidth`) and scored on the unit's full
+runs, which no calibration reads. U: the factor the benchmark learnt for codes fitted with its 600 s of
+ordinary use (today's); A: the one it learnt for the plan alone; I: between them, geometric in the share s
+of the benchmark's use seconds the log held, A^(1 - s) U^s. Nothing is trained or calibrated again. A was
+taken: since this entry `anytip calibrate` itself gives a unit with a log lighter than the benchmark's use
+A's factor.
 
-Validation units (the decision): entry 191's arm H, 64 fresh units of two elastomers. Held-out units (read after
-the decision): entry 182's L120 (16 fleet88 units, scored on data/fleet88p as entry 182 scored them) and entry 186's D1 (other16's 16 units, each
-under the fold that holds it out, scored on data/other16 as entry 186 scored them).
+Validation units (the decision): entry 191's arm H, 64 fresh units of two elastomers. Held-out units (read
+after the decision): entry 182's L120 (16 fleet88 units, scored on data/fleet88p as entry 182 scored them)
+and entry 186's D1 (other16's 16 units, each under the fold that holds it out, scored on data/other16 as
+entry 186 scored them).
 
-    python reports/cross_sensor_response_gpu/entry198/analyse.py > reports/cross_sensor_response_gpu/entry198/logs/analyse.log
+    python reports/cross_sensor_response_gpu/entry198/analyse.py > \\
+        reports/cross_sensor_response_gpu/entry198/logs/analyse.log
 """
 
 from __future__ import annotations
@@ -35,8 +39,10 @@ SETS = (("default fingertip, 32 fresh (SIM41, entry 191 H)", "build/entry191/H-f
          "validation"),
         ("other elastomer, 32 fresh (SIM24, entry 191 H)", "build/entry191/H-o*/SIM24-*", "data/val191o",
          "validation"),
-        ("fleet88, 16 held out (SIM40, entry 182 L120)", "build/entry182/L120/SIM40-*", "data/fleet88p", "held-out"),
-        ("other16, 16 held out (SIM23, entry 186 D1)", "build/entry186/D1/SIM23-*", "data/other16", "held-out"))
+        ("fleet88, 16 held out (SIM40, entry 182 L120)", "build/entry182/L120/SIM40-*", "data/fleet88p",
+         "held-out"),
+        ("other16, 16 held out (SIM23, entry 186 D1)", "build/entry186/D1/SIM23-*", "data/other16",
+         "held-out"))
 
 
 def factors(response_model: str, seconds: float) -> tuple[dict[str, np.ndarray], float]:
@@ -65,7 +71,8 @@ def coverages(calibration: Path, registry: Registry) -> tuple[dict[str, np.ndarr
     runs = [r for r in registry.list_runs(unit=rec["unit"]) if r.protocol == "full"]
     arrays = load_arrays(registry, runs)
     net = load_models(calibration / "model.safetensors")
-    pred = predict(net.model, net.in_scaler, net.out_scaler, torch.from_numpy(arrays.pressure)[None])[0].numpy()
+    X = torch.from_numpy(arrays.pressure)[None]
+    pred = predict(net.model, net.in_scaler, net.out_scaler, X)[0].numpy()
     out = {arm: coverage(*interval(pred, own * f), arrays.targets) for arm, f in got.items()}
     recorded = np.array([rec["intervals"]["fleet_factor"][n] for n in names])
     same = bool(np.allclose(recorded, got["U"], rtol=1e-12))
@@ -81,7 +88,8 @@ def summary(cov: np.ndarray) -> str:
     in_band = np.mean((flat >= BAND[0]) & (flat <= BAND[1]))
     means = " ".join(f"{m:.3f}" for m in cov.mean(0))
     return (f"{100 * in_band:.1f}% in band, {int(np.sum(flat < FLOOR))} below {FLOOR}, "
-            f"{int(np.sum(flat > BAND[1]))} above {BAND[1]}, lowest {flat.min():.3f}; mean per output {means}")
+            f"{int(np.sum(flat > BAND[1]))} above {BAND[1]}, lowest {flat.min():.3f}; "
+            f"mean per output {means}")
 
 
 def main() -> None:
