@@ -392,6 +392,19 @@ def test_plan_intervals_score_the_units_other_runs():
     assert plan_intervals(None, 0.8, ("a", "b"), (pred, target)) is None
 
 
+def test_a_lighter_ordinary_use_than_the_benchmarks_takes_the_plan_alones_factor():
+    """The factor for codes fitted with use serves use that weighs the benchmark's seconds or more;
+    below that the plan alone's, with a note naming both weights."""
+    from anytip.calibrate.intervals import use_factor_fits
+
+    notes: list[str] = []
+    assert use_factor_fits(600.0, 600.0, notes) and use_factor_fits(700.0, 600.0, notes) and not notes
+    assert not use_factor_fits(162.14, 600.0, notes)
+    assert notes == ["intervals: the plan alone's fleet factor, as the ordinary use read weighs 162.1 s, "
+                     "less than the 600 s the benchmark's factor for codes fitted with use was learnt on "
+                     "(research log entry 198)"]
+
+
 def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):
     out = tmp_path / "plan.csv"
     assert main(["calibrate", "--plan", "120", "--out", str(out)]) == 0

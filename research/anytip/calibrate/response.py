@@ -13,7 +13,7 @@ import numpy as np
 import torch
 from torch import Tensor
 
-from anytip.calibrate.intervals import response_intervals
+from anytip.calibrate.intervals import response_intervals, use_factor_fits
 from anytip.calibrate.plan_choice import PlanRequest, response_strategy
 from anytip.calibrate.records import at_budget, response_record, strategy_table, val_loss_table
 from anytip.calibrate.result import OWN_CHECK_ALARM, Calibrated, check_on_other_runs
@@ -207,7 +207,8 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
             held = "all the logs hold" if use.logs else "all the stream holds"
             notes.append(f"ordinary use: {used.contact_seconds:.1f} s of contact read of the {use.seconds:g} "
                          f"s asked ({held}), weighed as what was read")
-        use_factor = _use_factor_fits(used, use.seconds, fleet.free.seconds, notes)
+        weighed = used.contact_seconds if used.ran_out else use.seconds
+        use_factor = use_factor_fits(weighed, fleet.free.seconds, notes)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
                                         extra=[distilled])
@@ -339,22 +340,6 @@ def _fleet_use(path: Path, meta: dict[str, Any], fit: ResponseFit, use: UseReque
                      "options.response.label_free): the default recipe, the training units' force scale, "
                      "and without labels a search from codes zero (research log entry 40)")
     return fleet
-
-
-def _use_factor_fits(used: UseRead, asked: float, benchmark: float, notes: list[str]) -> bool:
-    """Whether a unit's intervals take the fleet factor the benchmark learnt for codes fitted with its
-    `benchmark` seconds of ordinary use: where the use read weighs as much (the `asked` seconds, or what
-    was read where the logs or stream ran out). A lighter use leaves the codes nearer the plan's alone,
-    and the plan alone's factor serves: on 64 fresh validation units with logs of 160-235 contact-seconds
-    it put 88.8% of their unit-outputs in band and 11 below 0.80, where the use factor put 78.4% and 21
-    (research log entry 198). A note says which."""
-    weighed = used.contact_seconds if used.ran_out else asked
-    if weighed >= benchmark:
-        return True
-    notes.append(f"intervals: the plan alone's fleet factor, as the ordinary use read weighs {weighed:.1f} "
-                 f"s, less than the {benchmark:g} s the benchmark's factor for codes fitted with use was "
-                 "learnt on (research log entry 198)")
-    return False
 
 
 def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUse,
