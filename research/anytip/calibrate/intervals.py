@@ -100,23 +100,26 @@ def use_factor_fits(weighed: float, benchmark: float, notes: list[str]) -> bool:
 
 def response_intervals(meta: dict[str, Any], residuals: np.ndarray, budget: float, strategy: str,
                        level: float, names: tuple[str, ...], other: tuple[np.ndarray, np.ndarray] | None,
-                       notes: list[str], with_use: bool = False,
+                       notes: list[str], use: tuple[float, float] | None = None,
                        pooled: tuple[list[tuple[Path, dict[str, Any]]], str] | None = None
                        ) -> dict[str, Any] | None:
     """A response-transferred unit's intervals: its network's residuals on the plan's rows (n, D),
     which also trained it, times the fleet factor the benchmark's validation units learnt for
     plans of `strategy` (`intervals.fleet_factor_by_strategy`; `use_fleet_factor_by_strategy` for
-    codes fitted `with_use` of ordinary use); a note where there is none. `pooled`: (other models'
+    codes fitted with ordinary use that weighs as much as the benchmark's, `use`: (seconds weighed,
+    the benchmark's), see `use_factor_fits`); a note where there is none. `pooled`: (other models'
     intervals records, the unit calibrated): the factor and margin learnt by the learners of this
     model's record and theirs but that unit's own (`pooled_learners`, research log entry 53)."""
     rec = meta.get("intervals")
     factor, why = None, ("the response model's benchmark learnt no fleet factor for intervals: intervals "
                          "from the plan's rows alone, which also trained the network (too narrow)")
     if isinstance(rec, dict):
-        table = strategy_table(rec, "use_fleet_factor", strategy) if with_use else None
-        if with_use and not table:
+        table = strategy_table(rec, "use_fleet_factor", strategy) if use else None
+        if use and not table:
             notes.append("the response model's benchmark learnt no fleet factor for codes fitted with "
                          "ordinary use: the one learnt for codes from the plan alone is applied")
+        elif use and not use_factor_fits(*use, notes):
+            table = None
         prefix = "use_" if table else ""
         table = table or strategy_table(rec, "fleet_factor", strategy)
         factor, why = _usable_factor(rec, table, budget, level, names)
