@@ -4,22 +4,24 @@
 # 0, on data/val191o), pinned to CORE, into OUT; `halves ARMS` runs ARMS (`one CORE ARM FOLD UNIT`, the
 # sourcing script's) over units.py's pairs, two at a time. `weighed CORE ARM FOLD UNIT ENTRY BUDGET WEIGHT` is
 # one calibration at `--budget-seconds BUDGET` with the log weighed as WEIGHT seconds (entry 190's
-# as_asked.py), into build/ENTRY/ARM-FOLD/UNIT (entries 192-195).
+# as_asked.py), into build/ENTRY/ARM-FOLD/UNIT (entries 192-195). Entry 201 sets UNITS_PY, REG_D, REG_O and
+# USE_LOGS to its own units, registries and logs.
 G=reports/cross_sensor_response_gpu
-mapfile -t pairs < <(python $G/entry191/units.py)
+REG_D=${REG_D:-data/val191d} REG_O=${REG_O:-data/val191o} USE_LOGS=${USE_LOGS:-build/entry191_logs}
+mapfile -t pairs < <(python "${UNITS_PY:-$G/entry191/units.py}")
 calibrate_arm() {
   local core=$1 out=$2 fold=$3 unit=$4 run=() where
   shift 4
   while [ "$1" != -- ]; do run+=("$1"); shift; done
   shift
   if [ "${fold:0:1}" = f ]; then
-    where=(--model $G/entry147/at120/fleet88_seed${fold:1} --registry data/val191d)
+    where=(--model $G/entry147/at120/fleet88_seed${fold:1} --registry $REG_D)
   else
-    where=(--model $G/entry146/at120/other16_severe_d0/other16_seed${fold:1} --registry data/val191o)
+    where=(--model $G/entry146/at120/other16_severe_d0/other16_seed${fold:1} --registry $REG_O)
   fi
   rm -rf "$out"; mkdir -p "$(dirname "$out")"
   OMP_NUM_THREADS=1 taskset -c "$core" "${run[@]}" calibrate --unit "$unit" --method response \
-    --plan-strategy designed --ordinary-use 600 "${where[@]}" --use-log build/entry191_logs/"$unit"_o*.h5 \
+    --plan-strategy designed --ordinary-use 600 "${where[@]}" --use-log "$USE_LOGS/$unit"_o*.h5 \
     "$@" --out "$out" > "$out.log" 2>&1 || { cat "$out.log"; exit 1; }
   echo "$(basename "$(dirname "$out")") $unit $(sha256sum "$out/model.safetensors" | cut -c1-16)"
 }

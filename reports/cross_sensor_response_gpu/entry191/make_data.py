@@ -29,9 +29,11 @@ REGISTRIES = (("data/fleet88p", "data/val191d", None, 41),
               ("data/other16p", "data/val191o", "configs/fleets/other_elastomer.yaml", 24))
 
 
-def main() -> None:
-    LOGS.mkdir(parents=True, exist_ok=True)
-    for source, target, fleet, seed in REGISTRIES:
+def main(logs: Path = LOGS, registries: tuple = REGISTRIES) -> None:
+    """Each of `registries`' (source, target, fleet config or None, seed) made, its units' logs under `logs`
+    (entry 201 gives its own)."""
+    logs.mkdir(parents=True, exist_ok=True)
+    for source, target, fleet, seed in registries:
         reg = linked_copy(Path(source), Path(target))
         config = FleetConfig() if fleet is None else load_fleet_config(fleet)
         added, _ = simulate_into(reg, config, UNITS, seed=seed, protocols=("full", "plan120"))
@@ -39,10 +41,10 @@ def main() -> None:
         for index in range(UNITS):
             params = draw_unit(config, unit_rng(seed, index))
             for run in map(as_run, simulate_unit(params, USE, seed, index, None, config.run, 100)):
-                write_use_log(UseLog.of_run(run), LOGS / f"{run.sensor_id}_o{run.orientation_deg:g}.h5")
+                write_use_log(UseLog.of_run(run), logs / f"{run.sensor_id}_o{run.orientation_deg:g}.h5")
                 written += 1
         print(f"{target}: {added} runs of {UNITS} units (seed {seed}) added to a copy of {source}; "
-              f"{written} sessions written as logs under {LOGS}")
+              f"{written} sessions written as logs under {logs}")
 
 
 if __name__ == "__main__":
