@@ -9,6 +9,7 @@ and the old code's median `wall_s` per arm within x1.05 of entry 172's code's), 
 from __future__ import annotations
 
 import runpy
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +17,10 @@ import numpy as np
 HERE = Path(__file__).parent
 timing_line = runpy.run_path(str(HERE.parent / "entry171" / "analyse.py"))["timing_line"]
 E172 = runpy.run_path(str(HERE.parent / "entry172" / "analyse.py"))
-LOG, OLD_DAY = HERE / "logs" / "time_calibrate.log", HERE.parent / "entry172" / "logs" / "time_calibrate.log"
+# another entry's timing log (entry 203: `analyse.py entry203`) or this entry's own
+ENTRY = sys.argv[1] if len(sys.argv) > 1 else "entry200"
+LOG = HERE.parent / ENTRY / "logs" / "time_calibrate.log"
+OLD_DAY = HERE.parent / "entry172" / "logs" / "time_calibrate.log"
 TARGET_S, CALM_GFLOPS, CALM_RATIO = 10.0, 85.0, 1.05
 
 
