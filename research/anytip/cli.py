@@ -462,7 +462,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="other runs of the same benchmark (a registry's other unit folds): their response "
                           "models' validation units learn the intervals' fleet factor and margin with this "
                           "run's, all but the unit calibrated; response transfer only (research log "
-                          "entry 53)")
+                          "entry 53); list every other fold's run with --use-log (entry 199)")
     cal.add_argument("--plan-strategy", default=None, metavar="STRATEGY",
                      help="the press selection response transfer calibrates by (cover, cover_informative, "
                           "...), where a choice was made on more validation units than the run's; default: "
