@@ -21,6 +21,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import torch
@@ -59,21 +60,40 @@ def factors(response_model: str, seconds: float) -> tuple[dict[str, np.ndarray],
     return {"U": u, "A": a, "I": a ** (1 - s) * u ** s}, s
 
 
-def coverages(calibration: Path, registry: Registry) -> tuple[dict[str, np.ndarray], float, bool]:
-    """Per arm, the coverage (D,) of the calibration's network on its unit's full runs; s; and the gate: the
-    recorded factor is U and, where the calibration's other runs are exactly the full runs, its recorded
-    coverage is U's."""
+class FullRuns(NamedTuple):
+    """A calibration read on its unit's full runs, which no calibration reads: its record, its network's
+    metadata and output names, its recorded own half-widths (D,), and its predictions and the targets there
+    (n, D)."""
+
+    rec: dict
+    meta: dict
+    names: tuple[str, ...]
+    own: np.ndarray
+    pred: np.ndarray
+    target: np.ndarray
+
+
+def on_full_runs(calibration: Path, registry: Registry) -> FullRuns:
+    """`FullRuns` of the calibration directory (entries 198-202 read theirs with it)."""
     rec = json.loads((calibration / "calibration.json").read_text())
-    head = read_header(model_paths(calibration / "model.safetensors")[1])
-    got, s = factors(head["meta"]["response_model"], rec["unlabeled_seconds"])
-    names = head["meta"]["output_names"]
-    own = np.array([rec["intervals"]["own_halfwidth"][n] for n in names])
+    meta = read_header(model_paths(calibration / "model.safetensors")[1])["meta"]
+    names = tuple(meta["output_names"])
     runs = [r for r in registry.list_runs(unit=rec["unit"]) if r.protocol == "full"]
     arrays = load_arrays(registry, runs)
     net = load_models(calibration / "model.safetensors")
     X = torch.from_numpy(arrays.pressure)[None]
     pred = predict(net.model, net.in_scaler, net.out_scaler, X)[0].numpy()
-    out = {arm: coverage(*interval(pred, own * f), arrays.targets) for arm, f in got.items()}
+    own = np.array([rec["intervals"]["own_halfwidth"][n] for n in names])
+    return FullRuns(rec, meta, names, own, pred, arrays.targets)
+
+
+def coverages(calibration: Path, registry: Registry) -> tuple[dict[str, np.ndarray], float, bool]:
+    """Per arm, the coverage (D,) of the calibration's network on its unit's full runs; s; and the gate: the
+    recorded factor is U and, where the calibration's other runs are exactly the full runs, its recorded
+    coverage is U's."""
+    rec, meta, names, own, pred, target = on_full_runs(calibration, registry)
+    got, s = factors(meta["response_model"], rec["unlabeled_seconds"])
+    out = {arm: coverage(*interval(pred, own * f), target) for arm, f in got.items()}
     recorded = np.array([rec["intervals"]["fleet_factor"][n] for n in names])
     same = bool(np.allclose(recorded, got["U"], rtol=1e-12))
     if rec["check"]["rows"] == len(pred):

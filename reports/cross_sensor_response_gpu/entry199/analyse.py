@@ -13,18 +13,14 @@ units (entries 182 and 186), read after.
 
 from __future__ import annotations
 
-import json
 import runpy
 from pathlib import Path
 
 import numpy as np
-import torch
 
 from anytip.calibrate.intervals import interval_records, pooled_learners
-from anytip.data.arrays import load_arrays
 from anytip.data.registry import Registry
-from anytip.models.io import RESPONSE_FORMAT, load_models, model_paths, read_header
-from anytip.train.metrics import predict
+from anytip.models.io import RESPONSE_FORMAT, model_paths, read_header
 from anytip.uncertainty.conformal import coverage, interval
 from anytip.uncertainty.fleet_margin import pooled_factor
 
@@ -47,22 +43,20 @@ def pooled(response_model: Path, unit: str, names: tuple[str, ...]) -> tuple[np.
     return factor * choice.margin, choice.margin, len(learners)
 
 
+def arms(read: tuple) -> tuple[dict[str, np.ndarray], float, int]:
+    """A's and P's coverage (D,) of a calibration read on its unit's full runs (entry 198's `FullRuns`), P's
+    margin and its number of learners."""
+    model = Path(read.meta["response_model"])
+    alone = E198["factors"](str(model), read.rec["unlabeled_seconds"])[0]["A"]
+    got, margin, n = pooled(model, read.rec["unit"], read.names)
+    both = {"A": alone, "P": got}
+    covered = {arm: coverage(*interval(read.pred, read.own * f), read.target) for arm, f in both.items()}
+    return covered, margin, n
+
+
 def coverages(calibration: Path, registry: Registry) -> tuple[dict[str, np.ndarray], float, int]:
-    """A's and P's coverage (D,) of the calibration's network on its unit's full runs, P's margin and its
-    number of learners."""
-    rec = json.loads((calibration / "calibration.json").read_text())
-    head = read_header(model_paths(calibration / "model.safetensors")[1])
-    names = tuple(head["meta"]["output_names"])
-    model = Path(head["meta"]["response_model"])
-    alone = E198["factors"](str(model), rec["unlabeled_seconds"])[0]["A"]
-    got, margin, n = pooled(model, rec["unit"], names)
-    own = np.array([rec["intervals"]["own_halfwidth"][k] for k in names])
-    arrays = load_arrays(registry, [r for r in registry.list_runs(unit=rec["unit"]) if r.protocol == "full"])
-    net = load_models(calibration / "model.safetensors")
-    X = torch.from_numpy(arrays.pressure)[None]
-    pred = predict(net.model, net.in_scaler, net.out_scaler, X)[0].numpy()
-    arms = {"A": alone, "P": got}
-    return {arm: coverage(*interval(pred, own * f), arrays.targets) for arm, f in arms.items()}, margin, n
+    """`arms` of the calibration directory."""
+    return arms(E198["on_full_runs"](calibration, registry))
 
 
 def main() -> None:

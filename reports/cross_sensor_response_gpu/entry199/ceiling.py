@@ -8,17 +8,12 @@ entry 198's units: the best share in [0.85, 0.95], and the best where none falls
 
 from __future__ import annotations
 
-import json
 import runpy
 from pathlib import Path
 
 import numpy as np
-import torch
 
-from anytip.data.arrays import load_arrays
 from anytip.data.registry import Registry
-from anytip.models.io import load_models, model_paths, read_header
-from anytip.train.metrics import predict
 from anytip.uncertainty.conformal import needed_halfwidths
 from anytip.uncertainty.fleet_margin import factor_ceiling
 
@@ -30,13 +25,8 @@ EDGES = (0.80, 0.85, 0.95)  # the floor and the band's edges
 def widths(calibration: Path, registry: Registry) -> tuple[np.ndarray, np.ndarray]:
     """The calibration's own half-widths (D,) and those at which its unit's full runs are covered at the
     floor and the band's edges (3, D)."""
-    rec = json.loads((calibration / "calibration.json").read_text())
-    names = read_header(model_paths(calibration / "model.safetensors")[1])["meta"]["output_names"]
-    arrays = load_arrays(registry, [r for r in registry.list_runs(unit=rec["unit"]) if r.protocol == "full"])
-    net = load_models(calibration / "model.safetensors")
-    pred = predict(net.model, net.in_scaler, net.out_scaler, torch.from_numpy(arrays.pressure)[None])[0]
-    own = np.array([rec["intervals"]["own_halfwidth"][n] for n in names])
-    return own, needed_halfwidths(pred.numpy() - arrays.targets, EDGES)
+    read = E198["on_full_runs"](calibration, registry)
+    return read.own, needed_halfwidths(read.pred - read.target, EDGES)
 
 
 def main() -> None:

@@ -10,17 +10,12 @@ entry 198) and for the plan alone (A, before entry 199's pooling).
 
 from __future__ import annotations
 
-import json
 import runpy
 from pathlib import Path
 
 import numpy as np
-import torch
 
-from anytip.data.arrays import load_arrays
 from anytip.data.registry import Registry
-from anytip.models.io import load_models, model_paths, read_header
-from anytip.train.metrics import predict
 from anytip.uncertainty.conformal import coverage, interval
 
 HERE = Path(__file__).parent
@@ -34,19 +29,12 @@ GROUPS = (("default fingertip, 32 fresh (SIM44)", "f"), ("other elastomer, 32 fr
 def scored(fold: str, unit: str, registry: Registry) -> tuple[dict[str, np.ndarray], bool]:
     """Per arm (P as reported, U, A), the coverage (D,) of the unit's network on its full runs; the gate."""
     cal = Path("build/entry201") / f"P-{fold}" / unit
-    rec = json.loads((cal / "calibration.json").read_text())
-    head = read_header(model_paths(cal / "model.safetensors")[1])
-    names = head["meta"]["output_names"]
+    rec, meta, names, own, pred, target = E198["on_full_runs"](cal, registry)
     ours = rec["intervals"]
-    own = np.array([ours["own_halfwidth"][n] for n in names])
-    factors = E198["factors"](head["meta"]["response_model"], rec["unlabeled_seconds"])[0]
-    arrays = load_arrays(registry, [r for r in registry.list_runs(unit=unit) if r.protocol == "full"])
-    net = load_models(cal / "model.safetensors")
-    X = torch.from_numpy(arrays.pressure)[None]
-    pred = predict(net.model, net.in_scaler, net.out_scaler, X)[0].numpy()
+    factors = E198["factors"](meta["response_model"], rec["unlabeled_seconds"])[0]
     half = np.array([ours["halfwidth"][n] for n in names])
-    out = {"P": coverage(*interval(pred, half), arrays.targets)}
-    out |= {arm: coverage(*interval(pred, own * factors[arm]), arrays.targets) for arm in ("U", "A")}
+    out = {"P": coverage(*interval(pred, half), target)}
+    out |= {arm: coverage(*interval(pred, own * factors[arm]), target) for arm in ("U", "A")}
     said = " ".join(rec["notes"])
     gate = ("intervals: the plan alone's fleet factor" in said and "(--factor-from" in said
             and rec["check"]["rows"] == len(pred)

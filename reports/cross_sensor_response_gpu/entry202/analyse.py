@@ -12,17 +12,12 @@ units of their elastomer, beside P as reported.
 
 from __future__ import annotations
 
-import json
 import runpy
 from pathlib import Path
 
 import numpy as np
-import torch
 
-from anytip.data.arrays import load_arrays
 from anytip.data.registry import Registry
-from anytip.models.io import load_models, model_paths, read_header
-from anytip.train.metrics import predict
 from anytip.uncertainty.conformal import coverage, interval, needed_halfwidths, residual_halfwidth
 from anytip.uncertainty.fleet_margin import Learner, pooled_factor
 
@@ -37,23 +32,15 @@ FRESH = {"f": ("build/entry201/P-f*/SIM44-*", "data/test201d"), "o": ("build/ent
 
 
 class Unit:
-    """One calibration read on its unit's full runs: its residuals there (n, D), its recorded own and
-    reported half-widths (D,), and its `Learner`."""
+    """One calibration read on its unit's full runs (entry 198's `FullRuns`, `read`), its reported
+    half-widths (D,) and its `Learner`."""
 
     def __init__(self, calibration: Path, registry: Registry):
-        rec = json.loads((calibration / "calibration.json").read_text())
-        names = read_header(model_paths(calibration / "model.safetensors")[1])["meta"]["output_names"]
-        runs = [r for r in registry.list_runs(unit=rec["unit"]) if r.protocol == "full"]
-        arrays = load_arrays(registry, runs)
-        net = load_models(calibration / "model.safetensors")
-        X = torch.from_numpy(arrays.pressure)[None]
-        self.pred = predict(net.model, net.in_scaler, net.out_scaler, X)[0].numpy()
-        self.target = arrays.targets
-        self.own = np.array([rec["intervals"]["own_halfwidth"][n] for n in names])
-        self.reported = np.array([rec["intervals"]["halfwidth"][n] for n in names])
+        self.read = E198["on_full_runs"](calibration, registry)
+        self.pred, self.target, self.own = self.read.pred, self.read.target, self.read.own
+        self.reported = np.array([self.read.rec["intervals"]["halfwidth"][n] for n in self.read.names])
         miss = self.pred - self.target
         self.learner = Learner(self.own, residual_halfwidth(miss, LEVEL), *needed_halfwidths(miss, EDGES))
-        self.path, self.registry = calibration, registry
 
     def covered(self, half: np.ndarray) -> np.ndarray:
         return coverage(*interval(self.pred, half), self.target)
@@ -78,7 +65,7 @@ def main() -> None:
         for k, half in enumerate(halves):
             factor = learnt([u.learner for u in halves[1 - k]])
             for u in half:
-                p = E199["coverages"](u.path, u.registry)[0]["P"]
+                p = E199["arms"](u.read)[0]["P"]
                 rows.setdefault(f"validation {kind}", {}).setdefault("P", []).append(p)
                 rows[f"validation {kind}"].setdefault("C", []).append(u.covered(u.own * factor))
         factor = learnt([u.learner for u in val])
