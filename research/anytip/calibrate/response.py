@@ -196,7 +196,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
     tick = time.perf_counter()
     source = _source_rows(path, fit, training, recipe.source_rows, seed, notes)
     given, used, distilled = None, UseRead(np.zeros(0, np.int64), 0, 0.0), None
-    weighed = None  # (seconds the use read weighs, the benchmark's): which factor its intervals take
+    use_weight = None  # (seconds the use read weighs, the benchmark's): which factor the intervals take
     if use is not None:
         fleet = _fleet_use(path, meta, fit, use, (training_arrays, units), seed, notes)
         asked = replace(fleet, free=replace(fleet.free, seconds=use.seconds))
@@ -207,7 +207,8 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
             held = "all the logs hold" if use.logs else "all the stream holds"
             notes.append(f"ordinary use: {used.contact_seconds:.1f} s of contact read of the {use.seconds:g} "
                          f"s asked ({held}), weighed as what was read")
-        weighed = (used.contact_seconds if used.ran_out else use.seconds, fleet.free.seconds)
+        # the seconds asked where the use held them: whole presses or samples stop short by less than one
+        use_weight = (used.contact_seconds if used.ran_out else use.seconds, fleet.free.seconds)
     nets, codes = calibrate_by_response(fit, source, [X], [Y], [plan.n_effective], shape, recipe, seed,
                                         [stream.unit], arrays.output_names, start=start, codes=given,
                                         extra=[distilled])
@@ -222,7 +223,7 @@ def calibrate_by_response_unit(path: Path, registry: Registry, arrays: FleetArra
         residuals = fitted - arrays.targets[plan.rows]
         pool = (pooled, stream.unit) if pooled else None
         bands = response_intervals(meta, residuals, budget, strategy, interval_level, arrays.output_names,
-                                   on_other, notes, weighed, pool)
+                                   on_other, notes, use_weight, pool)
     method = ("response" if use is None else with_use_method(fleet.free) if len(plan.rows)
               else "response:label_free")
     result = Calibrated(out, stream.unit, int(len(plan.rows)), plan.calib_seconds, used.samples, 0.0, check,
