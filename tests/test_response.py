@@ -5,6 +5,7 @@ import argparse
 import importlib
 import json
 import multiprocessing
+import re
 import shutil
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -607,6 +608,7 @@ def test_calibrate_by_response_writes_the_units_own_network(response_run, fleet,
     bands = record["intervals"]  # residuals on the plan's rows, times the validation units' factor
     assert bands["folds"] is None and bands["rows"] == record["calib_samples"] and bands["level"] == 0.9
     assert "intervals from the plan (residuals on its" in said
+    assert re.search(r"fx \+-\S+ N, .*theta \+-\S+ rad", said)  # each half-width in its output's unit
     factor = load_response(response_run / "models" / "response_seed0.safetensors").meta["intervals"]
     if factor["level"] != 0.9:  # the benchmark learnt its factor at 0.8: the plan alone, and why
         assert "fleet_factor" not in bands and "learnt at level 0.8" in said

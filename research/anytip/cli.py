@@ -8,11 +8,14 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from anytip.errors import AnytipError
 from anytip.rundir import dumps_json, write_text
 from anytip.validation import mask_secrets
+
+if TYPE_CHECKING:
+    from anytip.data.registry import Registry
 
 
 def _registry_path(args: argparse.Namespace) -> Path:
@@ -21,7 +24,7 @@ def _registry_path(args: argparse.Namespace) -> Path:
     return Path(args.registry) if args.registry else default_registry_path()
 
 
-def _registry(args: argparse.Namespace, create: bool = False):
+def _registry(args: argparse.Namespace, create: bool = False) -> Registry:
     """The registry of `--registry`; only `data import` and `data simulate` create one."""
     from anytip.data.registry import Registry
 
@@ -207,13 +210,15 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if (out / "model.safetensors").exists() and not args.force:
         raise AnytipError(f"--out {out}: already holds a calibrated model; choose another or pass --force")
-    r = calibrate_unit(args.model, args.unit, _registry(args), out, args.budget_samples,
+    registry = _registry(args)
+    r = calibrate_unit(args.model, args.unit, registry, out, args.budget_samples,
                        args.budget_seconds, args.adapter, args.seed, args.interval_level or None, args.method,
                        args.ordinary_use, args.factor_from, args.plan_strategy, args.use_log)
     for note in r.notes:
         print(note, file=sys.stderr if note.startswith("warning") else sys.stdout)
+    units = _output_units(registry, r.unit)
     if r.response_check is not None:
-        return _print_response(r)
+        return _print_response(r, units)
     print(f"calibrated {r.unit}: {r.calib_samples} labeled samples ({r.calib_seconds:.1f} robot-s), "
           f"{r.unlabeled_samples} unlabeled{f', prior {r.prior:g}' if r.calib_samples else ''}; "
           f"folded model in {r.path / 'model.safetensors'}")
@@ -233,7 +238,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
             print(f"  the shared model's validation units, checked the same way: {val}; this unit is "
                   f"{own['over_validation']:.2f}x the worst of them{' (ALARM)' if own['alarm'] else ''}")
     if r.intervals is not None:
-        _print_intervals(r.intervals)
+        _print_intervals(r.intervals, units)
     elif args.interval_level and r.calib_samples:
         print("no intervals: the plan holds fewer presses than the folds needed to cross-fit them")
     took = f"; its own check and intervals (fold fits) in {r.check_s:.1f} s" if r.own_check else ""
@@ -248,8 +253,8 @@ def _check_line(check: dict[str, Any]) -> str:
     return f"on the unit's other runs ({check['rows']} rows, not used to calibrate): {figures}"
 
 
-def _print_response(r: Any) -> int:
-    """A unit calibrated by response transfer, on the console."""
+def _print_response(r: Any, units: dict[str, str]) -> int:
+    """A unit calibrated by response transfer, on the console (`units`: each output's, `_output_units`)."""
     own = r.response_check
     use = (f", {r.unlabeled_samples} unlabeled samples ({r.unlabeled_seconds:.1f} s of ordinary use, no rig "
            "time)") if r.unlabeled_samples else ""
@@ -270,7 +275,7 @@ def _print_response(r: Any) -> int:
                  f"{own['over_validation']:.2f}x the worst of them{' (ALARM)' if own['alarm'] else ''}")
     print(line)
     if r.intervals is not None:
-        _print_intervals(r.intervals)
+        _print_intervals(r.intervals, units)
     print(f"codes fitted, the training units' rows carried over and the unit's network trained in "
           f"{_seconds(r)}")
     return 0
@@ -284,12 +289,26 @@ def _seconds(r: Any) -> str:
             "GFLOP/s (core_gflops in calibration.json)")
 
 
-def _print_intervals(bands: dict[str, Any]) -> None:
-    """A calibrated unit's intervals (`calibrate.plan_intervals`) on the console."""
-    half = ", ".join(f"{k} +-{v:.3g}" for k, v in bands["halfwidth"].items())
+def _output_units(registry: Registry, unit: str) -> dict[str, str]:
+    """Each output's (label column's) SI unit, from the layout the registry records for `unit`'s sensor
+    model (the fingertip's: fx, fy, fz in N, theta, phi in rad); empty where it records none."""
+    from anytip.data.runfile import parse_layout
+
+    records = registry.list_runs(unit=unit)
+    layout = registry.sensor_models().get(records[0].sensor_model) if records else None
+    if layout is None:
+        return {}
+    return {c: t.unit for t in parse_layout(layout)[1].values() for c in t.components}
+
+
+def _print_intervals(bands: dict[str, Any], units: dict[str, str]) -> None:
+    """A calibrated unit's intervals (`calibrate.plan_intervals`) on the console, each half-width in its
+    output's unit (`units`, `_output_units`)."""
+    half = ", ".join(f"{k} +-{v:.3g}{f' {units[k]}' if k in units else ''}"
+                     for k, v in bands["halfwidth"].items())
     source = (f"{bands['folds']} press folds, {bands['rows']} out-of-fold rows" if bands["folds"] is not None
               else f"residuals on its {bands['rows']} rows, which also trained the network")
-    print(f"{bands['level']:.0%} intervals from the plan ({source}; N or rad as the target): {half}")
+    print(f"{bands['level']:.0%} intervals from the plan ({source}): {half}")
     if "fleet_factor" in bands:
         factor = ", ".join(f"{k} x{v:.2f}" for k, v in bands["fleet_factor"].items())
         print(f"  the plan's own half-widths times the fleet factor the benchmark's validation (and factor) "

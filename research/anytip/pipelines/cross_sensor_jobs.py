@@ -168,18 +168,17 @@ EXACT_DRAWS = 200  # test-patch draws behind the spread of a unit's coverage (in
 def interval_fields(residuals: np.ndarray | None, pred: np.ndarray, target: np.ndarray,
                     names: Sequence[str], level: float, fleet: FleetWidths | None = None,
                     patch: np.ndarray | None = None, seed: int = 0) -> dict[str, Any]:
-    """A held-out unit's intervals from its own plan, scored on its test rows: the conformal
-    half-width of each output (its unit: N or rad) from the plan's out-of-fold residuals
-    (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Given
-    what the validation units say (`fleet`), the same for the half-width times the fleet factor
-    (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`), for their typical half-width, the
-    plan unused (`<output>_typical_...`), and for the geometric mean of the two, the unit's
-    plan shrunk halfway to the fleet (`<output>_shrunk_...`), for the fleet factor times its margin
-    (`<output>_margin_...`), and the half-widths at which the test rows' coverage is each of
-    `band_edges` (`<output>_needed80_halfwidth`, ...: where any other width lands as to the band and
-    its floor, without the test rows); given the test rows' patches
-    (m,) as well, how well the unit's test set decides its coverage (`test_set_fields`). Empty
-    for a plan too short to cross-fit."""
+    """A held-out unit's intervals from its own plan, scored on its test rows: the conformal half-width of
+    each output (in its target's unit: the fingertip's N or rad) from the plan's out-of-fold residuals
+    (n, D), and the share of test rows (pred, target (m, D)) inside pred +- half-width. Given what the
+    validation units say (`fleet`), the same for the half-width times the fleet factor
+    (`<output>_fleet_halfwidth`, `<output>_fleet_coverage`), for their typical half-width, the plan unused
+    (`<output>_typical_...`), and for the geometric mean of the two, the unit's plan shrunk halfway to the
+    fleet (`<output>_shrunk_...`), for the fleet factor times its margin (`<output>_margin_...`), and the
+    half-widths at which the test rows' coverage is each of `band_edges` (`<output>_needed80_halfwidth`,
+    ...: where any other width lands as to the band and its floor, without the test rows); given the test
+    rows' patches (m,) as well, how well the unit's test set decides its coverage (`test_set_fields`).
+    Empty for a plan too short to cross-fit."""
     if residuals is None:
         return {}
     half = residual_halfwidth(residuals, level)
