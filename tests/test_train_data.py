@@ -70,8 +70,9 @@ def test_synthetic_fleet_is_seeded_and_physical():
     assert a.Y_train[..., 2].min() > 0  # Fz pushes in
 
 
-def test_batches_are_the_rows_steps_draws():
-    """Gathering an epoch at once hands each step the rows `steps` names for it."""
+def test_stretches_are_the_rows_steps_draws_and_end_where_asked():
+    """Gathering an epoch at once hands each step the rows `steps` names for it; stretches end after the
+    in-epoch steps asked, at each epoch's end (5 steps here) and at the last step."""
     n = torch.tensor([40, 15, 32])
     X = torch.randn(3, 40, 2)
     Y = torch.arange(120.0).view(3, 40, 1)
@@ -79,6 +80,9 @@ def test_batches_are_the_rows_steps_draws():
     b = UnitSampler(n, batch_size=8, seed=4, device=torch.device("cpu"))
     rows_of = torch.arange(3)[:, None]
     steps = list(a.steps(12))  # two epochs and a bit
-    for (step, idx), (again, (x, y)) in zip(steps, b.batches(12, X, Y), strict=True):
-        assert step == again and x.shape == (3, 8, 2) and y.shape == (3, 8, 1)
+    stretches = list(b.stretches(12, {2, 9}, X, Y))
+    assert [(start, stop) for start, stop, _ in stretches] == [(0, 2), (2, 5), (5, 7), (7, 10), (10, 12)]
+    drawn = [(x, y) for _, _, (xs, ys) in stretches for x, y in zip(xs.unbind(0), ys.unbind(0), strict=True)]
+    for (_, idx), (x, y) in zip(steps, drawn, strict=True):
+        assert x.shape == (3, 8, 2) and y.shape == (3, 8, 1)
         assert torch.equal(x, X[rows_of, idx]) and torch.equal(y, Y[rows_of, idx])

@@ -17,10 +17,12 @@ import numpy as np
 HERE = Path(__file__).parent
 timing_line = runpy.run_path(str(HERE.parent / "entry171" / "analyse.py"))["timing_line"]
 E172 = runpy.run_path(str(HERE.parent / "entry172" / "analyse.py"))
-# another entry's timing log (entry 203: `analyse.py entry203`) or this entry's own
+# another entry's timing log (entry 203: `analyse.py entry203`) or this entry's own; and the entry whose new
+# code is that timing's old code (entry 204: `analyse.py entry204 entry203`; default entry 172)
 ENTRY = sys.argv[1] if len(sys.argv) > 1 else "entry200"
+DAY = sys.argv[2] if len(sys.argv) > 2 else "entry172"
 LOG = HERE.parent / ENTRY / "logs" / "time_calibrate.log"
-OLD_DAY = HERE.parent / "entry172" / "logs" / "time_calibrate.log"
+OLD_DAY = HERE.parent / DAY / "logs" / "time_calibrate.log"
 TARGET_S, CALM_GFLOPS, CALM_RATIO = 10.0, 85.0, 1.05
 
 
@@ -38,7 +40,8 @@ def main() -> None:
     for arm in ("alone", "use"):
         ratio = np.median(walls(LOG, "old", arm)) / np.median(walls(OLD_DAY, "new", arm))
         calm &= 1 / CALM_RATIO <= ratio <= CALM_RATIO
-        print(f"  {arm}: the old code's median over entry 172's code's on its day x{ratio:.3f}")
+        day = DAY.replace("entry", "entry ")
+        print(f"  {arm}: the old code's median over {day}'s code's on its day x{ratio:.3f}")
     print(f"  calm: {'yes' if calm else 'no'}")
     print("\nrule 2, the new code's wall_s per arm")
     for arm in ("alone", "use"):

@@ -7,7 +7,7 @@ n[u] rows of unit u are real. Nothing here reads files: `data/` builds these.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -146,24 +146,27 @@ class UnitSampler:
                 order = self.epoch()
             yield step, order[step % self.steps_per_epoch]
 
-    def batches(self, total: int, *tables: Tensor) -> Iterator[tuple[int, list[Tensor]]]:
-        """(step, [each table's rows of the step (U, B, ...)]) for `total` steps, from tables
-        (U, n_max, ...): the rows `steps` draws, gathered one epoch at a time (one gather per epoch
-        instead of one per step, a seventh of a tiny network's step on a CPU; an epoch of rows is
-        held as a second copy of the tables; `index_select` on the flattened tables, a quarter of
-        advanced indexing's time)."""
-        U = len(self.n)
+    def stretches(self, total: int, ends: Iterable[int], *tables: Tensor
+                  ) -> Iterator[tuple[int, int, list[Tensor]]]:
+        """(start, stop, [each table's rows of steps start..stop-1 (stop - start, U, B, ...)]) over
+        `total` steps, from tables (U, n_max, ...): stretches that end after each in-epoch step count
+        of `ends` (1..steps_per_epoch), at each epoch's end and at `total`; the rows `steps` draws,
+        gathered one epoch at a time (one gather per epoch instead of one per step, a seventh of a tiny
+        network's step on a CPU; an epoch of rows is held as a second copy of the tables;
+        `index_select` on the flattened tables, a quarter of advanced indexing's time)."""
+        U, S = len(self.n), self.steps_per_epoch
         offsets = torch.arange(U, device=self.device)[:, None] * tables[0].shape[1]  # each unit's first row
-        for step in range(total):
-            s = step % self.steps_per_epoch
-            if s == 0:
-                flat = (self.epoch() + offsets).reshape(-1)  # (S * U * B,) into the (U * n_max) rows
-                # each step's rows as a view made once per epoch: indexing a tensor by its step took
-                # 4-5 us of a tiny network's 0.3 ms step on a CPU core, a tuple's item takes nothing
-                epoch = [t.reshape(U * t.shape[1], *t.shape[2:]).index_select(0, flat)
-                         .view(self.steps_per_epoch, U, self.batch_size, *t.shape[2:]).unbind(0)
-                         for t in tables]
-            yield step, [e[s] for e in epoch]
+        cuts = sorted({e for e in ends if 0 < e < S} | {S})
+        for first in range(0, total, S):
+            flat = (self.epoch() + offsets).reshape(-1)  # (S * U * B,) into the (U * n_max) rows
+            epoch = [t.reshape(U * t.shape[1], *t.shape[2:]).index_select(0, flat)
+                     .view(S, U, self.batch_size, *t.shape[2:]) for t in tables]
+            start = first
+            for cut in cuts:
+                stop = min(first + cut, total)
+                if stop > start:
+                    yield start, stop, [e[start - first:stop - first] for e in epoch]
+                    start = stop
 
 
 def _check_unit(u: UnitTensors, uid: str) -> None:

@@ -24,9 +24,19 @@ from anytip.models.cpu_step import one_blas_thread
 from anytip.models.io import LoadedModels, save_models
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
+from anytip.train.compiled_steps import CompiledSteps, compiled_serves
 from anytip.train.data import FleetBatchData, UnitSampler
 from anytip.train.metrics import evaluate, history_fields, progress_text
-from anytip.train.recipe import FAST, EarlyStopping, TrainRecipe, eval_points, lr_at, make_optimizer, set_lr
+from anytip.train.recipe import (
+    FAST,
+    EarlyStopping,
+    Optimizer,
+    TrainRecipe,
+    eval_points,
+    lr_at,
+    make_optimizer,
+    set_lr,
+)
 
 
 @dataclass
@@ -116,7 +126,8 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
         model = BatchedMLP.from_plain([init.model.to_plain(0)] * U, config).to(device)
     X, Y = in_scaler.transform(data.X_train), out_scaler.transform(data.Y_train)  # once, up front
 
-    opt = make_optimizer(model.parameters(), recipe)
+    stepper = CompiledSteps(model, recipe) if compiled_serves(model, device) else None
+    opt = make_optimizer(model.parameters(), recipe) if stepper is None else None
     sampler = UnitSampler(data.n_train, recipe.batch_size, seed, device)
     steps_per_epoch = sampler.steps_per_epoch
     total = recipe.epochs * steps_per_epoch
@@ -127,19 +138,19 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     train_s, loss_sum, n_loss = 0.0, torch.zeros(U, device=device), 0
     bar = ProgressBar(progress, total, f"fleet of {U} ({recipe.name})")
     tick = time.perf_counter()
-    # one network steps in numpy (models/cpu_step.py), whose BLAS would spread each product over every core
-    with one_blas_thread() if model.steps_in_numpy(device) else contextlib.nullcontext():
-        for step, (x, y) in sampler.batches(total, X, Y):
-            lr = lr_at(step, total, recipe)
-            set_lr(opt, lr)
-            loss_u = model.mse_grads(x, y)  # (U,), each unit's gradient in its weights' .grad
-            opt.step()
-            loss_sum += loss_u
-            n_loss += 1
-            bar.update(step + 1)
+    # one network steps compiled (train/compiled_steps.py): BLAS would spread each product over every core
+    with one_blas_thread() if stepper is not None else contextlib.nullcontext():
+        # every stretch ends at an evaluation (each epoch's last step is one) or the last step
+        for start, stop, (xs, ys) in sampler.stretches(total, eval_at, X, Y):
+            lrs = [lr_at(step, total, recipe) for step in range(start, stop)]
+            if stepper is not None:
+                loss_sum += stepper.run(xs, ys, lrs)
+            else:
+                _torch_steps(model, opt, xs, ys, lrs, loss_sum)
+            n_loss += stop - start
+            step, lr = stop - 1, lrs[-1]
+            bar.update(stop)
 
-            if step % steps_per_epoch + 1 not in eval_at and step + 1 < total:
-                continue
             train_s += _lap(tick, device)
             model.eval()
             val = evaluate(model, in_scaler, out_scaler, data.X_val, data.Y_val, data.n_val)
@@ -160,6 +171,16 @@ def train_fleet(data: FleetBatchData, config: MLPConfig | None = None, recipe: T
     return FitResult(model, in_scaler, out_scaler, history, list(data.unit_ids), recipe, seed,
                      time.perf_counter() - start, output_names=data.output_names,
                      extra={"steps": step + 1, "steps_per_epoch": steps_per_epoch})
+
+
+def _torch_steps(model: BatchedMLP, opt: Optimizer, xs: Tensor, ys: Tensor, lrs: list[float],
+                 loss_sum: Tensor) -> None:
+    """Steps on rows xs (k, U, B, in), ys (k, U, B, out), step i at learning rate lrs[i], by the
+    model's gradients (`mse_grads`) and `opt`; each step's loss (U,) added into `loss_sum`."""
+    for x, y, lr in zip(xs.unbind(0), ys.unbind(0), lrs, strict=True):
+        set_lr(opt, lr)
+        loss_sum += model.mse_grads(x, y)  # (U,), each unit's gradient in its weights' .grad
+        opt.step()
 
 
 def joined_fits(parts: Sequence[tuple[Sequence[int], FitResult]]) -> FitResult:
