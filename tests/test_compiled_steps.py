@@ -9,6 +9,7 @@ from anytip.train.compiled_steps import CompiledSteps, compiled_serves
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import train_fleet
 from anytip.train.recipe import FAST, make_optimizer, set_lr
+from test_models_mlp import _autograd_activations, _grad_rounding_bound
 
 BATCH, STEPS = 32, 12
 
@@ -37,6 +38,29 @@ def test_compiled_steps_equal_torch_within_float32_rounding(optimizer, decay):
         torch.testing.assert_close(q, p, atol=1e-6, rtol=1e-5)
     torch.testing.assert_close(got, loss, atol=0, rtol=1e-5)
     assert steps.t == STEPS
+
+
+@pytest.mark.parametrize("sizes", [(8, 12, 64, 64, 5), (6, 3), (8, 40, 20), (8, 4, 5)])
+def test_a_compiled_steps_gradients_lie_within_float32_rounding_of_the_exact_ones(sizes):
+    """One step at learning rate 0 (the weights stay): its loss and the gradients it leaves in its buffers
+    lie within the rounding bound of the exact ones through the float32 activations it computed, which
+    lie within float32 rounding of autograd's."""
+    model = BatchedMLP(1, MLPConfig(sizes=sizes), seed=2)
+    g = torch.Generator().manual_seed(0)
+    x, y = torch.randn(1, 1, 512, sizes[0], generator=g), torch.randn(1, 1, 512, sizes[-1], generator=g)
+    x[..., :8, :] = 0.0
+    steps = CompiledSteps(model, FAST.model_copy(update={"batch_size": 512}))
+    loss = steps.run(x, y, [0.0])
+    hidden = [torch.from_numpy(h.copy())[None] for h in steps.h[:-1]]
+    for ours, theirs in zip(hidden, _autograd_activations(model, x[0]), strict=True):
+        assert float((ours - theirs).abs().max()) <= 1e-5 * float(theirs.abs().max())
+    loss_bound, bounds, exact_loss, exact = _grad_rounding_bound(model, x[0], y[0], hidden)
+    assert bool(((loss.double() - exact_loss).abs() <= loss_bound).all())
+    grads = [*(torch.from_numpy(w)[None] for w in steps.gW),
+             *(torch.from_numpy(b)[None, None] for b in steps.gb)]
+    for got, want, bound in zip(grads, exact, bounds, strict=True):
+        assert got.shape == want.shape and bool(((got.double() - want).abs() <= bound).all())
+        assert float(bound.max()) < 1e-2 * float(want.abs().max())  # a slip moves a gradient by its size
 
 
 def test_a_stretch_moves_the_weights_in_the_networks_own_memory():

@@ -17,7 +17,6 @@ from torch import Tensor, nn
 
 from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
-from anytip.models.cpu_step import NumpyGrads, numpy_serves
 
 # leaky_relu (negative slope 0.01, torch's default) and hardswish (x * clamp(x + 3, 0, 6) / 6) need
 # only compares, adds and multiplies, so they export without libm; tanh, gelu and silu do not.
@@ -123,9 +122,6 @@ class BatchedMLP(nn.Module):
         self.biases = nn.ParameterList(nn.Parameter(torch.empty(n_models, 1, o)) for _, o in pairs)
         seeds = [unit_seed(seed, u) for u in range(n_models)] if isinstance(seed, int) else seed
         self.reset_parameters(seeds)
-        # one ReLU network steps in numpy on a CPU (mse_grads)
-        self._numpy_kind = numpy_serves(n_models, config.activation, config.output_activation)
-        self._numpy_grads: NumpyGrads | None = None
 
     @torch.no_grad()
     def reset_parameters(self, seeds: Sequence[int]) -> None:
@@ -165,13 +161,7 @@ class BatchedMLP(nn.Module):
         same values; the output layer's product and the gradients' products with fewer than
         NARROW_OUT output columns are taken transposed (`_bmm`), so the gradients equal autograd's
         within float32 rounding rather than bit for bit (tests/test_models_mlp.py bounds the
-        difference). One such network whose weights and rows are float32 on a CPU takes the same chain
-        rule in numpy (`NumpyGrads`), whose calls cost less; its gradients then live in tensors it keeps.
-        Any other activation goes through autograd."""
-        if self._numpy_kind and x.is_cpu and x.dtype == torch.float32:
-            loss = self._numpy_step(x, y)
-            if loss is not None:
-                return loss
+        difference). Any other activation goes through autograd."""
         if self.config.activation != "relu" or self.config.output_activation is not None:
             for p in self.parameters():
                 p.grad = None
@@ -200,33 +190,10 @@ class BatchedMLP(nn.Module):
                     g = torch.ops.aten.threshold_backward(_bmm(g, W.transpose(1, 2)), a, 0)
         return loss
 
-    def steps_in_numpy(self, device: torch.device) -> bool:
-        """Whether `mse_grads` takes its numpy path for float32 rows on `device`."""
-        return device.type == "cpu" and self._numpy_takes(self._params())
-
-    def _params(self) -> tuple[Tensor, ...]:
-        """The weights, then the biases (the ParameterLists' own dicts: iterating a ParameterList
-        costs 10-20 us of a tiny network's step)."""
-        return (*self.weights._parameters.values(), *self.biases._parameters.values())
-
-    def _numpy_takes(self, params: tuple[Tensor, ...]) -> bool:
-        """Whether `NumpyGrads` serves these weights: one ReLU network, every weight float32 on a CPU."""
-        return self._numpy_kind and all(p.is_cpu and p.dtype == torch.float32 for p in params)
-
-    def _numpy_step(self, x: Tensor, y: Tensor) -> Tensor | None:
-        """`mse_grads` by `NumpyGrads`, made again where the batch or the weights' memory changed; None
-        where a weight is not float32 on a CPU (torch's path then computes, or names the mismatch)."""
-        params = self._params()
-        step = self._numpy_grads
-        if step is None or not step.current(params, x.shape[1]):
-            if not self._numpy_takes(params):
-                return None
-            step = self._numpy_grads = NumpyGrads(params, len(self.weights), x.shape[1])
-        loss = step(x, y)
-        for p, g in zip(params, step.grads, strict=True):
-            if p.grad is not g:
-                p.grad = g
-        return loss
+    def is_one_relu_network(self) -> bool:
+        """Whether this is one ReLU network without an output activation (the deployed kind, alone)."""
+        config = self.config
+        return self.n_models == 1 and config.activation == "relu" and config.output_activation is None
 
     def to_plain(self, i: int) -> Plain:
         """Model i as [(W (in, out), b (out,)), ...], detached copies on the model's device."""

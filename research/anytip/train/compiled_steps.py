@@ -16,13 +16,15 @@ processes load it (about 0.3 s).
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 
 import numpy as np
 import scipy.linalg.cython_blas  # noqa: F401  numba's products call its BLAS: loaded before any thread limit
 import torch
 from numba import njit
+from threadpoolctl import threadpool_limits
 from torch import Tensor
 
 from anytip.models.mlp import BatchedMLP
@@ -32,8 +34,18 @@ BETAS, EPS = (0.9, 0.999), 1e-8  # torch's Adam defaults, as `make_optimizer`'s
 
 
 def compiled_serves(model: BatchedMLP, device: torch.device) -> bool:
-    """Whether `CompiledSteps` trains `model` on `device`: one ReLU network, float32 weights on a CPU."""
-    return device.type == "cpu" and model.steps_in_numpy(device)
+    """Whether `CompiledSteps` trains `model` on `device`: one ReLU network without an output activation,
+    every weight float32 on a CPU."""
+    return device.type == "cpu" and model.is_one_relu_network() and all(
+        p.is_cpu and p.dtype == torch.float32 for p in model.parameters())
+
+
+@contextlib.contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """BLAS held to one thread for the block: it would spread each of a tiny network's products over every
+    core and lose more than it gains (a third slower on two cores)."""
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
 
 
 class CompiledSteps:

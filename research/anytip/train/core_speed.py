@@ -3,7 +3,7 @@
 Most of a unit network's (8-12-64-64-5) arithmetic in a training step is the 64-by-64 layer's forward
 and backward products at the batch's 256 rows; the products are 53-61% of torch's step, the rest small
 kernels' passes and the Python between calls (research log entries 172, 175), which a faster clock
-shortens as well. One network on a CPU now steps in numpy (`models.cpu_step`, entry 196), whose
+shortens as well. One network on a CPU now steps compiled (`train.compiled_steps`, entry 204), whose
 products are OpenBLAS's, not the kernel timed here: the probe still reads the core's speed. The same
 single-core code ran `anytip calibrate` 1.44 times slower on one day than on another (entry 168), so
 a calibration's seconds say little without the speed of the core that spent them. `core_gflops` times

@@ -20,11 +20,10 @@ from rich.progress import Progress
 from torch import Tensor
 
 from anytip.data.arrays import OUTPUT_NAMES
-from anytip.models.cpu_step import one_blas_thread
 from anytip.models.io import LoadedModels, save_models
 from anytip.models.mlp import BatchedMLP, MLPConfig
 from anytip.models.scaler import Scaler
-from anytip.train.compiled_steps import CompiledSteps, compiled_serves
+from anytip.train.compiled_steps import CompiledSteps, compiled_serves, one_blas_thread
 from anytip.train.data import FleetBatchData, UnitSampler
 from anytip.train.metrics import evaluate, history_fields, progress_text
 from anytip.train.recipe import (
