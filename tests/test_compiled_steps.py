@@ -73,6 +73,14 @@ def test_a_stretch_moves_the_weights_in_the_networks_own_memory():
     assert all(not torch.equal(p, q) for p, q in zip(net.parameters(), before, strict=True))
 
 
+def test_a_batch_of_another_size_is_refused():
+    X, Y = _rows(2)
+    recipe = FAST.model_copy(update={"batch_size": BATCH + 1})
+    steps = CompiledSteps(BatchedMLP(1, MLPConfig(), seed=0), recipe)
+    with pytest.raises(ValueError, match=f"batches of {BATCH} rows"):
+        steps.run(X[:1], Y[:1], [1e-3])
+
+
 def test_only_one_relu_network_on_a_cpu_steps_compiled():
     cpu = torch.device("cpu")
     assert compiled_serves(BatchedMLP(1, MLPConfig(), seed=0), cpu)

@@ -73,6 +73,8 @@ class CompiledSteps:
         """Steps on rows x (k, 1, B, in) and y (k, 1, B, out), step i at learning rate lrs[i]; each
         step's mean squared error before its update, summed: (1,)."""
         X, Y = (np.ascontiguousarray(t.numpy()[:, 0]) for t in (x, y))
+        if X.shape[1] != len(self.ones) or Y.shape[1] != len(self.ones):
+            raise ValueError(f"batches of {X.shape[1]} rows, where the steps were made for {len(self.ones)}")
         loss = _steps(self.W, self.b, self.mW, self.vW, self.mb, self.vb, X, Y, np.asarray(lrs, np.float64),
                       self.t, BETAS[0], BETAS[1], EPS, self.weight_decay, self.decoupled,
                       (self.h, self.back, self.gW, self.gb, self.ones))
