@@ -15,6 +15,8 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q torch==2.13.0
 	$(PY) -m pip install -q -e '.[dev]'
+	@echo "compiling a unit network's training steps (numba, cached; a few seconds, once)"
+	$(PY) -c "from anytip.train.compiled_steps import compile_now; compile_now()"
 	touch $(STAMP)
 
 run: $(STAMP)

@@ -5,7 +5,7 @@ import pytest
 import torch
 
 from anytip.models.mlp import BatchedMLP, MLPConfig
-from anytip.train.compiled_steps import CompiledSteps, compiled_serves
+from anytip.train.compiled_steps import CompiledSteps, compile_now, compiled_serves
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import train_fleet
 from anytip.train.recipe import FAST, make_optimizer, set_lr
@@ -79,6 +79,10 @@ def test_a_batch_of_another_size_is_refused():
     steps = CompiledSteps(BatchedMLP(1, MLPConfig(), seed=0), recipe)
     with pytest.raises(ValueError, match=f"batches of {BATCH} rows"):
         steps.run(X[:1], Y[:1], [1e-3])
+
+
+def test_compile_now_compiles_the_deployed_shapes_steps():
+    compile_now()  # what `make venv` runs; loads from numba's cache when compiled before
 
 
 def test_only_one_relu_network_on_a_cpu_steps_compiled():

@@ -11,7 +11,8 @@ the written-out gradients within float32 rounding (tests/test_compiled_steps.py)
 
 The compiled code is cached beside this module (numba's `cache=True`; a read-only install caches in
 the user's cache directory): the first call of a fresh install compiles it (about 3 s), later
-processes load it (about 0.3 s).
+processes load it (about 0.3 s). `compile_now` compiles it for the deployed shape ahead of any
+calibration (`make venv` calls it), so that a lab's first calibration does not pay for it.
 """
 
 from __future__ import annotations
@@ -27,8 +28,8 @@ from numba import njit
 from threadpoolctl import threadpool_limits
 from torch import Tensor
 
-from anytip.models.mlp import BatchedMLP
-from anytip.train.recipe import TrainRecipe
+from anytip.models.mlp import BatchedMLP, MLPConfig
+from anytip.train.recipe import FAST, TrainRecipe
 
 BETAS, EPS = (0.9, 0.999), 1e-8  # torch's Adam defaults, as `make_optimizer`'s
 
@@ -46,6 +47,14 @@ def one_blas_thread() -> Iterator[None]:
     core and lose more than it gains (a third slower on two cores)."""
     with threadpool_limits(limits=1, user_api="blas"):
         yield
+
+
+def compile_now() -> None:
+    """Compile the steps (or load them from numba's cache) for networks of the deployed shape's depth, by one
+    step at learning rate 0 of a throwaway network: every network of as many layers then loads them."""
+    steps = CompiledSteps(BatchedMLP(1, MLPConfig(), seed=0), FAST.model_copy(update={"batch_size": 2}))
+    sizes = MLPConfig().sizes
+    steps.run(torch.zeros(1, 1, 2, sizes[0]), torch.zeros(1, 1, 2, sizes[-1]), [0.0])
 
 
 class CompiledSteps:
