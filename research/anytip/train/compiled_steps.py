@@ -52,9 +52,9 @@ def one_blas_thread() -> Iterator[None]:
 def compile_now() -> None:
     """Compile the steps (or load them from numba's cache) for networks of the deployed shape's depth, by one
     step at learning rate 0 of a throwaway network: every network of as many layers then loads them."""
-    steps = CompiledSteps(BatchedMLP(1, MLPConfig(), seed=0), FAST.model_copy(update={"batch_size": 2}))
-    sizes = MLPConfig().sizes
-    steps.run(torch.zeros(1, 1, 2, sizes[0]), torch.zeros(1, 1, 2, sizes[-1]), [0.0])
+    config = MLPConfig()
+    steps = CompiledSteps(BatchedMLP(1, config, seed=0), FAST.model_copy(update={"batch_size": 2}))
+    steps.run(torch.zeros(1, 1, 2, config.sizes[0]), torch.zeros(1, 1, 2, config.sizes[-1]), [0.0])
 
 
 class CompiledSteps:
@@ -63,10 +63,8 @@ class CompiledSteps:
     first and second moments and the step count) and buffers made once."""
 
     def __init__(self, model: BatchedMLP, recipe: TrainRecipe):
-        params = [*model.weights, *model.biases]
-        layers = len(model.weights)
-        self.W = tuple(w.detach().numpy()[0] for w in params[:layers])  # (in, out), the weights' memory
-        self.b = tuple(b.detach().numpy()[0, 0] for b in params[layers:])  # (out,)
+        self.W = tuple(w.detach().numpy()[0] for w in model.weights)  # (in, out), the weights' memory
+        self.b = tuple(b.detach().numpy()[0, 0] for b in model.biases)  # (out,)
         self.mW, self.vW = (tuple(np.zeros_like(w) for w in self.W) for _ in range(2))
         self.mb, self.vb = (tuple(np.zeros_like(b) for b in self.b) for _ in range(2))
         B = recipe.batch_size
