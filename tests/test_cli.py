@@ -114,3 +114,20 @@ def test_data_protocol_marks_and_clears(tmp_path, capsys):
     for args in (("FT-1",), ("FT-1", "retest", "--clear")):
         code, _, err = run_cli(capsys, "data", "protocol", *args, "--registry", reg)
         assert code == 2 and "give a protocol name or --clear, not both" in err
+
+
+def test_interval_half_widths_read_in_the_units_a_spec_only_run_file_declares(tmp_path, capsys):
+    """A sensor model's output units come from the run files a lab wrote from the format spec alone (an
+    edge sensor's position and depth in m), not from the fingertip's N and rad."""
+    from anytip.cli import _output_units, _print_intervals
+    from test_runfile_v2 import edge_file
+
+    registry = Registry(tmp_path / "reg")
+    registry.import_paths([edge_file(tmp_path / "edge.h5")])
+    units = _output_units(registry, "EDGE-01")
+    assert units == {"x": "m", "z": "m"}
+    assert _output_units(registry, "NO-SUCH-UNIT") == {}
+    bands = {"level": 0.9, "folds": None, "rows": 30, "halfwidth": {"x": 0.0012, "z": 0.0004}}
+    _print_intervals(bands, units)
+    said = capsys.readouterr().out
+    assert "x +-0.0012 m, z +-0.0004 m" in said and " N" not in said and "rad" not in said

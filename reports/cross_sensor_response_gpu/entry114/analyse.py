@@ -1,7 +1,7 @@
 """Research log entry 114 (b): the learners' own half-widths in-sample (today's) against out of fold.
 
 Reads `entry114/oof_seed{0,1}/learners.json` (written by `oof_learners.py`) and prints the rules written down
-in `docs/cross_sensor.md`, entry 114:
+in `docs/research_log.md`, entry 114:
 1. the gate: every learner's in-sample half-widths equal the run's recorded `own` (relative difference under
    1e-5 in every output);
 2. per fold and over both, the spread (standard deviation over the learners' unit-outputs) of log(needed /
