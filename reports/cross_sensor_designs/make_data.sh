@@ -1,0 +1,8 @@
+#!/bin/bash
+# Research log entry 208: the two simulated designs other than the fingertip, 24 registry units (full and
+# short protocols) and 128 training-only units (full) each, fresh seeds no earlier entry used.
+set -euo pipefail
+anytip data simulate --registry data/edge24 --units 24 --seed 31 --protocols full,short --sensor-model edge-4baro
+anytip data simulate --registry data/edge_extra128 --units 128 --seed 33 --protocols full --sensor-model edge-4baro
+anytip data simulate --registry data/pad24 --units 24 --seed 32 --protocols full,short --sensor-model pad-16baro
+anytip data simulate --registry data/pad_extra128 --units 128 --seed 34 --protocols full --sensor-model pad-16baro
