@@ -552,14 +552,18 @@ def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
     assert "response@spread" in (response_run / "report.md").read_text()
 
 
-def test_the_response_method_runs_on_a_sensor_without_a_force_target(tmp_path):
-    reg = Registry(tmp_path / "edge")
-    simulate_flat_into(reg, "edge-4baro", 8, 3, ("short",))
+@pytest.mark.parametrize("design, force_cols", [("edge-4baro", 0), ("pad-16baro", 3)])
+def test_the_response_method_runs_on_the_flat_designs(tmp_path, design, force_cols):
+    """The edge sensor (no force target) and the pad (a force in N beside a position): one orientation,
+    no patch grid, plans of whole presses over the design's target space."""
+    reg = Registry(tmp_path / "flat")
+    simulate_flat_into(reg, design, 8, 3, ("short",))
     over = [o for o in SECONDS if not o.startswith("options.fits")] + [RESPONSE, "data.protocol=short"]
     run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
-    assert any(r["method"] == "response@spread" for r in rows)
-    assert load_response(run / "models" / "response_seed0.safetensors").model.force_cols.numel() == 0
+    scored = [r for r in rows if r["method"] == "response@spread" and r["calib_seconds"] > 0]
+    assert scored and all(0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1 for r in scored)
+    assert load_response(run / "models" / "response_seed0.safetensors").model.force_cols.numel() == force_cols
 
 
 def _held_out_units(run: Path) -> list[str]:
