@@ -30,7 +30,8 @@ def stream_features(P: np.ndarray) -> np.ndarray:
     deviation, and the barometers' correlations; (f,)."""
     q = np.log(np.maximum(np.quantile(P, ENCODER_QUANTILES, axis=0), PA_FLOOR))
     sd = np.log(np.maximum(P.std(0), PA_FLOOR))
-    corr = np.nan_to_num(np.corrcoef(P.T))[np.triu_indices(P.shape[1], 1)]
+    with np.errstate(invalid="ignore", divide="ignore"):  # a constant barometer correlates with none: 0
+        corr = np.nan_to_num(np.corrcoef(P.T))[np.triu_indices(P.shape[1], 1)]
     return np.concatenate([q.ravel(), sd, corr])
 
 
