@@ -552,18 +552,23 @@ def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
     assert "response@spread" in (response_run / "report.md").read_text()
 
 
-@pytest.mark.parametrize("design, force_cols", [("edge-4baro", 0), ("pad-16baro", 3)])
-def test_the_response_method_runs_on_the_flat_designs(tmp_path, design, force_cols):
+@pytest.mark.parametrize("design, force_cols, head", [("edge-4baro", 0, "z half-width [m]"),
+                                                      ("pad-16baro", 3, "fx half-width [N]")])
+def test_the_response_method_runs_on_the_flat_designs(tmp_path, design, force_cols, head):
     """The edge sensor (no force target) and the pad (a force in N beside a position): one orientation,
-    no patch grid, plans of whole presses over the design's target space."""
+    no patch grid, plans of whole presses over the design's target space; the report gives each
+    output's interval half-width in that output's unit."""
     reg = Registry(tmp_path / "flat")
     simulate_flat_into(reg, design, 8, 3, ("short",))
-    over = [o for o in SECONDS if not o.startswith("options.fits")] + [RESPONSE, "data.protocol=short"]
+    over = [o for o in SECONDS if not o.startswith("options.fits")] + [
+        RESPONSE, "data.protocol=short", "options.intervals={folds: 3, level: 0.9}"]
     run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
     scored = [r for r in rows if r["method"] == "response@spread" and r["calib_seconds"] > 0]
     assert scored and all(0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1 for r in scored)
     assert load_response(run / "models" / "response_seed0.safetensors").model.force_cols.numel() == force_cols
+    report = (run / "report.md").read_text()
+    assert head in report and "(N, rad)" not in report
 
 
 def _held_out_units(run: Path) -> list[str]:

@@ -98,6 +98,8 @@ def test_the_edge_model_exports_to_c_and_onnx_verified_and_the_firmware_struct_i
         report = export_model(model, fmt, tmp_path / fmt, unit="LAB-E2", registry=lab)
         assert report["passed"], report
         assert set(report["scores"]) == {"depth_rmse", "position_rmse"}
+    header = next((tmp_path / "c").glob("*.h")).read_text()
+    assert "(N, rad)" not in header and "the unit of its target" in header
     with pytest.raises(AnytipError, match=r"firmware struct is the fingertip's.*outputs z, x from 4 baro"):
         export_model(model, "firmware", tmp_path / "fw", unit="LAB-E2", registry=lab)
     assert not (tmp_path / "fw" / "firmware.json").exists()

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from anytip.deploy.net import DeployNet, require_relu
+from anytip.deploy.net import FINGERTIP_OUTPUTS, DeployNet, require_relu
 from anytip.deploy.rounding import Layer, export_tolerance
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels
@@ -34,7 +34,6 @@ from anytip.rundir import write_json
 KEYS_W, KEYS_B = ("w1", "w2", "w3", "w4"), ("b1", "b2", "b3", "b4")
 SIZES = (8, 12, 64, 64, 5)
 N_OUT = 5
-FINGERTIP_OUTPUTS = ("fx", "fy", "fz", "theta", "phi")
 OUTPUT_NAMES = list(FINGERTIP_OUTPUTS)
 ANGLE_OUTPUTS = (3, 4)  # theta, phi: deg in the firmware, rad in anytip
 DEG = math.pi / 180.0

@@ -1,13 +1,13 @@
 """One unit of a saved model as plain float64 arrays, with its scalers folded into the layers.
 
-A `DeployNet` computes, for tared pressures x (B, 8) in Pa:
+A `DeployNet` computes, for tared pressures x (B, C) in Pa:
     h = x @ W[0] + b[0];  h = act(h) between layers;  h = relu(h) after the last layer if
     `output_relu`;  y = h + out_offset
 where act is `activation`: relu, leaky_relu (negative slope 0.01) or hardswish
 (x * clamp(x + 3, 0, 6) / 6), as torch defines them.
-with y (B, 5) in physical units (N, rad). The input standardisation is folded into W[0], b[0] and
-the output scale into W[-1], b[-1]; `out_offset` is the output mean when an output ReLU keeps it
-from being folded (it is zero otherwise).
+with y (B, D) in the physical units of the targets it was trained on (the fingertip's, FINGERTIP_OUTPUTS:
+N, rad). The input standardisation is folded into W[0], b[0] and the output scale into W[-1], b[-1];
+`out_offset` is the output mean when an output ReLU keeps it from being folded (it is zero otherwise).
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from anytip.errors import AnytipError
 from anytip.models.io import LoadedModels, load_models
 
 ACTIVATIONS = ("relu", "leaky_relu", "hardswish")
+FINGERTIP_OUTPUTS = ("fx", "fy", "fz", "theta", "phi")  # the fingertip's outputs: N, N, N, rad, rad
 LEAKY_SLOPE = 0.01  # torch's default negative slope
 
 

@@ -422,6 +422,7 @@ def write_report(ctx: Any, rows: list[dict[str, Any]], opts: Any,
     seeds = sorted({r["seed"] for r in rows})
     cs = ctx.provenance.get("cross_sensor", {})
     first = next(iter(cs.values()), {}).get("units", {})
+    intervals = interval_section(rows, output_units(ctx.provenance))
     return Report(ctx.run_dir).add(f"""# {ctx.spec.name}: one model for many units
 
 {ctx.spec.description.strip()}
@@ -454,7 +455,7 @@ interval over units].
 ![error against calibration budget](rmse_vs_budget.png)
 
 ![ratio to the per-unit models against calibration budget](ratio_vs_budget.png)
-{own_check_section(cs)}{interval_section(rows)}""" + ("" if units_fig is None else """
+{own_check_section(cs)}{intervals}""" + ("" if units_fig is None else """
 ## How many units to calibrate fully
 
 ![error against training units](rmse_vs_train_units.png)
@@ -630,11 +631,12 @@ INTERVAL_KINDS = (("own plan", ""), ("own plan x fleet factor", "fleet_"),
                   ("network of the transferred rows alone, on the plan x its factor", "transfer_"))
 
 
-def interval_section(rows: list[dict[str, Any]]) -> str:
+def interval_section(rows: list[dict[str, Any]], units: dict[str, str] | None = None) -> str:
     """Coverage of the intervals each held-out unit gets from its own plan (`options.intervals`),
     and, where the run learnt a fleet factor, of the other `INTERVAL_KINDS`, per method and
     budget over unit-seed-outputs: how many lie within the band around the nominal level, the
-    lowest, the median, and the mean half-width of each output. Empty without them."""
+    lowest, the median, and the mean half-width of each output, headed with its unit where `units`
+    ({output: unit}, `output_units`) names it. Empty without them."""
     groups: dict[tuple[str, float], list[dict[str, Any]]] = defaultdict(list)
     for r in rows:
         if r.get("interval_level") is not None:
@@ -672,12 +674,24 @@ patches), so even a method whose coverage is exactly {level:.2f} for every unit 
 band on some: "an exact method in it" is the share such a method would put inside on the same test
 sets (each unit's test patches drawn again; fleet-factor rows of runs that recorded it): what a
 perfect per-unit interval would be expected to reach. Half-widths: mean over unit-seeds, in each
-output's unit (N, rad).
+output's unit.
 
 {table(['method', 'budget [robot-s]', 'half-width', 'unit-seed-outputs', f'in [{lo:.2f}, {hi:.2f}]',
         'an exact method in it', 'lowest',
-        'median', 'fewest test rows', *(f'{n} half-width' for n in names)], body)}
+        'median', 'fewest test rows', *(_with_unit(f'{n} half-width', (units or {}).get(n)) for n in names)],
+       body)}
 """
+
+
+def output_units(provenance: dict[str, Any]) -> dict[str, str]:
+    """{output (label column): unit} from the targets a run recorded (`provenance["targets"]`: {target:
+    {"unit": ..., "components": [...]}}); empty for a run that recorded none."""
+    targets = provenance.get("targets") or {}
+    return {c: t["unit"] for t in targets.values() for c in t.get("components", [])}
+
+
+def _with_unit(head: str, unit: str | None) -> str:
+    return head if unit is None else f"{head} [{unit}]"
 
 
 def exact_share(rows: list[dict[str, Any]]) -> float | None:
