@@ -28,6 +28,7 @@ from anytip.models.mlp import MLPConfig
 from anytip.models.response import ResponseConfig, ResponseModel
 from anytip.pipelines.cross_sensor_response import fleet_groups
 from anytip.runner import run_experiment
+from anytip.sensor import flat
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import joined_fits
 from anytip.train.metrics import predict
@@ -557,18 +558,31 @@ def test_the_response_method_scores_held_out_units_on_their_plans(response_run):
 def test_the_response_method_runs_on_the_flat_designs(tmp_path, design, force_cols, head):
     """The edge sensor (no force target) and the pad (a force in N beside a position): one orientation,
     no patch grid, plans of whole presses over the design's target space; the report gives each
-    output's interval half-width in that output's unit."""
+    output's interval half-width in that output's unit. Each unit's designed calibrations (`plan8`,
+    `plan40`, `sensor.flat.design_plan`) are read whole by the benchmark's `designed` strategy (a flat
+    design's held-out blocks are spans of its main runs, not places a designed run could press) and by
+    `anytip calibrate --plan-strategy designed`."""
     reg = Registry(tmp_path / "flat")
-    simulate_flat_into(reg, design, 8, 3, ("short",))
+    simulate_flat_into(reg, design, 8, 3, ("short", "plan8", "plan40"))
     over = [o for o in SECONDS if not o.startswith("options.fits")] + [
-        RESPONSE, "data.protocol=short", "options.intervals={folds: 3, level: 0.9}"]
+        RESPONSE, "data.protocol=[short,plan8,plan40]", "options.intervals={folds: 3, level: 0.9}",
+        "options.plan_strategies=[spread,designed]"]
     run = run_experiment(SPEC, reg, out=tmp_path / "run", overrides=over, progress=False)
     rows = json.loads((run / "metrics.json").read_text())["results"]
     scored = [r for r in rows if r["method"] == "response@spread" and r["calib_seconds"] > 0]
     assert scored and all(0 < r["calib_seconds"] <= r["budget_s"] and r["presses"] >= 1 for r in scored)
+    presses = {b: len(flat.design_plan(flat.get_design(design), b).level) for b in (8, 40)}
+    designed = [r for r in rows if r["method"] == "response@designed" and r["calib_seconds"] > 0]
+    assert designed and all(r["presses"] == presses[round(r["budget_s"])] for r in designed)
+    assert all(r["calib_seconds"] <= r["budget_s"] for r in designed)
     assert load_response(run / "models" / "response_seed0.safetensors").model.force_cols.numel() == force_cols
     report = (run / "report.md").read_text()
     assert head in report and "(N, rad)" not in report
+    unit = _held_out(run)
+    got = calibrate_unit(run, unit, reg, tmp_path / "unit", budget_seconds=40, method="response",
+                         plan_strategy="designed")
+    assert any(n.startswith("plan: designed, the unit's plan40 runs") for n in got.notes)
+    assert 0 < got.calib_seconds <= 40 and got.check is not None
 
 
 def _held_out_units(run: Path) -> list[str]:

@@ -67,6 +67,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from anytip.sensor import flat
     from anytip.sensor.fleet import FleetConfig, load_fleet_config
     from anytip.sensor.geometry import SENSOR_MODEL
+    from anytip.sensor.protocols import is_designed
 
     if args.units < 1 or args.seed < 0:
         raise AnytipError(f"--units must be >= 1 and --seed >= 0, got {args.units} and {args.seed}")
@@ -83,10 +84,10 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     registry = _registry(args, create=True)
     start = time.perf_counter()
     if model in flat.DESIGNS:
-        bad = [p for p in protocols if p not in flat.PROTOCOLS]
+        bad = [p for p in protocols if p not in flat.PROTOCOLS and not is_designed(p)]
         if bad:
             raise AnytipError(f"--protocols {args.protocols!r}: {model} runs the protocols "
-                              f"{sorted(flat.PROTOCOLS)}")
+                              f"{sorted(flat.PROTOCOLS)} and plan<seconds>")
         added, unchanged = simulate_flat_into(registry, model, args.units, args.seed, protocols,
                                               args.severity)
     else:
@@ -204,6 +205,8 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
 
     if args.plan is not None:
         return write_plan(args)
+    if args.sensor_model is not None:
+        raise AnytipError("--sensor-model is for --plan; a calibration takes the unit's model from its runs")
     missing = [f"--{k}" for k in ("model", "unit") if getattr(args, k) is None]
     if missing:
         raise AnytipError(f"calibrate needs {' and '.join(missing)} (or --plan SECONDS to write a plan)")
@@ -321,6 +324,8 @@ def _print_intervals(bands: dict[str, Any], units: dict[str, str]) -> None:
 def write_plan(args: argparse.Namespace) -> int:
     """`anytip calibrate --plan SECONDS --out plan.csv`: the designed calibration as waypoints."""
     from anytip.data.plans import RigTiming, designed_plan_csv
+    from anytip.sensor import flat
+    from anytip.sensor.geometry import SENSOR_MODEL
     from anytip.sensor.protocols import press_summary
 
     given = [f"--{k.replace('_', '-')}" for k in ("model", "unit", "budget_samples", "budget_seconds")
@@ -330,11 +335,23 @@ def write_plan(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not args.force:
         raise AnytipError(f"--out {out}: exists; choose another or pass --force")
-    rig = RigTiming(args.move_s, args.remount_s)
-    text, seconds, protocol = designed_plan_csv(args.plan, rig, args.seed or 0)
+    model = args.sensor_model or SENSOR_MODEL
+    if model != SENSOR_MODEL and model not in flat.DESIGNS:
+        raise AnytipError(f"--sensor-model {model!r}: plans are designed for {SENSOR_MODEL!r} and "
+                          f"{', '.join(map(repr, flat.DESIGNS))}")
+    if model in flat.DESIGNS:
+        if args.remount_s is not None:
+            raise AnytipError(f"--remount-s: {model} is calibrated in one orientation, with no re-mount")
+        text, seconds, what = designed_plan_csv(args.plan, RigTiming(args.move_s), args.seed or 0, model)
+        timing = f"moves {args.move_s:g} s"
+    else:
+        remount_s = 30.0 if args.remount_s is None else args.remount_s
+        rig = RigTiming(args.move_s, remount_s)
+        text, seconds, protocol = designed_plan_csv(args.plan, rig, args.seed or 0)
+        what, timing = press_summary(protocol), f"moves {args.move_s:g} s, re-mounts {remount_s:g} s"
     write_text(out, text)
-    print(f"wrote {out}: {press_summary(protocol)}; {text.count(chr(10)) - 1} waypoints, "
-          f"{seconds:.1f} s of robot time (moves {args.move_s:g} s, re-mounts {args.remount_s:g} s)")
+    print(f"wrote {out}: {what}; {text.count(chr(10)) - 1} waypoints, "
+          f"{seconds:.1f} s of robot time ({timing})")
     return 0
 
 
@@ -449,8 +466,11 @@ def build_parser() -> argparse.ArgumentParser:
                           "--out as robot waypoints (CSV, docs/cross_sensor.md) instead of calibrating")
     cal.add_argument("--move-s", type=float, default=2.0,
                      help="with --plan: seconds per move between presses")
-    cal.add_argument("--remount-s", type=float, default=30.0,
-                     help="with --plan: seconds per change of orientation")
+    cal.add_argument("--remount-s", type=float, default=None,
+                     help="with --plan: seconds per change of orientation (default 30)")
+    cal.add_argument("--sensor-model", default=None,
+                     help="with --plan: the sensor model the plan is for (default: the fingertip, "
+                          "fingertip-8baro-r10; also edge-4baro, pad-16baro)")
     budget = cal.add_mutually_exclusive_group()
     budget.add_argument("--budget-samples", type=int, default=None,
                         help="labeled rows from the start of the calibration stream "

@@ -129,6 +129,9 @@ def choose_response(model: str | Path, seed: int | None, meta: dict[str, Any], b
     table = strategy_table(recorded, "val_loss", strategy)
     theirs = at_budget({b: float(v) for b, v in table.items() if isinstance(v, (int, float))}, budget)
     ours = val_loss_table(meta, budget)
+    if theirs is None and ours is not None:
+        return None, (f"the shared model's adapter: the run's benchmark scored response transfer on no "
+                      f"{strategy} plan at this budget (--method response calibrates by it all the same)")
     if theirs is None or ours is None or theirs >= ours:
         return None, ""
     return path, (f"calibration by response transfer: its validation-unit loss {theirs:.3g} is below the "

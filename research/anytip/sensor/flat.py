@@ -28,6 +28,7 @@ import numpy as np
 
 from anytip.errors import AnytipError
 from anytip.sensor.physics import relax
+from anytip.sensor.protocols import DESIGNED
 
 SIMULATOR = "anytip.sensor.flat"
 VERSION = 1
@@ -156,31 +157,110 @@ class FlatRun:
 
 def _press_profile(rng: np.random.Generator) -> np.ndarray:
     """(n,) in [0, 1]: one press's load over time (0 while moving, ramp, hold, ramp down)."""
-    n = [int(round(s * RATE_HZ)) for s in (MOVE_S, LOAD_S, HOLD_S, UNLOAD_S)]
-    n[2] = int(round(n[2] * rng.uniform(0.5, 1.5)))
+    return _profile(MOVE_S, HOLD_S * rng.uniform(0.5, 1.5))
+
+
+def _profile(move_s: float, hold_s: float) -> np.ndarray:
+    """(n,) in [0, 1]: a press moved to for `move_s`, loaded, held `hold_s` and unloaded (seconds)."""
+    n = [int(round(s * RATE_HZ)) for s in (move_s, LOAD_S, hold_s, UNLOAD_S)]
     return np.concatenate([np.zeros(n[0]), np.linspace(0, 1, n[1] + 1)[1:], np.ones(n[2]),
                            np.linspace(1, 0, n[3] + 1)[1:]])
 
 
-def _trajectory(design: FlatDesign, unit: FlatUnit, presses: int, rng: np.random.Generator
+@dataclass(frozen=True)
+class FlatPlan:
+    """A designed calibration of a flat design: P presses, each moved to for `move_s` and then
+    loaded, held and unloaded (LOAD_S, HOLD_S, UNLOAD_S). where (P, 2) m the pressed point;
+    level (P,) in [0.15, 1] of the design's maximum depth or force; shear (P, 2) the tangential
+    force over the normal force (pad; zeros for a design without shear)."""
+
+    name: str
+    move_s: float
+    where: np.ndarray
+    level: np.ndarray
+    shear: np.ndarray
+
+    @property
+    def press_s(self) -> float:
+        """Robot seconds of one press with its move."""
+        return self.move_s + LOAD_S + HOLD_S + UNLOAD_S
+
+    @property
+    def duration_s(self) -> float:
+        return len(self.level) * self.press_s
+
+
+def design_plan(design: FlatDesign, seconds: float, move_s: float = 2.0, seed: int = 0) -> FlatPlan:
+    """The designed calibration of `design` that fits `seconds` of robot time: as many presses as
+    fit (each `move_s` plus about 1.1 s of contact), spread evenly over the pressed region, the
+    load levels of the full protocol (0.15-1 of the maximum) and, on a design with shear, its
+    directions and ratios: a scrambled Halton sequence over those dimensions, drawn by `seed`
+    (scipy.stats.qmc). One orientation, no re-mount. Name: plan<seconds>."""
+    from scipy.stats import qmc
+
+    if not np.isfinite(seconds) or seconds <= 0:
+        raise AnytipError(f"a calibration plan needs a finite duration > 0 s, got {seconds}")
+    if not np.isfinite(move_s) or move_s <= 0:
+        raise AnytipError(f"a designed plan needs a move time > 0 s, got {move_s}")
+    press_s = move_s + LOAD_S + HOLD_S + UNLOAD_S
+    n = int(seconds // press_s)
+    if n < 1:
+        raise AnytipError(f"{seconds:g} s of robot time holds no press of {design.name}'s designed plan "
+                          f"(one takes {press_s:.1f} s with its move)")
+    x0, x1, y0, y1 = design.region_m
+    dims = 2 + (y1 > y0) + 2 * (design.shear_ratio > 0)
+    u = qmc.Halton(dims, scramble=True, seed=seed).random(n)
+    y = np.full(n, y0) if y1 == y0 else y0 + (y1 - y0) * u[:, 2]
+    where = np.column_stack([x0 + (x1 - x0) * u[:, 0], y])
+    shear = np.zeros((n, 2))
+    if design.shear_ratio > 0:
+        angle, ratio = 2 * np.pi * u[:, -2], design.shear_ratio * u[:, -1]
+        shear = ratio[:, None] * np.column_stack([np.cos(angle), np.sin(angle)])
+    return FlatPlan(f"plan{seconds:g}", move_s, where, 0.15 + 0.85 * u[:, 1], shear)
+
+
+def plan_waypoints(design: FlatDesign, plan: FlatPlan) -> tuple[tuple[str, ...], np.ndarray]:
+    """The plan as stage waypoints: column names and (4P, k) rows, one per segment end of every
+    press (load starts, load reached, hold ends, unloaded). Columns: time_s from the plan's start
+    (moves included), x_m and y_m the pressed point, then the command: depth_m (indentation, m) for a
+    design the rig drives by depth, else fx_n, fy_n, fz_n (N on the layer; fz_n < 0 presses)."""
+    by_depth = design.max_depth_m is not None
+    columns = ("time_s", "x_m", "y_m") + (("depth_m",) if by_depth else ("fx_n", "fy_n", "fz_n"))
+    ends = np.cumsum([plan.move_s, LOAD_S, HOLD_S, UNLOAD_S])
+    rows = []
+    for k in range(len(plan.level)):
+        top = (np.array([design.max_depth_m * plan.level[k]]) if by_depth else
+               design.max_force_n * plan.level[k] * np.append(plan.shear[k], -1.0))
+        for t, load in zip(k * plan.press_s + ends, (0.0, 1.0, 1.0, 0.0), strict=True):
+            rows.append(np.concatenate([[t], plan.where[k], load * top + 0.0]))  # no -0.0
+    return columns, np.asarray(rows)
+
+
+def _trajectory(design: FlatDesign, unit: FlatUnit, presses: int | FlatPlan, rng: np.random.Generator
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(load point (N, 2) m, force on the layer (N, 3) N, depth (N,) m, load (N,) in [0, 1] of
-    the design's maximum)."""
+    the design's maximum) of `presses` random presses or of a designed plan's."""
     x0, x1, y0, y1 = design.region_m
     parts: dict[str, list[np.ndarray]] = {"xy": [], "u": [], "peak": [], "shear": []}
     rest = int(REST_S * RATE_HZ)
-    parts["xy"].append(np.zeros((rest, 2)))
-    for key in ("u", "peak"):
-        parts[key].append(np.zeros(rest))
-    parts["shear"].append(np.zeros((rest, 2)))
-    for _ in range(presses):
-        u = _press_profile(rng)
-        where = np.array([rng.uniform(x0, x1), rng.uniform(y0, y1)])
-        angle, ratio = rng.uniform(0, 2 * np.pi), design.shear_ratio * rng.uniform(0, 1)
+
+    def add(u: np.ndarray, where: np.ndarray, peak: float, shear: np.ndarray) -> None:
         parts["xy"].append(np.tile(where, (len(u), 1)))
         parts["u"].append(u)
-        parts["peak"].append(np.full(len(u), rng.uniform(0.15, 1.0)))
-        parts["shear"].append(np.tile(ratio * np.array([np.cos(angle), np.sin(angle)]), (len(u), 1)))
+        parts["peak"].append(np.full(len(u), peak))
+        parts["shear"].append(np.tile(shear, (len(u), 1)))
+
+    add(np.zeros(rest), np.zeros(2), 0.0, np.zeros(2))
+    if isinstance(presses, FlatPlan):
+        for k in range(len(presses.level)):
+            add(_profile(presses.move_s, HOLD_S), presses.where[k], presses.level[k], presses.shear[k])
+    else:
+        for _ in range(presses):
+            u = _press_profile(rng)
+            where = np.array([rng.uniform(x0, x1), rng.uniform(y0, y1)])
+            angle, ratio = rng.uniform(0, 2 * np.pi), design.shear_ratio * rng.uniform(0, 1)
+            shear = ratio * np.array([np.cos(angle), np.sin(angle)])
+            add(u, where, rng.uniform(0.15, 1.0), shear)
     xy, u = np.concatenate(parts["xy"]), np.concatenate(parts["u"])
     level, shear = u * np.concatenate(parts["peak"]), np.concatenate(parts["shear"])
     if design.max_depth_m is not None:
@@ -194,13 +274,28 @@ def _trajectory(design: FlatDesign, unit: FlatUnit, presses: int, rng: np.random
     return xy, force, depth, level
 
 
+def _presses(design: FlatDesign, protocol: str, rng: np.random.Generator) -> int | FlatPlan:
+    """What a run of `protocol` presses: a count of random presses, or a designed plan."""
+    designed = DESIGNED.fullmatch(protocol)
+    if designed:
+        return design_plan(design, float(designed.group(1)), seed=int(rng.integers(2**32)))
+    if protocol not in PROTOCOLS:
+        raise AnytipError(f"flat sensors have protocols {sorted(PROTOCOLS)} and plan<seconds>, "
+                          f"not {protocol!r}")
+    return PROTOCOLS[protocol]
+
+
+def _count(presses: int | FlatPlan) -> int:
+    return len(presses.level) if isinstance(presses, FlatPlan) else presses
+
+
 def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[int], sensor_id: str,
                  created: str) -> FlatRun:
-    """One run of `unit` playing `protocol` (a name in PROTOCOLS), deterministic from `seed`."""
-    if protocol not in PROTOCOLS:
-        raise AnytipError(f"flat sensors have protocols {sorted(PROTOCOLS)}, not {protocol!r}")
+    """One run of `unit` playing `protocol` (a name in PROTOCOLS, or plan<seconds>: `design_plan` with
+    2 s moves, its points drawn from the run's seed), deterministic from `seed`."""
     rng = np.random.default_rng(np.random.SeedSequence(seed))
-    xy, force, depth, level = _trajectory(design, unit, PROTOCOLS[protocol], rng)
+    presses = _presses(design, protocol, rng)
+    xy, force, depth, level = _trajectory(design, unit, presses, rng)
     n = len(level)
     p = relax(layer_pressure(xy, force, unit, design.tip_radius_m), 1.0 / RATE_HZ, 0.05, 2.0)
     pressure = ATMOSPHERE_PA + unit.preload_pa + unit.gain * p + unit.noise_pa * rng.standard_normal(p.shape)
@@ -212,7 +307,7 @@ def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[i
     targets = {name: np.where(in_contact[:, None], values[name], 0.0).astype(np.float32)
                for name, _, _ in design.targets}
     record = {"simulator": SIMULATOR, "version": VERSION, "sensor_id": sensor_id, "created": created,
-              "seed": list(seed), "protocol": {"name": protocol, "presses": PROTOCOLS[protocol]},
+              "seed": list(seed), "protocol": {"name": protocol, "presses": _count(presses)},
               "unit": unit.to_json()}
     return FlatRun(sensor_id, design, created, np.arange(n) / RATE_HZ,
                    pressure.astype(np.float32), in_contact, targets, record)

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from anytip.data.arrays import FleetArrays
+from anytip.data.arrays import FleetArrays, has_patch_grid
 from anytip.data.calibration import CalibrationStream, calibration_stream
 from anytip.data.plans import Plan, Presses, designed_rows, find_presses, test_session_rows
 from anytip.data.seeds import FACTOR_TEST_PATCHES, TEST_PATCHES, VALIDATION_ROWS, stream_seed
@@ -101,6 +101,9 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
                         roles.n_train_units, roles.unit_folds, roles.n_factor_units)
     main, designed, session = (main_rows(arrays, calibration_protocol), designed_rows(arrays),
                                test_session_rows(arrays))
+    # The fingertip's test patches are places, which a designed plan leaves out too; a design without
+    # that grid holds out blocks of time within its main runs, and a designed run's block k is not near them.
+    places = has_patch_grid(arrays.layout)
     evals = {}
     draws = [*(stream_seed(TEST_PATCHES, seed, k) for k in range(len(split.val) + len(split.test))),
              *(stream_seed(FACTOR_TEST_PATCHES, seed, i) for i in range(len(split.factor)))]
@@ -114,7 +117,7 @@ def prepare_seed(arrays: FleetArrays, roles: Roles, calibration_protocol: str | 
         stream = calibration_stream(arrays, unit, calibration_protocol, exclude, interleave)
         test = unit_test_rows(own, mine[session[mine]], exclude, roles.test_rows)
         selectable = find_presses(arrays, unit, exclude | stream.outside(arrays))
-        own_designed = find_presses(arrays, unit, exclude | ~designed)
+        own_designed = find_presses(arrays, unit, (exclude if places else np.zeros_like(exclude)) | ~designed)
         evals[unit] = EvalUnit(unit, test, stream, selectable, own_designed, test_cells)
     members, stats, presses = training_units(arrays, split.train, roles, calibration_protocol, interleave,
                                              seed)
