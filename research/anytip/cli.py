@@ -463,7 +463,8 @@ def build_parser() -> argparse.ArgumentParser:
     cal.add_argument("--unit", help="the unit's id in the registry")
     cal.add_argument("--plan", type=float, default=None, metavar="SECONDS",
                      help="write the fingertip rig's designed calibration of SECONDS robot-seconds to "
-                          "--out as robot waypoints (CSV, docs/cross_sensor.md) instead of calibrating")
+                          "--out as robot waypoints (CSV, docs/cross_sensor.md) instead of calibrating; "
+                          "with --sensor-model, a flat design's as stage waypoints")
     cal.add_argument("--move-s", type=float, default=2.0,
                      help="with --plan: seconds per move between presses")
     cal.add_argument("--remount-s", type=float, default=None,

@@ -203,7 +203,7 @@ def design_plan(design: FlatDesign, seconds: float, move_s: float = 2.0, seed: i
     if not np.isfinite(move_s) or move_s <= 0:
         raise AnytipError(f"a designed plan needs a move time > 0 s, got {move_s}")
     press_s = move_s + LOAD_S + HOLD_S + UNLOAD_S
-    n = int(seconds // press_s)
+    n = int(np.floor(seconds / press_s * (1 + 1e-12)))  # 120 s of 1.6 s presses is 75, not 74.999
     if n < 1:
         raise AnytipError(f"{seconds:g} s of robot time holds no press of {design.name}'s designed plan "
                           f"(one takes {press_s:.1f} s with its move)")
