@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -39,12 +40,21 @@ import numpy as np
 
 from anytip.calibrate import response_models
 from anytip.models.io import model_paths
+from anytip.pipelines.common import report_metrics, unit_of
 from anytip.pipelines.cross_sensor_jobs import band_edges, needed_key
-from anytip.report.cross_sensor import budget_of, exact_share, paired_text, ratio_text, summary, unit_ratios
+from anytip.report.cross_sensor import (
+    METRICS,
+    budget_of,
+    exact_share,
+    paired_text,
+    ratio_text,
+    summary,
+    unit_ratios,
+)
+from anytip.report.metric import Metric
 from anytip.rundir import read_json
 from anytip.uncertainty.fleet_margin import Learner, factor_ceiling, pooled_factor
 
-RMSE_KEYS = ("force_rmse_n", "angle_rmse_rad")
 # which learner records of a response model a row's method reads: ordinary use or the plan alone
 LEARNER_KEYS = {"response": "units_by_strategy", "response+use": "use_units_by_strategy"}
 Fold = tuple[str, int]  # (run directory, seed): one response model and the units it holds out
@@ -89,19 +99,29 @@ def coverage_cells(rows: list[dict[str, Any]], kind: str = "fleet") -> str:
     return f"| {share:.0%} of {len(c)} | {low} | {decided} |"
 
 
-def table(rows: list[dict[str, Any]], kind: str = "fleet") -> str:
-    force = unit_ratios(rows, "force_rmse_n")
+def metrics_of(runs: list[Path]) -> Sequence[Metric]:
+    """The runs' two targets as report columns, from the targets the first run recorded (the
+    fingertip's force and angle where it recorded none)."""
+    targets = read_json(runs[0] / "provenance.json").get("targets")
+    return report_metrics(unit_of(targets)) if targets else METRICS
+
+
+def table(rows: list[dict[str, Any]], kind: str = "fleet", metrics: Sequence[Metric] = METRICS) -> str:
+    first, second = metrics[:2]
+    per_first = unit_ratios(rows, first.key)
     band = "[{1:.2f}, {2:.2f}]".format(*edges_of(rows))
-    lines = ["| method | robot-s | units | force ratio [95%] | angle ratio [95%] | force <= 1.10x / < 1.0x "
-             f"| intervals in {band} | lowest coverage | an exact method in {band} |",
+    lines = [f"| method | robot-s | units | {first.name} ratio [95%] | {second.name} ratio [95%] | "
+             f"{first.name} <= 1.10x / < 1.0x | intervals in {band} | lowest coverage | "
+             f"an exact method in {band} |",
              "|---|---|---|---|---|---|---|---|---|"]
-    for s in summary(rows):
+    for s in summary(rows, metrics):
         if s["method"] == "per_unit":
             continue
-        per_unit = np.asarray(list(force.get((s["method"], s["budget"]), {}).values()))
+        per_unit = np.asarray(list(per_first.get((s["method"], s["budget"]), {}).values()))
         mine = [r for r in rows if r["method"] == s["method"] and budget_of(r) == s["budget"]]
-        lines.append(f"| {s['method']} | {s['budget']:g} | {s['units']} | {ratio_text(s['force_unit'])} | "
-                     f"{ratio_text(s['angle_unit'])} | {np.mean(per_unit <= 1.10):.0%} / "
+        lines.append(f"| {s['method']} | {s['budget']:g} | {s['units']} | "
+                     f"{ratio_text(s[f'{first.name}_unit'])} | {ratio_text(s[f'{second.name}_unit'])} | "
+                     f"{np.mean(per_unit <= 1.10):.0%} / "
                      f"{np.mean(per_unit < 1.0):.0%} {coverage_cells(mine, kind)}")
     return "\n".join(lines)
 
@@ -186,18 +206,20 @@ def pooled(runs: list[Path]) -> str:
     return "\n".join(lines)
 
 
-def ratios_text(pairs: list[tuple[dict[str, Any], dict[str, Any]]]) -> str:
-    """`force x.. [..], angle x.. [..]`: the geometric mean over units of each pair's RMSE ratio."""
-    force, angle = (paired_text([x[k] / y[k] for x, y in pairs]) for k in RMSE_KEYS)
-    return f"force x{force}, angle x{angle}"
+def ratios_text(pairs: list[tuple[dict[str, Any], dict[str, Any]]],
+                metrics: Sequence[Metric] = METRICS) -> str:
+    """`force x.. [..], angle x.. [..]` (each target's): the geometric mean over units of each pair's
+    RMSE ratio."""
+    return ", ".join(f"{m.name} x{paired_text([x[m.key] / y[m.key] for x, y in pairs])}" for m in metrics)
 
 
-def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]], moved: bool = False) -> str:
+def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]], moved: bool = False,
+           metrics: Sequence[Metric] = METRICS) -> str:
     """Per (method, budget) both hold: the geometric mean over units of rows' RMSE over against's,
     force and angle [95%]; the units' references must be the same in both, unless the runs test the
     same units on other rows (`moved`, a test session: entry 63), where the references pair too."""
-    refs = {r["unit"]: r["force_rmse_n"] for r in rows if r["method"] == "per_unit"}
-    other = {r["unit"]: r["force_rmse_n"] for r in against if r["method"] == "per_unit"}
+    refs = {r["unit"]: r[metrics[0].key] for r in rows if r["method"] == "per_unit"}
+    other = {r["unit"]: r[metrics[0].key] for r in against if r["method"] == "per_unit"}
     if not moved and any(other.get(u) != f for u, f in refs.items()):
         sys.exit("--against: the runs' per-unit references differ; pair runs of the same units and "
                  "references (or give --test-rows-moved)")
@@ -209,11 +231,12 @@ def paired(rows: list[dict[str, Any]], against: list[dict[str, Any]], moved: boo
                 if r["method"] == method and budget_of(r) == budget and (method, budget, r["unit"]) in b]
         if not mine:
             continue
-        lines.append(f"{method} {budget:g} s, {len(mine)} units: {ratios_text(mine)}")
+        lines.append(f"{method} {budget:g} s, {len(mine)} units: {ratios_text(mine, metrics)}")
     return "\n".join(lines)
 
 
-def paired_strategies(rows: list[dict[str, Any]], mine: str, theirs: str) -> str:
+def paired_strategies(rows: list[dict[str, Any]], mine: str, theirs: str,
+                      metrics: Sequence[Metric] = METRICS) -> str:
     """Each `<method>@mine` row over the same unit's `<method>@theirs` row at the same budget, in the
     same runs: the geometric mean over units, force and angle [95%] (entry 58)."""
     b = {(r["method"], budget_of(r), r["unit"]): r for r in rows}
@@ -224,7 +247,8 @@ def paired_strategies(rows: list[dict[str, Any]], mine: str, theirs: str) -> str
         pairs = [(r, b[other, budget, r["unit"]]) for r in rows
                  if r["method"] == method and budget_of(r) == budget and (other, budget, r["unit"]) in b]
         if pairs:
-            lines.append(f"{method} over {other}, {budget:g} s, {len(pairs)} units: {ratios_text(pairs)}")
+            lines.append(f"{method} over {other}, {budget:g} s, {len(pairs)} units: "
+                         f"{ratios_text(pairs, metrics)}")
     return "\n".join(lines)
 
 
@@ -245,16 +269,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--strategies", nargs=2, metavar=("MINE", "THEIRS"),
                         help="pair each <method>@MINE row with the same unit's <method>@THEIRS row")
     args = parser.parse_args(argv)
-    rows = rows_of(args.runs)
-    print(table(rows, args.intervals))
+    rows, metrics = rows_of(args.runs), metrics_of(args.runs)
+    print(table(rows, args.intervals, metrics))
     if args.ceiling:
         print("\n" + ceilings(rows))
     if args.pooled:
         print("\n" + pooled(args.runs))
     if args.against:
-        print("\n" + paired(rows, rows_of(args.against), args.test_rows_moved))
+        print("\n" + paired(rows, rows_of(args.against), args.test_rows_moved, metrics))
     if args.strategies:
-        print("\n" + paired_strategies(rows, *args.strategies))
+        print("\n" + paired_strategies(rows, *args.strategies, metrics=metrics))
     return 0
 
 
