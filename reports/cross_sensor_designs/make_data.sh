@@ -6,3 +6,7 @@ anytip data simulate --registry data/edge24 --units 24 --seed 31 --protocols ful
 anytip data simulate --registry data/edge_extra128 --units 128 --seed 33 --protocols full --sensor-model edge-4baro
 anytip data simulate --registry data/pad24 --units 24 --seed 32 --protocols full,short --sensor-model pad-16baro
 anytip data simulate --registry data/pad_extra128 --units 128 --seed 34 --protocols full --sensor-model pad-16baro
+# Research log entry 210: the edge units again, each with its designed calibrations of 30, 120 and 600 s
+# (`anytip calibrate --plan S --sensor-model edge-4baro`, run after its full and short runs).
+anytip data simulate --registry data/edge24p --units 24 --seed 31 --protocols full,short,plan30,plan120,plan600 \
+  --sensor-model edge-4baro
