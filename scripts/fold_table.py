@@ -102,7 +102,8 @@ def coverage_cells(rows: list[dict[str, Any]], kind: str = "fleet") -> str:
 def metrics_of(runs: list[Path]) -> Sequence[Metric]:
     """The runs' two targets as report columns, from the targets the first run recorded (the
     fingertip's force and angle where it recorded none)."""
-    targets = read_json(runs[0] / "provenance.json").get("targets")
+    path = runs[0] / "provenance.json"
+    targets = read_json(path).get("targets") if path.is_file() else None
     return report_metrics(unit_of(targets)) if targets else METRICS
 
 
