@@ -326,7 +326,6 @@ def write_plan(args: argparse.Namespace) -> int:
     from anytip.data.plans import RigTiming, designed_plan_csv
     from anytip.sensor import flat
     from anytip.sensor.geometry import SENSOR_MODEL
-    from anytip.sensor.protocols import press_summary
 
     given = [f"--{k.replace('_', '-')}" for k in ("model", "unit", "budget_samples", "budget_seconds")
              if getattr(args, k) is not None]
@@ -342,13 +341,12 @@ def write_plan(args: argparse.Namespace) -> int:
     if model in flat.DESIGNS:
         if args.remount_s is not None:
             raise AnytipError(f"--remount-s: {model} is calibrated in one orientation, with no re-mount")
-        text, seconds, what = designed_plan_csv(args.plan, RigTiming(args.move_s), args.seed or 0, model)
-        timing = f"moves {args.move_s:g} s"
+        rig, timing = RigTiming(args.move_s), f"moves {args.move_s:g} s"
     else:
         remount_s = 30.0 if args.remount_s is None else args.remount_s
-        rig = RigTiming(args.move_s, remount_s)
-        text, seconds, protocol = designed_plan_csv(args.plan, rig, args.seed or 0)
-        what, timing = press_summary(protocol), f"moves {args.move_s:g} s, re-mounts {remount_s:g} s"
+        rig, timing = RigTiming(args.move_s, remount_s), f"moves {args.move_s:g} s, re-mounts {remount_s:g} s"
+    flat_model = model if model in flat.DESIGNS else None
+    text, seconds, what = designed_plan_csv(args.plan, rig, args.seed or 0, flat_model)
     write_text(out, text)
     print(f"wrote {out}: {what}; {text.count(chr(10)) - 1} waypoints, "
           f"{seconds:.1f} s of robot time ({timing})")

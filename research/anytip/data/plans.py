@@ -35,7 +35,7 @@ import itertools
 import zlib
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -45,7 +45,7 @@ from anytip.data.calibration import CalibrationStream
 from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
 from anytip.sensor import flat
-from anytip.sensor.protocols import design_protocol, is_designed, is_test_session, waypoints
+from anytip.sensor.protocols import design_protocol, is_designed, is_test_session, press_summary, waypoints
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
@@ -556,22 +556,23 @@ def designed_name(seconds: float) -> str:
 
 
 def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0,
-                      sensor_model: str | None = None) -> tuple[str, float, Any]:
+                      sensor_model: str | None = None) -> tuple[str, float, str]:
     """The designed calibration of `seconds` robot seconds as robot waypoints in CSV, the plan's
-    robot time in seconds, re-mounts included, and what it presses. The fingertip's (default,
-    `sensor.protocols.design_protocol`): columns WAYPOINT_COLUMNS (docs/cross_sensor.md), and the
-    protocol. A flat design's (`sensor_model` in `sensor.flat.DESIGNS`, `sensor.flat.design_plan`):
-    stage waypoints (`sensor.flat.plan_waypoints`), and the plan in words."""
+    robot time in seconds, re-mounts included, and what it presses in words. The fingertip's
+    (default, `sensor.protocols.design_protocol`): columns WAYPOINT_COLUMNS (docs/cross_sensor.md).
+    A flat design's (`sensor_model` in `sensor.flat.DESIGNS`, `sensor.flat.design_plan`): stage
+    waypoints (`sensor.flat.plan_waypoints`), one orientation."""
     if sensor_model is not None:
         design = flat.get_design(sensor_model)
         plan = flat.design_plan(design, seconds, rig.move_s, seed)
         columns, table = flat.plan_waypoints(design, plan)
-        return _csv(columns, table, ".6f"), plan.duration_s, (f"{len(plan.level)} presses, one at each of "
-                                                              f"{len(plan.level)} places, on 1 orientation")
+        n = len(plan.level)
+        what = f"{n} presses, one at each of {n} places, on 1 orientation"
+        return _csv(columns, table, ".6f"), plan.duration_s, what
     protocol = design_protocol(seconds, rig.move_s, rig.remount_s)
     table = waypoints(protocol, rig.remount_s, np.random.default_rng(seed))
     total = protocol.duration_s + rig.remount_s * (len(protocol.orientations_deg) - 1)
-    return _csv(WAYPOINT_COLUMNS, table, ".4f"), total, protocol
+    return _csv(WAYPOINT_COLUMNS, table, ".4f"), total, press_summary(protocol)
 
 
 def _csv(columns: tuple[str, ...], table: np.ndarray, fmt: str) -> str:
