@@ -40,7 +40,7 @@ import numpy as np
 
 from anytip.calibrate import response_models
 from anytip.models.io import model_paths
-from anytip.pipelines.common import report_metrics, unit_of
+from anytip.pipelines.common import recorded_metrics
 from anytip.pipelines.cross_sensor_jobs import band_edges, needed_key
 from anytip.report.cross_sensor import (
     METRICS,
@@ -104,7 +104,7 @@ def metrics_of(runs: list[Path]) -> Sequence[Metric]:
     fingertip's force and angle where it recorded none)."""
     path = runs[0] / "provenance.json"
     targets = read_json(path).get("targets") if path.is_file() else None
-    return report_metrics(unit_of(targets)) if targets else METRICS
+    return recorded_metrics(targets)
 
 
 def table(rows: list[dict[str, Any]], kind: str = "fleet", metrics: Sequence[Metric] = METRICS) -> str:

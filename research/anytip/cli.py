@@ -62,6 +62,19 @@ def _print_models(layouts: dict[str, str], records) -> None:
         print(f"sensor model {model}: {describe_layout(layouts[model])} ({len(units)} units)")
 
 
+def _sensor_model(args: argparse.Namespace, known: str) -> str:
+    """`--sensor-model`, the fingertip's where none is given; an unknown one is named beside those the
+    simulator has (`known` says what they are to the command, e.g. 'plans are designed for')."""
+    from anytip.sensor import flat
+    from anytip.sensor.geometry import SENSOR_MODEL
+
+    model = args.sensor_model or SENSOR_MODEL
+    if model != SENSOR_MODEL and model not in flat.DESIGNS:
+        raise AnytipError(f"--sensor-model {model!r}: {known} {SENSOR_MODEL!r} and "
+                          f"{', '.join(map(repr, flat.DESIGNS))}")
+    return model
+
+
 def cmd_simulate(args: argparse.Namespace) -> int:
     from anytip.data.simulated import simulate_flat_into, simulate_into
     from anytip.sensor import flat
@@ -71,10 +84,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
     if args.units < 1 or args.seed < 0:
         raise AnytipError(f"--units must be >= 1 and --seed >= 0, got {args.units} and {args.seed}")
-    model = args.sensor_model or SENSOR_MODEL
-    if model != SENSOR_MODEL and model not in flat.DESIGNS:
-        raise AnytipError(f"--sensor-model {model!r}: the simulator knows {SENSOR_MODEL!r} and "
-                          f"{', '.join(map(repr, flat.DESIGNS))}")
+    model = _sensor_model(args, "the simulator knows")
     if model in flat.DESIGNS and args.fleet:
         raise AnytipError(f"--fleet configures the fingertip's fleet; --sensor-model {model!r} takes none")
     if model == SENSOR_MODEL and args.severity != 1.0:
@@ -325,7 +335,6 @@ def write_plan(args: argparse.Namespace) -> int:
     """`anytip calibrate --plan SECONDS --out plan.csv`: the designed calibration as waypoints."""
     from anytip.data.plans import RigTiming, designed_plan_csv
     from anytip.sensor import flat
-    from anytip.sensor.geometry import SENSOR_MODEL
 
     given = [f"--{k.replace('_', '-')}" for k in ("model", "unit", "budget_samples", "budget_seconds")
              if getattr(args, k) is not None]
@@ -334,10 +343,7 @@ def write_plan(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not args.force:
         raise AnytipError(f"--out {out}: exists; choose another or pass --force")
-    model = args.sensor_model or SENSOR_MODEL
-    if model != SENSOR_MODEL and model not in flat.DESIGNS:
-        raise AnytipError(f"--sensor-model {model!r}: plans are designed for {SENSOR_MODEL!r} and "
-                          f"{', '.join(map(repr, flat.DESIGNS))}")
+    model = _sensor_model(args, "plans are designed for")
     if model in flat.DESIGNS:
         if args.remount_s is not None:
             raise AnytipError(f"--remount-s: {model} is calibrated in one orientation, with no re-mount")

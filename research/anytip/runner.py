@@ -24,12 +24,10 @@ from anytip.pipelines.common import (
     Context,
     check_options,
     check_registry,
-    report_metrics,
+    recorded_metrics,
     resolve_device,
-    unit_of,
 )
 from anytip.report.cross_sensor import (
-    METRICS,
     budget_of,
     chosen_lines,
     comparison_report,
@@ -353,7 +351,7 @@ def compare_runs(labelled: Sequence[tuple[str, Sequence[str | Path], str | None]
     if len({in_seconds(rows) for _, rows in pools.values()}) > 1:
         raise AnytipError("some runs budget in robot seconds and others in labeled samples; compare like "
                           "with like")
-    metrics = report_metrics(unit_of(first["targets"])) if first.get("targets") else METRICS
+    metrics = recorded_metrics(first.get("targets"))
     groups = {label: _compared_lines(*pools[label], method, metrics, dirs)
               for label, dirs, method in labelled}
     out.mkdir(parents=True, exist_ok=True)

@@ -23,7 +23,7 @@ from anytip.data.runfile import V1_LAYOUT, describe_layout, describe_targets, pa
 from anytip.data.seeds import VALIDATION_ROWS, stream_seed
 from anytip.data.splits import TestMask
 from anytip.errors import AnytipError
-from anytip.report.metric import Metric
+from anytip.report.metric import FINGERTIP_METRICS, Metric
 from anytip.train.data import FleetBatchData, split_validation, unit_tensors
 from anytip.train.fleet import FitResult
 from anytip.train.metrics import predict, target_key
@@ -231,6 +231,12 @@ def report_metrics(units: dict[str, str]) -> list[Metric]:
     names = {"angles": "angle"}
     return [Metric(target_key(n), names.get(n, n), f"{names.get(n, n)} RMSE [{unit}]")
             for n, unit in units.items()]
+
+
+def recorded_metrics(targets: dict[str, Any] | None) -> list[Metric]:
+    """The report columns of the targets a run recorded (`provenance["targets"]`), or the fingertip's
+    force and angle for a run that recorded none."""
+    return report_metrics(unit_of(targets)) if targets else list(FINGERTIP_METRICS)
 
 
 def unit_of(targets: dict[str, Any]) -> dict[str, str]:

@@ -31,7 +31,7 @@ from anytip.data.seeds import CALIBRATION_ROWS, REFERENCE_START, VALIDATION_PATC
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.mlp import MLPConfig
-from anytip.pipelines.common import Context, load, load_extra, report_metrics, unit_of
+from anytip.pipelines.common import Context, load, load_extra, recorded_metrics, report_metrics, unit_of
 from anytip.pipelines.cross_sensor_jobs import (
     Job,
     UnitLosses,
@@ -56,7 +56,7 @@ from anytip.pipelines.cross_sensor_options import (
 )
 from anytip.pipelines.cross_sensor_response import response_rows
 from anytip.pipelines.cross_sensor_response import val_by_method as response_val_by_method
-from anytip.report.cross_sensor import METRICS, full_set_rows, summary, write_report
+from anytip.report.cross_sensor import full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
     SharedFit,
@@ -161,8 +161,7 @@ def report(ctx: Context, rows: list[dict[str, Any]]) -> None:
     opts = parse_options(ctx)
     for key, losses in recorded_val_losses(ctx).items():
         ctx.provenance["cross_sensor"][key]["val_loss"] = losses
-    targets = ctx.provenance.get("targets")
-    write_report(ctx, rows, opts, report_metrics(unit_of(targets)) if targets else METRICS, data_family)
+    write_report(ctx, rows, opts, recorded_metrics(ctx.provenance.get("targets")), data_family)
 
 
 def recorded_val_losses(ctx: Context) -> dict[str, dict[str, dict[str, float]]]:
@@ -192,7 +191,7 @@ def saved_val_losses(models: Path, seed_key: str, opts: Options) -> dict[str, di
 
 def summarise(rows: list[dict[str, Any]], targets: dict[str, Any] | None = None) -> str:
     """One screen: mean RMSE and ratio to per_unit per (method, budget), for each target."""
-    metrics = report_metrics(unit_of(targets)) if targets else METRICS
+    metrics = recorded_metrics(targets)
     head = "".join(f"{m.label:>22}{'ratio':>8}" for m in metrics)
     lines = [f"{'method':<46}{'budget':>8}{head}"]
     for s in summary(full_set_rows(rows), metrics):
