@@ -3,17 +3,19 @@
 
     python scripts/fold_table.py reports/cross_sensor_response_extra/fleet88_seed{0,1}
 
-Per (method, budget): the force and angle ratio to each held-out unit's own per-unit model, mean
-over distinct units with a 95% bootstrap interval over units (`report.cross_sensor.summary`), the
-share of units at or below 1.10x and below 1.0x in force, and, where the rows carry intervals,
+Per (method, budget): the ratio of each of the runs' two targets (the fingertip's force and angle, or
+the targets the runs recorded, e.g. the edge sensor's depth and position) to each held-out unit's own
+per-unit model, mean over distinct units with a 95% bootstrap interval over units
+(`report.cross_sensor.summary`), the share of units at or below 1.10x and below 1.0x in the first
+target, and, where the rows carry intervals,
 the share of unit-outputs whose fleet-factor interval covers [0.85, 0.95] of its test rows, the
 lowest coverage and how many fall below 0.80, and the share that a method whose coverage is exactly
 0.90 for every unit would put in that band on the same test sets (their test patches drawn again:
 how far the test sets can decide the target).
 
 `--against B1 B2 ...` compares the runs with other runs of the same held-out units and references
-(e.g. a rescoring): per (method, budget), the geometric mean over units of each unit's force and
-angle RMSE in the runs over its RMSE in B, with a 95% bootstrap interval over units. With
+(e.g. a rescoring): per (method, budget), the geometric mean over units of each unit's RMSE of each
+target in the runs over its RMSE in B, with a 95% bootstrap interval over units. With
 `--test-rows-moved` the runs test the same units on other rows (a test session, entry 63): their
 references differ, and pair as well (`per_unit -1 s`).
 
