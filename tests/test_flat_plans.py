@@ -59,22 +59,24 @@ def test_a_designed_plan_is_its_seeds_and_refuses_what_holds_no_press():
             flat.design_plan(design, seconds, move_s)
 
 
-@pytest.mark.parametrize("model", DESIGNS)
-def test_simulated_plan_runs_replay_and_their_presses_fit_the_budget(model, tmp_path):
-    """A unit's `plan40` run (`anytip data simulate --protocols plan40`) holds the plan's presses, each
-    found whole by `find_presses`; priced as the benchmark prices a designed plan (each press's contact
-    plus its recorded lead) it fits its 40 s, and it replays bit for bit from its record."""
+@pytest.mark.parametrize("model, move_s", [(m, 2.0) for m in DESIGNS] + [("edge-4baro", 0.4)])
+def test_simulated_plan_runs_replay_and_their_presses_fit_the_budget(model, move_s, tmp_path):
+    """A unit's `plan40` run (`anytip data simulate --protocols plan40 [--move-s S]`) holds the plan's
+    presses, each found whole by `find_presses` and led by the rig's move; priced as the benchmark
+    prices a designed plan (each press's contact plus its recorded lead) it fits its 40 s, and it
+    replays bit for bit from its record."""
     reg = Registry(tmp_path / "reg")
-    simulate_flat_into(reg, model, 1, 7, ("plan40",))
+    simulate_flat_into(reg, model, 1, 7, ("plan40",), move_s=move_s)
     (record,) = reg.list_runs()
     assert record.protocol == "plan40"
     run = reg.open_run(record.run_id)
     assert regenerate(run.simulator).content_hash() == run.content_hash()
     arrays = load_arrays(reg, [record])
     presses = find_presses(arrays, record.unit)
-    n = len(flat.design_plan(flat.get_design(model), 40.0).level)
+    n = len(flat.design_plan(flat.get_design(model), 40.0, move_s).level)
     assert len(presses) == n
-    plan = select_presses(presses, 40.0, RigTiming(), "first", recorded_moves=True)
+    assert np.all(presses.lead_s[1:] >= move_s) and np.all(presses.lead_s[1:] < move_s + 0.4)
+    plan = select_presses(presses, 40.0, RigTiming(move_s), "first", recorded_moves=True)
     assert plan.presses == n and plan.calib_seconds <= 40.0
 
 

@@ -10,3 +10,7 @@ anytip data simulate --registry data/pad_extra128 --units 128 --seed 34 --protoc
 # (`anytip calibrate --plan S --sensor-model edge-4baro`, run after its full and short runs).
 anytip data simulate --registry data/edge24p --units 24 --seed 31 --protocols full,short,plan30,plan120,plan600 \
   --sensor-model edge-4baro
+# Research log entry 211: the same units, their designed plans of 30, 60, 120 and 600 s run with 0.4 s moves
+# (the full protocol's), the plans of 30, 120 and 600 s at entry 210's points (the same run seeds).
+anytip data simulate --registry data/edge24f --units 24 --seed 31 \
+  --protocols full,short,plan30,plan120,plan600,plan60 --sensor-model edge-4baro --move-s 0.4

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -80,7 +81,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from anytip.sensor import flat
     from anytip.sensor.fleet import FleetConfig, load_fleet_config
     from anytip.sensor.geometry import SENSOR_MODEL
-    from anytip.sensor.protocols import is_designed
+    from anytip.sensor.protocols import PLAN_MOVE_S, design_protocol, designed_seconds, is_designed
 
     if args.units < 1 or args.seed < 0:
         raise AnytipError(f"--units must be >= 1 and --seed >= 0, got {args.units} and {args.seed}")
@@ -91,6 +92,12 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         raise AnytipError("--severity is for edge-4baro and pad-16baro; the fingertip's variation is "
                           "set in its fleet config (--fleet, key 'severity')")
     protocols = [p for p in args.protocols.split(",") if p]
+    if args.move_s is not None and not any(map(is_designed, protocols)):
+        raise AnytipError(f"--move-s times the moves of a designed plan (plan<seconds>); --protocols "
+                          f"{args.protocols!r} has none")
+    move_s = PLAN_MOVE_S if args.move_s is None else args.move_s
+    if not (math.isfinite(move_s) and move_s > 0):
+        raise AnytipError(f"--move-s must be a finite number of seconds > 0, got {args.move_s}")
     registry = _registry(args, create=True)
     start = time.perf_counter()
     if model in flat.DESIGNS:
@@ -99,10 +106,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             raise AnytipError(f"--protocols {args.protocols!r}: {model} runs the protocols "
                               f"{sorted(flat.PROTOCOLS)} and plan<seconds>")
         added, unchanged = simulate_flat_into(registry, model, args.units, args.seed, protocols,
-                                              args.severity)
+                                              args.severity, move_s)
     else:
         config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
-        added, unchanged = simulate_into(registry, config, args.units, args.seed, protocols,
+        timed = [design_protocol(designed_seconds(p), move_s) if is_designed(p) else p for p in protocols]
+        added, unchanged = simulate_into(registry, config, args.units, args.seed, timed,
                                          progress=sys.stderr.isatty())
     print(f"simulated {args.units} units into {registry.root}: {added} runs added, "
           f"{unchanged} unchanged ({time.perf_counter() - start:.1f} s)")
@@ -556,6 +564,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "also edge-4baro, pad-16baro)")
     p.add_argument("--severity", type=float, default=1.0,
                    help="unit-to-unit variation of edge-4baro and pad-16baro, 1 = the default spread")
+    p.add_argument("--move-s", type=float, default=None,
+                   help="the rig's move before each press of a designed plan (plan<seconds>), in s "
+                        "(default 2, as `anytip calibrate --plan` assumes)")
     p = verb("import", cmd_import, "import interchange HDF5 files or CSV rig logs")
     p.add_argument("paths", nargs="+", help="run files (.h5, .hdf5), CSV logs (.csv) or directories of them")
     p.add_argument("--csv-map", default=None,

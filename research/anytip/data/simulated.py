@@ -16,7 +16,7 @@ from anytip.data.runfile import CalibrationRun, Target
 from anytip.sensor import flat
 from anytip.sensor import simulate as sim
 from anytip.sensor.fleet import FleetConfig
-from anytip.sensor.protocols import Protocol
+from anytip.sensor.protocols import PLAN_MOVE_S, Protocol
 
 
 def as_run(run: sim.SimulatedRun) -> CalibrationRun:
@@ -63,11 +63,13 @@ def regenerate(simulator_json: dict[str, Any] | str) -> CalibrationRun:
 
 
 def simulate_flat_into(registry: Registry, sensor_model: str, n_units: int, seed: int,
-                       protocols: Sequence[str] = ("full",), severity: float = 1.0) -> tuple[int, int]:
+                       protocols: Sequence[str] = ("full",), severity: float = 1.0,
+                       move_s: float = PLAN_MOVE_S) -> tuple[int, int]:
     """Simulate `n_units` units of a flat sensor model (`anytip.sensor.flat.DESIGNS`) and add
-    their runs, one unit per transaction; returns (runs added, runs already there)."""
+    their runs, one unit per transaction; returns (runs added, runs already there). The rig moves
+    `move_s` before each press of a designed plan (plan<seconds>)."""
     before = {r.run_id for r in registry.list_runs()}
-    runs = flat.simulate_fleet(sensor_model, n_units, seed, tuple(protocols), severity)
+    runs = flat.simulate_fleet(sensor_model, n_units, seed, tuple(protocols), severity, move_s)
     added = unchanged = 0
     for _, unit_runs in groupby(runs, key=lambda r: r.sensor_id):
         records = registry.add_runs([as_flat_run(r) for r in unit_runs])
@@ -77,7 +79,7 @@ def simulate_flat_into(registry: Registry, sensor_model: str, n_units: int, seed
 
 
 def simulate_into(registry: Registry, config: FleetConfig, n_units: int, seed: int,
-                  protocols: Sequence[str] = ("full", "short"), progress: bool = False
+                  protocols: Sequence[str | Protocol] = ("full", "short"), progress: bool = False
                   ) -> tuple[int, int]:
     """Simulate `n_units` units and add their runs; returns (runs added, runs already there).
 

@@ -28,7 +28,7 @@ import numpy as np
 
 from anytip.errors import AnytipError
 from anytip.sensor.physics import relax
-from anytip.sensor.protocols import DESIGNED
+from anytip.sensor.protocols import PLAN_MOVE_S, designed_seconds
 
 SIMULATOR = "anytip.sensor.flat"
 VERSION = 1
@@ -190,7 +190,7 @@ class FlatPlan:
         return len(self.level) * self.press_s
 
 
-def design_plan(design: FlatDesign, seconds: float, move_s: float = 2.0, seed: int = 0) -> FlatPlan:
+def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S, seed: int = 0) -> FlatPlan:
     """The designed calibration of `design` that fits `seconds` of robot time: as many presses as
     fit (each `move_s` plus about 1.1 s of contact), spread evenly over the pressed region, the
     load levels of the full protocol (0.15-1 of the maximum) and, on a design with shear, its
@@ -274,11 +274,13 @@ def _trajectory(design: FlatDesign, unit: FlatUnit, presses: int | FlatPlan, rng
     return xy, force, depth, level
 
 
-def _presses(design: FlatDesign, protocol: str, rng: np.random.Generator) -> int | FlatPlan:
-    """What a run of `protocol` presses: a count of random presses, or a designed plan."""
-    designed = DESIGNED.fullmatch(protocol)
-    if designed:
-        return design_plan(design, float(designed.group(1)), seed=int(rng.integers(2**32)))
+def _presses(design: FlatDesign, protocol: str, rng: np.random.Generator, move_s: float
+             ) -> int | FlatPlan:
+    """What a run of `protocol` presses: a count of random presses, or a designed plan whose rig
+    moves `move_s` before each press."""
+    seconds = designed_seconds(protocol)
+    if seconds is not None:
+        return design_plan(design, seconds, move_s, seed=int(rng.integers(2**32)))
     if protocol not in PROTOCOLS:
         raise AnytipError(f"flat sensors have protocols {sorted(PROTOCOLS)} and plan<seconds>, "
                           f"not {protocol!r}")
@@ -290,11 +292,12 @@ def _count(presses: int | FlatPlan) -> int:
 
 
 def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[int], sensor_id: str,
-                 created: str) -> FlatRun:
+                 created: str, move_s: float = PLAN_MOVE_S) -> FlatRun:
     """One run of `unit` playing `protocol` (a name in PROTOCOLS, or plan<seconds>: `design_plan` with
-    2 s moves, its points drawn from the run's seed), deterministic from `seed`."""
+    `move_s` moves, its points drawn from the run's seed), deterministic from `seed`. A designed run
+    whose moves are not PLAN_MOVE_S records them (`protocol.move_s`) so that it replays."""
     rng = np.random.default_rng(np.random.SeedSequence(seed))
-    presses = _presses(design, protocol, rng)
+    presses = _presses(design, protocol, rng, move_s)
     xy, force, depth, level = _trajectory(design, unit, presses, rng)
     n = len(level)
     p = relax(layer_pressure(xy, force, unit, design.tip_radius_m), 1.0 / RATE_HZ, 0.05, 2.0)
@@ -309,14 +312,17 @@ def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[i
     record = {"simulator": SIMULATOR, "version": VERSION, "sensor_id": sensor_id, "created": created,
               "seed": list(seed), "protocol": {"name": protocol, "presses": _count(presses)},
               "unit": unit.to_json()}
+    if isinstance(presses, FlatPlan) and move_s != PLAN_MOVE_S:
+        record["protocol"]["move_s"] = move_s
     return FlatRun(sensor_id, design, created, np.arange(n) / RATE_HZ,
                    pressure.astype(np.float32), in_contact, targets, record)
 
 
 def simulate_fleet(design_name: str, n_units: int, seed: int, protocols: tuple[str, ...] = ("full",),
-                   severity: float = 1.0) -> list[FlatRun]:
+                   severity: float = 1.0, move_s: float = PLAN_MOVE_S) -> list[FlatRun]:
     """Every run of `n_units` units of a flat design, one run per protocol; unit i is drawn from
-    SeedSequence([seed, i, 0]) and its run k from [seed, i, k + 1], as for the fingertip."""
+    SeedSequence([seed, i, 0]) and its run k from [seed, i, k + 1], as for the fingertip. The rig
+    moves `move_s` before each press of a designed plan (plan<seconds>)."""
     design = get_design(design_name)
     runs = []
     for i in range(n_units):
@@ -324,7 +330,7 @@ def simulate_fleet(design_name: str, n_units: int, seed: int, protocols: tuple[s
         sensor_id = f"{design.id_prefix}{seed}-{i:03d}"
         for k, protocol in enumerate(protocols):
             created = f"2024-01-{1 + i % 28:02d}T{(2 * k) % 24:02d}:00:00Z"
-            runs.append(simulate_run(design, unit, protocol, [seed, i, k + 1], sensor_id, created))
+            runs.append(simulate_run(design, unit, protocol, [seed, i, k + 1], sensor_id, created, move_s))
     return runs
 
 
@@ -336,4 +342,4 @@ def regenerate(record: dict[str, Any] | str) -> FlatRun:
                           f"cannot be replayed by {SIMULATOR} version {VERSION}")
     unit = FlatUnit.from_json(record["unit"])
     return simulate_run(get_design(unit.design), unit, record["protocol"]["name"], record["seed"],
-                        record["sensor_id"], record["created"])
+                        record["sensor_id"], record["created"], record["protocol"].get("move_s", PLAN_MOVE_S))

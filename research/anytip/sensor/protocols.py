@@ -131,12 +131,19 @@ TEST_SESSION = "retest"
 
 
 DESIGNED = re.compile(r"plan(\d+(?:\.\d+)?)")  # `plan<seconds>`: the designed calibration of that budget
+PLAN_MOVE_S = 2.0  # a designed plan's move before each press where the rig declares none (s)
+
+
+def designed_seconds(protocol: str | None) -> float | None:
+    """The robot seconds a designed calibration's name states (`plan120` -> 120.0), else None."""
+    designed = None if protocol is None else DESIGNED.fullmatch(protocol)
+    return None if designed is None else float(designed.group(1))
 
 
 def is_designed(protocol: str | None) -> bool:
     """Whether `protocol` names a designed calibration (`plan<seconds>`, `design_protocol`): its runs
     are a calibration plan, not part of a unit's calibration stream or its test data."""
-    return protocol is not None and DESIGNED.fullmatch(protocol) is not None
+    return designed_seconds(protocol) is not None
 
 
 def is_test_session(protocol: str | None) -> bool:
@@ -153,9 +160,9 @@ def get_protocol(protocol: str | Protocol | dict) -> Protocol:
         return protocol
     if isinstance(protocol, dict):
         return Protocol.model_validate(protocol)
-    designed = DESIGNED.fullmatch(protocol)
-    if designed:
-        return design_protocol(float(designed.group(1)))
+    seconds = designed_seconds(protocol)
+    if seconds is not None:
+        return design_protocol(seconds)
     if protocol not in PROTOCOLS:
         raise AnytipError(
             f"unknown protocol {protocol!r}; built-in protocols: {', '.join(PROTOCOLS)}, plan<seconds>"
@@ -275,7 +282,7 @@ COVERING_ORIENTATIONS_DEG = (0.0, -90.0)  # phi in [-45, 45] and [-135, -45]: th
 CENTRE_ORIENTATION_DEG = -45.0  # phi in [-90, 0]: the one orientation of a plan too short to re-mount
 
 
-def design_protocol(seconds: float, move_s: float = 2.0, remount_s: float = 30.0) -> Protocol:
+def design_protocol(seconds: float, move_s: float = PLAN_MOVE_S, remount_s: float = 30.0) -> Protocol:
     """The designed calibration of a new unit that fits `seconds` of robot time.
 
     Covers theta in [-45, 45] deg and phi in [-135, 45] deg from two orientations when the
