@@ -129,3 +129,28 @@ def test_data_simulate_runs_a_flat_designs_plan_and_names_an_unknown_protocol(tm
     assert [r.protocol for r in Registry(reg).list_runs()] == ["plan8"]
     assert main([*base, "--protocols", "sweep"]) != 0
     assert "runs the protocols ['full', 'quick', 'short'] and plan<seconds>" in capsys.readouterr().err
+
+
+def test_data_simulate_times_a_designed_plans_moves_and_refuses_a_move_without_one(tmp_path, capsys):
+    """`--move-s` sets the rig's move before each press of a designed plan, on the fingertip as on a
+    flat design (each press's recorded lead is the move), and is refused where no protocol is designed
+    or the time is not a duration."""
+    for model, move_s in (("edge-4baro", 0.4), ("fingertip-8baro-r10", 1.0)):
+        reg = tmp_path / model
+        args = ["data", "simulate", "--registry", str(reg), "--units", "1", "--sensor-model", model,
+                "--protocols", "plan20", "--move-s", str(move_s)]
+        assert main(args) == 0
+        records = Registry(reg).list_runs()
+        assert {r.protocol for r in records} == {"plan20"}
+        presses = find_presses(load_arrays(Registry(reg), records), records[0].unit)
+        leads = presses.lead_s[~np.isnan(presses.lead_s)]
+        assert len(leads) > 0 and np.all(leads >= move_s) and np.all(leads < move_s + 0.5)
+    base = ["data", "simulate", "--registry", str(tmp_path / "no"), "--units", "1"]
+    not_a_duration = "--move-s must be a finite number of seconds > 0"
+    refused = [(["--protocols", "full", "--move-s", "0.4"], "--move-s times the moves of a designed plan"),
+               (["--protocols", "plan20", "--move-s", "nan"], not_a_duration),
+               (["--protocols", "plan20", "--move-s", "0"], not_a_duration),
+               (["--protocols", "plan20", "--plan-points", "random"], "--plan-points chooses a flat")]
+    for args, message in refused:
+        assert main([*base, *args]) != 0
+        assert message in capsys.readouterr().err

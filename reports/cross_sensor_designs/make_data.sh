@@ -14,3 +14,6 @@ anytip data simulate --registry data/edge24p --units 24 --seed 31 --protocols fu
 # (the full protocol's), the plans of 30, 120 and 600 s at entry 210's points (the same run seeds).
 anytip data simulate --registry data/edge24f --units 24 --seed 31 \
   --protocols full,short,plan30,plan120,plan600,plan60 --sensor-model edge-4baro --move-s 0.4
+# Research log entry 212: the same units, their designed plans' points drawn at random (`--plan-points random`).
+anytip data simulate --registry data/edge24r --units 24 --seed 31 \
+  --protocols full,short,plan30,plan120,plan600,plan60 --sensor-model edge-4baro --move-s 0.4 --plan-points random

@@ -106,8 +106,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             raise AnytipError(f"--protocols {args.protocols!r}: {model} runs the protocols "
                               f"{sorted(flat.PROTOCOLS)} and plan<seconds>")
         added, unchanged = simulate_flat_into(registry, model, args.units, args.seed, protocols,
-                                              args.severity, move_s)
+                                              args.severity, move_s, args.plan_points or "halton")
     else:
+        if args.plan_points is not None:
+            raise AnytipError(f"--plan-points chooses a flat design's plan points; {model}'s designed plan "
+                              f"presses its patches in the order `anytip calibrate --plan` writes")
         config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
         timed = [design_protocol(designed_seconds(p), move_s) if is_designed(p) else p for p in protocols]
         added, unchanged = simulate_into(registry, config, args.units, args.seed, timed,
@@ -567,6 +570,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--move-s", type=float, default=None,
                    help="the rig's move before each press of a designed plan (plan<seconds>), in s "
                         "(default 2, as `anytip calibrate --plan` assumes)")
+    p.add_argument("--plan-points", choices=("halton", "random"), default=None,
+                   help="edge-4baro and pad-16baro: a designed plan's points spread evenly (halton, the "
+                        "default, what `anytip calibrate --plan` writes) or drawn at random as the random "
+                        "protocols' (a baseline)")
     p = verb("import", cmd_import, "import interchange HDF5 files or CSV rig logs")
     p.add_argument("paths", nargs="+", help="run files (.h5, .hdf5), CSV logs (.csv) or directories of them")
     p.add_argument("--csv-map", default=None,

@@ -64,12 +64,12 @@ def regenerate(simulator_json: dict[str, Any] | str) -> CalibrationRun:
 
 def simulate_flat_into(registry: Registry, sensor_model: str, n_units: int, seed: int,
                        protocols: Sequence[str] = ("full",), severity: float = 1.0,
-                       move_s: float = PLAN_MOVE_S) -> tuple[int, int]:
+                       move_s: float = PLAN_MOVE_S, points: str = "halton") -> tuple[int, int]:
     """Simulate `n_units` units of a flat sensor model (`anytip.sensor.flat.DESIGNS`) and add
     their runs, one unit per transaction; returns (runs added, runs already there). The rig moves
-    `move_s` before each press of a designed plan (plan<seconds>)."""
+    `move_s` before each press of a designed plan (plan<seconds>) of `points` (`flat.design_plan`)."""
     before = {r.run_id for r in registry.list_runs()}
-    runs = flat.simulate_fleet(sensor_model, n_units, seed, tuple(protocols), severity, move_s)
+    runs = flat.simulate_fleet(sensor_model, n_units, seed, tuple(protocols), severity, move_s, points)
     added = unchanged = 0
     for _, unit_runs in groupby(runs, key=lambda r: r.sensor_id):
         records = registry.add_runs([as_flat_run(r) for r in unit_runs])

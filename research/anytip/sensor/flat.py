@@ -190,14 +190,22 @@ class FlatPlan:
         return len(self.level) * self.press_s
 
 
-def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S, seed: int = 0) -> FlatPlan:
+PLAN_POINTS = ("halton", "random")  # a designed plan's points: spread evenly, or drawn at random
+
+
+def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S, seed: int = 0,
+                points: str = "halton") -> FlatPlan:
     """The designed calibration of `design` that fits `seconds` of robot time: as many presses as
     fit (each `move_s` plus about 1.1 s of contact), spread evenly over the pressed region, the
     load levels of the full protocol (0.15-1 of the maximum) and, on a design with shear, its
     directions and ratios: a scrambled Halton sequence over those dimensions, drawn by `seed`
-    (scipy.stats.qmc). One orientation, no re-mount. Name: plan<seconds>."""
+    (scipy.stats.qmc). With `points` 'random', the same count of points drawn independently and
+    uniformly over the same ranges, as the random protocols draw theirs (a baseline to measure the
+    design against, research log entry 212). One orientation, no re-mount. Name: plan<seconds>."""
     from scipy.stats import qmc
 
+    if points not in PLAN_POINTS:
+        raise AnytipError(f"a designed plan's points are one of {', '.join(PLAN_POINTS)}, not {points!r}")
     if not np.isfinite(seconds) or seconds <= 0:
         raise AnytipError(f"a calibration plan needs a finite duration > 0 s, got {seconds}")
     if not np.isfinite(move_s) or move_s <= 0:
@@ -209,7 +217,8 @@ def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S,
                           f"(one takes {press_s:.1f} s with its move)")
     x0, x1, y0, y1 = design.region_m
     dims = 2 + (y1 > y0) + 2 * (design.shear_ratio > 0)
-    u = qmc.Halton(dims, scramble=True, seed=seed).random(n)
+    u = (qmc.Halton(dims, scramble=True, seed=seed).random(n) if points == "halton"
+         else np.random.default_rng(seed).random((n, dims)))
     y = np.full(n, y0) if y1 == y0 else y0 + (y1 - y0) * u[:, 2]
     where = np.column_stack([x0 + (x1 - x0) * u[:, 0], y])
     shear = np.zeros((n, 2))
@@ -274,13 +283,13 @@ def _trajectory(design: FlatDesign, unit: FlatUnit, presses: int | FlatPlan, rng
     return xy, force, depth, level
 
 
-def _presses(design: FlatDesign, protocol: str, rng: np.random.Generator, move_s: float
+def _presses(design: FlatDesign, protocol: str, rng: np.random.Generator, move_s: float, points: str
              ) -> int | FlatPlan:
-    """What a run of `protocol` presses: a count of random presses, or a designed plan whose rig
-    moves `move_s` before each press."""
+    """What a run of `protocol` presses: a count of random presses, or a designed plan of `points`
+    whose rig moves `move_s` before each press."""
     seconds = designed_seconds(protocol)
     if seconds is not None:
-        return design_plan(design, seconds, move_s, seed=int(rng.integers(2**32)))
+        return design_plan(design, seconds, move_s, int(rng.integers(2**32)), points)
     if protocol not in PROTOCOLS:
         raise AnytipError(f"flat sensors have protocols {sorted(PROTOCOLS)} and plan<seconds>, "
                           f"not {protocol!r}")
@@ -292,12 +301,13 @@ def _count(presses: int | FlatPlan) -> int:
 
 
 def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[int], sensor_id: str,
-                 created: str, move_s: float = PLAN_MOVE_S) -> FlatRun:
+                 created: str, move_s: float = PLAN_MOVE_S, points: str = "halton") -> FlatRun:
     """One run of `unit` playing `protocol` (a name in PROTOCOLS, or plan<seconds>: `design_plan` with
-    `move_s` moves, its points drawn from the run's seed), deterministic from `seed`. A designed run
-    whose moves are not PLAN_MOVE_S records them (`protocol.move_s`) so that it replays."""
+    `move_s` moves and `points`, drawn from the run's seed), deterministic from `seed`. A designed run
+    whose moves or points are not the defaults records them (`protocol.move_s`, `protocol.points`) so
+    that it replays."""
     rng = np.random.default_rng(np.random.SeedSequence(seed))
-    presses = _presses(design, protocol, rng, move_s)
+    presses = _presses(design, protocol, rng, move_s, points)
     xy, force, depth, level = _trajectory(design, unit, presses, rng)
     n = len(level)
     p = relax(layer_pressure(xy, force, unit, design.tip_radius_m), 1.0 / RATE_HZ, 0.05, 2.0)
@@ -314,15 +324,18 @@ def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[i
               "unit": unit.to_json()}
     if isinstance(presses, FlatPlan) and move_s != PLAN_MOVE_S:
         record["protocol"]["move_s"] = move_s
+    if isinstance(presses, FlatPlan) and points != PLAN_POINTS[0]:
+        record["protocol"]["points"] = points
     return FlatRun(sensor_id, design, created, np.arange(n) / RATE_HZ,
                    pressure.astype(np.float32), in_contact, targets, record)
 
 
 def simulate_fleet(design_name: str, n_units: int, seed: int, protocols: tuple[str, ...] = ("full",),
-                   severity: float = 1.0, move_s: float = PLAN_MOVE_S) -> list[FlatRun]:
+                   severity: float = 1.0, move_s: float = PLAN_MOVE_S, points: str = "halton"
+                   ) -> list[FlatRun]:
     """Every run of `n_units` units of a flat design, one run per protocol; unit i is drawn from
     SeedSequence([seed, i, 0]) and its run k from [seed, i, k + 1], as for the fingertip. The rig
-    moves `move_s` before each press of a designed plan (plan<seconds>)."""
+    moves `move_s` before each press of a designed plan (plan<seconds>) of `points` (`design_plan`)."""
     design = get_design(design_name)
     runs = []
     for i in range(n_units):
@@ -330,7 +343,8 @@ def simulate_fleet(design_name: str, n_units: int, seed: int, protocols: tuple[s
         sensor_id = f"{design.id_prefix}{seed}-{i:03d}"
         for k, protocol in enumerate(protocols):
             created = f"2024-01-{1 + i % 28:02d}T{(2 * k) % 24:02d}:00:00Z"
-            runs.append(simulate_run(design, unit, protocol, [seed, i, k + 1], sensor_id, created, move_s))
+            runs.append(simulate_run(design, unit, protocol, [seed, i, k + 1], sensor_id, created, move_s,
+                                     points))
     return runs
 
 
@@ -342,4 +356,5 @@ def regenerate(record: dict[str, Any] | str) -> FlatRun:
                           f"cannot be replayed by {SIMULATOR} version {VERSION}")
     unit = FlatUnit.from_json(record["unit"])
     return simulate_run(get_design(unit.design), unit, record["protocol"]["name"], record["seed"],
-                        record["sensor_id"], record["created"], record["protocol"].get("move_s", PLAN_MOVE_S))
+                        record["sensor_id"], record["created"], record["protocol"].get("move_s", PLAN_MOVE_S),
+                        record["protocol"].get("points", "halton"))
