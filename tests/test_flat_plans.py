@@ -49,6 +49,26 @@ def test_a_designed_plan_spreads_over_the_region_and_the_load_range(model):
         assert not ratio.any()
 
 
+def test_random_plan_points_cover_the_same_ranges_without_the_design():
+    """`points='random'` draws as many points over the same region, load and shear ranges, independently:
+    not the Halton design's points, and less even over the region (a wider largest gap)."""
+    design = flat.get_design("pad-16baro")
+    halton, drawn = (flat.design_plan(design, 120.0, seed=3, points=p) for p in ("halton", "random"))
+    assert len(drawn.level) == len(halton.level)
+    x0, x1, y0, y1 = design.region_m
+    assert np.all((drawn.where >= [x0, y0]) & (drawn.where <= [x1, y1]))
+    assert drawn.level.min() >= 0.15 and drawn.level.max() <= 1.0
+    assert np.all(np.hypot(*drawn.shear.T) <= design.shear_ratio)
+    assert not np.allclose(drawn.where, halton.where)
+
+    def largest_gap(level: np.ndarray) -> float:  # over the load range [0.15, 1], its ends included
+        return float(np.diff(np.sort(np.concatenate([[0.15, 1.0], level]))).max())
+
+    assert largest_gap(drawn.level) > largest_gap(halton.level)
+    with pytest.raises(AnytipError, match="points are one of halton, random"):
+        flat.design_plan(design, 120.0, points="grid")
+
+
 def test_a_designed_plan_is_its_seeds_and_refuses_what_holds_no_press():
     design = flat.get_design("pad-16baro")
     a, b, c = (flat.design_plan(design, 60.0, seed=s) for s in (0, 0, 1))
@@ -59,14 +79,15 @@ def test_a_designed_plan_is_its_seeds_and_refuses_what_holds_no_press():
             flat.design_plan(design, seconds, move_s)
 
 
-@pytest.mark.parametrize("model, move_s", [(m, 2.0) for m in DESIGNS] + [("edge-4baro", 0.4)])
-def test_simulated_plan_runs_replay_and_their_presses_fit_the_budget(model, move_s, tmp_path):
-    """A unit's `plan40` run (`anytip data simulate --protocols plan40 [--move-s S]`) holds the plan's
-    presses, each found whole by `find_presses` and led by the rig's move; priced as the benchmark
-    prices a designed plan (each press's contact plus its recorded lead) it fits its 40 s, and it
-    replays bit for bit from its record."""
+@pytest.mark.parametrize("model, move_s, points", [(m, 2.0, "halton") for m in DESIGNS]
+                         + [("edge-4baro", 0.4, "halton"), ("pad-16baro", 0.4, "random")])
+def test_simulated_plan_runs_replay_and_their_presses_fit_the_budget(model, move_s, points, tmp_path):
+    """A unit's `plan40` run (`anytip data simulate --protocols plan40 [--move-s S] [--plan-points P]`)
+    holds the plan's presses, each found whole by `find_presses` and led by the rig's move; priced as
+    the benchmark prices a designed plan (each press's contact plus its recorded lead) it fits its
+    40 s, and it replays bit for bit from its record."""
     reg = Registry(tmp_path / "reg")
-    simulate_flat_into(reg, model, 1, 7, ("plan40",), move_s=move_s)
+    simulate_flat_into(reg, model, 1, 7, ("plan40",), move_s=move_s, points=points)
     (record,) = reg.list_runs()
     assert record.protocol == "plan40"
     run = reg.open_run(record.run_id)
