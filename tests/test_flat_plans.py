@@ -135,9 +135,17 @@ def test_calibrate_plan_writes_a_flat_designs_waypoints_and_names_what_it_refuse
     n = len(flat.design_plan(flat.get_design("edge-4baro"), 60.0, 1.0).level)
     assert f"{n} presses, one at each of {n} places, on 1 orientation" in printed and "moves 1 s" in printed
     assert out.read_text().startswith("time_s,x_m,y_m,depth_m\n")
+    drawn = tmp_path / "random.csv"
+    assert main(["calibrate", "--plan", "60", "--sensor-model", "edge-4baro", "--plan-points", "random",
+                 "--out", str(drawn)]) == 0
+    first = np.array([float(v) for v in drawn.read_text().splitlines()[1].split(",")])
+    random_plan = flat.design_plan(flat.get_design("edge-4baro"), 60.0, points="random")
+    assert first[1] == pytest.approx(random_plan.where[0, 0], abs=1e-6)
     refused = [(["--plan", "60", "--sensor-model", "pad-16baro", "--remount-s", "10"], "no re-mount"),
                (["--plan", "60", "--sensor-model", "fingertip"], "plans are designed for"),
-               (["--unit", "U", "--sensor-model", "edge-4baro"], "--sensor-model is for --plan")]
+               (["--plan", "60", "--plan-points", "random"], "--plan-points chooses a flat design's"),
+               (["--unit", "U", "--sensor-model", "edge-4baro"], "--sensor-model is for --plan"),
+               (["--unit", "U", "--plan-points", "random"], "--plan-points is for --plan")]
     for args, message in refused:
         assert main(["calibrate", *args, "--out", str(tmp_path / "x.csv")]) != 0
         assert message in capsys.readouterr().err

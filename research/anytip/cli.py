@@ -76,6 +76,16 @@ def _sensor_model(args: argparse.Namespace, known: str) -> str:
     return model
 
 
+def _plan_points(args: argparse.Namespace, model: str) -> str:
+    """`--plan-points` of a flat design's plan (default 'halton'); AnytipError where `model` has none."""
+    from anytip.sensor import flat
+
+    if args.plan_points is not None and model not in flat.DESIGNS:
+        raise AnytipError(f"--plan-points chooses a flat design's plan points; {model}'s plan presses the "
+                          f"patches of its protocol")
+    return args.plan_points or flat.PLAN_POINTS[0]
+
+
 def cmd_simulate(args: argparse.Namespace) -> int:
     from anytip.data.simulated import simulate_flat_into, simulate_into
     from anytip.sensor import flat
@@ -106,11 +116,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             raise AnytipError(f"--protocols {args.protocols!r}: {model} runs the protocols "
                               f"{sorted(flat.PROTOCOLS)} and plan<seconds>")
         added, unchanged = simulate_flat_into(registry, model, args.units, args.seed, protocols,
-                                              args.severity, move_s, args.plan_points or "halton")
+                                              args.severity, move_s, _plan_points(args, model))
     else:
-        if args.plan_points is not None:
-            raise AnytipError(f"--plan-points chooses a flat design's plan points; {model}'s designed plan "
-                              f"presses its patches in the order `anytip calibrate --plan` writes")
+        _plan_points(args, model)
         config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
         timed = [design_protocol(designed_seconds(p), move_s) if is_designed(p) else p for p in protocols]
         added, unchanged = simulate_into(registry, config, args.units, args.seed, timed,
@@ -228,6 +236,8 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         return write_plan(args)
     if args.sensor_model is not None:
         raise AnytipError("--sensor-model is for --plan; a calibration takes the unit's model from its runs")
+    if args.plan_points is not None:
+        raise AnytipError("--plan-points is for --plan; a calibration reads the plan the unit's runs hold")
     missing = [f"--{k}" for k in ("model", "unit") if getattr(args, k) is None]
     if missing:
         raise AnytipError(f"calibrate needs {' and '.join(missing)} (or --plan SECONDS to write a plan)")
@@ -355,6 +365,7 @@ def write_plan(args: argparse.Namespace) -> int:
     if out.exists() and not args.force:
         raise AnytipError(f"--out {out}: exists; choose another or pass --force")
     model = _sensor_model(args, "plans are designed for")
+    points = _plan_points(args, model)
     if model in flat.DESIGNS:
         if args.remount_s is not None:
             raise AnytipError(f"--remount-s: {model} is calibrated in one orientation, with no re-mount")
@@ -363,7 +374,7 @@ def write_plan(args: argparse.Namespace) -> int:
         remount_s = 30.0 if args.remount_s is None else args.remount_s
         rig, timing = RigTiming(args.move_s, remount_s), f"moves {args.move_s:g} s, re-mounts {remount_s:g} s"
     flat_model = model if model in flat.DESIGNS else None
-    text, seconds, what = designed_plan_csv(args.plan, rig, args.seed or 0, flat_model)
+    text, seconds, what = designed_plan_csv(args.plan, rig, args.seed or 0, flat_model, points)
     write_text(out, text)
     print(f"wrote {out}: {what}; {text.count(chr(10)) - 1} waypoints, "
           f"{seconds:.1f} s of robot time ({timing})")
@@ -487,6 +498,9 @@ def build_parser() -> argparse.ArgumentParser:
     cal.add_argument("--sensor-model", default=None,
                      help="with --plan: the sensor model the plan is for (default: the fingertip, "
                           "fingertip-8baro-r10; also edge-4baro, pad-16baro)")
+    cal.add_argument("--plan-points", choices=("halton", "random"), default=None,
+                     help="with --plan and a flat --sensor-model: its points spread evenly (halton, the "
+                          "default) or drawn at random (research log entry 212)")
     budget = cal.add_mutually_exclusive_group()
     budget.add_argument("--budget-samples", type=int, default=None,
                         help="labeled rows from the start of the calibration stream "

@@ -556,15 +556,15 @@ def designed_name(seconds: float) -> str:
 
 
 def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0,
-                      sensor_model: str | None = None) -> tuple[str, float, str]:
+                      sensor_model: str | None = None, points: str = "halton") -> tuple[str, float, str]:
     """The designed calibration of `seconds` robot seconds as robot waypoints in CSV, the plan's
     robot time in seconds, re-mounts included, and what it presses in words. The fingertip's
     (default, `sensor.protocols.design_protocol`): columns WAYPOINT_COLUMNS (docs/cross_sensor.md).
-    A flat design's (`sensor_model` in `sensor.flat.DESIGNS`, `sensor.flat.design_plan`): stage
-    waypoints (`sensor.flat.plan_waypoints`), one orientation."""
+    A flat design's (`sensor_model` in `sensor.flat.DESIGNS`, `sensor.flat.design_plan` of `points`):
+    stage waypoints (`sensor.flat.plan_waypoints`), one orientation."""
     if sensor_model is not None:
         design = flat.get_design(sensor_model)
-        plan = flat.design_plan(design, seconds, rig.move_s, seed)
+        plan = flat.design_plan(design, seconds, rig.move_s, seed, points)
         columns, table = flat.plan_waypoints(design, plan)
         n = len(plan.level)
         what = f"{n} presses, one at each of {n} places, on 1 orientation"
