@@ -108,6 +108,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     move_s = PLAN_MOVE_S if args.move_s is None else args.move_s
     if not (math.isfinite(move_s) and move_s > 0):
         raise AnytipError(f"--move-s must be a finite number of seconds > 0, got {args.move_s}")
+    points = _plan_points(args, model)
     registry = _registry(args, create=True)
     start = time.perf_counter()
     if model in flat.DESIGNS:
@@ -116,9 +117,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             raise AnytipError(f"--protocols {args.protocols!r}: {model} runs the protocols "
                               f"{sorted(flat.PROTOCOLS)} and plan<seconds>")
         added, unchanged = simulate_flat_into(registry, model, args.units, args.seed, protocols,
-                                              args.severity, move_s, _plan_points(args, model))
+                                              args.severity, move_s, points)
     else:
-        _plan_points(args, model)
         config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
         timed = [design_protocol(designed_seconds(p), move_s) if is_designed(p) else p for p in protocols]
         added, unchanged = simulate_into(registry, config, args.units, args.seed, timed,

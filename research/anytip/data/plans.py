@@ -556,7 +556,8 @@ def designed_name(seconds: float) -> str:
 
 
 def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0,
-                      sensor_model: str | None = None, points: str = "halton") -> tuple[str, float, str]:
+                      sensor_model: str | None = None, points: str = flat.PLAN_POINTS[0]
+                      ) -> tuple[str, float, str]:
     """The designed calibration of `seconds` robot seconds as robot waypoints in CSV, the plan's
     robot time in seconds, re-mounts included, and what it presses in words. The fingertip's
     (default, `sensor.protocols.design_protocol`): columns WAYPOINT_COLUMNS (docs/cross_sensor.md).

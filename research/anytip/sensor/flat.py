@@ -194,7 +194,7 @@ PLAN_POINTS = ("halton", "random")  # a designed plan's points: spread evenly, o
 
 
 def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S, seed: int = 0,
-                points: str = "halton") -> FlatPlan:
+                points: str = PLAN_POINTS[0]) -> FlatPlan:
     """The designed calibration of `design` that fits `seconds` of robot time: as many presses as
     fit (each `move_s` plus about 1.1 s of contact), spread evenly over the pressed region, the
     load levels of the full protocol (0.15-1 of the maximum) and, on a design with shear, its
@@ -301,7 +301,7 @@ def _count(presses: int | FlatPlan) -> int:
 
 
 def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[int], sensor_id: str,
-                 created: str, move_s: float = PLAN_MOVE_S, points: str = "halton") -> FlatRun:
+                 created: str, move_s: float = PLAN_MOVE_S, points: str = PLAN_POINTS[0]) -> FlatRun:
     """One run of `unit` playing `protocol` (a name in PROTOCOLS, or plan<seconds>: `design_plan` with
     `move_s` moves and `points`, drawn from the run's seed), deterministic from `seed`. A designed run
     whose moves or points are not the defaults records them (`protocol.move_s`, `protocol.points`) so
@@ -331,7 +331,7 @@ def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[i
 
 
 def simulate_fleet(design_name: str, n_units: int, seed: int, protocols: tuple[str, ...] = ("full",),
-                   severity: float = 1.0, move_s: float = PLAN_MOVE_S, points: str = "halton"
+                   severity: float = 1.0, move_s: float = PLAN_MOVE_S, points: str = PLAN_POINTS[0]
                    ) -> list[FlatRun]:
     """Every run of `n_units` units of a flat design, one run per protocol; unit i is drawn from
     SeedSequence([seed, i, 0]) and its run k from [seed, i, k + 1], as for the fingertip. The rig
@@ -357,4 +357,4 @@ def regenerate(record: dict[str, Any] | str) -> FlatRun:
     unit = FlatUnit.from_json(record["unit"])
     return simulate_run(get_design(unit.design), unit, record["protocol"]["name"], record["seed"],
                         record["sensor_id"], record["created"], record["protocol"].get("move_s", PLAN_MOVE_S),
-                        record["protocol"].get("points", "halton"))
+                        record["protocol"].get("points", PLAN_POINTS[0]))
