@@ -428,6 +428,12 @@ def test_calibrate_plan_writes_robot_waypoints(tmp_path, capsys):
     assert "holds no press" in capsys.readouterr().err
     assert main(["calibrate", "--plan", "600", "--out", str(tmp_path / "p600.csv")]) == 0
     assert "128 presses, 4 force levels at each of 32 places, on 2 orientations" in capsys.readouterr().out
+    drawn = tmp_path / "random.csv"  # the same presses and time, at cells and loads drawn at random
+    assert main(["calibrate", "--plan", "120", "--plan-points", "random", "--out", str(drawn)]) == 0
+    assert "18 presses, one at each of 18 places, on 2 orientations" in capsys.readouterr().out
+    random_table = np.genfromtxt(drawn, delimiter=",", names=True)
+    np.testing.assert_array_equal(random_table["time_s"], table["time_s"])
+    assert not np.array_equal(random_table["theta_deg"], table["theta_deg"])
 
 
 def test_a_finished_run_rewrites_its_report_from_its_records(seconds_run, tmp_path, capsys):

@@ -143,7 +143,6 @@ def test_calibrate_plan_writes_a_flat_designs_waypoints_and_names_what_it_refuse
     assert first[1] == pytest.approx(random_plan.where[0, 0], abs=1e-6)
     refused = [(["--plan", "60", "--sensor-model", "pad-16baro", "--remount-s", "10"], "no re-mount"),
                (["--plan", "60", "--sensor-model", "fingertip"], "plans are designed for"),
-               (["--plan", "60", "--plan-points", "random"], "--plan-points chooses a flat design's"),
                (["--unit", "U", "--sensor-model", "edge-4baro"], "--sensor-model is for --plan"),
                (["--unit", "U", "--plan-points", "random"], "--plan-points is for --plan")]
     for args, message in refused:
@@ -179,7 +178,8 @@ def test_data_simulate_times_a_designed_plans_moves_and_refuses_a_move_without_o
     refused = [(["--protocols", "full", "--move-s", "0.4"], "--move-s times the moves of a designed plan"),
                (["--protocols", "plan20", "--move-s", "nan"], not_a_duration),
                (["--protocols", "plan20", "--move-s", "0"], not_a_duration),
-               (["--protocols", "plan20", "--plan-points", "random"], "--plan-points chooses a flat")]
+               (["--protocols", "full", "--plan-points", "random"], "--plan-points chooses the points of a "
+                                                                     "designed plan")]
     for args, message in refused:
         assert main([*base, *args]) != 0
         assert message in capsys.readouterr().err

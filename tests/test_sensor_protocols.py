@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from anytip.errors import AnytipError
 from anytip.sensor.protocols import (
     LONG_PLAN_S,
     PROTOCOLS,
@@ -116,6 +117,39 @@ def test_a_long_designed_plan_presses_each_patch_as_the_full_protocol_does(secon
     if seconds >= LONG_PLAN_S:
         assert {k: getattr(plan, k) for k in ("ramp_s", "hold_s", "shear_s", "gap_s", "directions")} == {
             k: getattr(PROTOCOLS["full"], k) for k in ("ramp_s", "hold_s", "shear_s", "gap_s", "directions")}
+
+
+@pytest.mark.parametrize("seconds", [120.0, 600.0])
+def test_a_designed_plan_of_random_points_draws_its_cells_and_loads_at_random(seconds):
+    """`design_protocol(..., points='random')`: the same presses, orientations and robot time as the
+    designed plan, at as many distinct cells drawn at random in random order, each press of a short plan
+    at a force level drawn at random (a long plan presses a patch's levels in turn, as the full protocol);
+    stored in the run so it replays, and the other protocols' records keep their content."""
+    even, drawn = design_protocol(seconds), design_protocol(seconds, points="random")
+    assert drawn.duration_s == even.duration_s and drawn.orientations_deg == even.orientations_deg
+    assert drawn.to_json()["order"] == "random"
+    assert Protocol.model_validate(drawn.to_json()) == drawn
+    rng = np.random.default_rng(3)
+    cells = patch_cells(drawn, 0.0, rng)
+    assert len({tuple(c) for c in cells}) == drawn.patches
+    assert not np.array_equal(cells, patch_cells(drawn, 0.0, np.random.default_rng(4)))
+    traj = build_trajectory(drawn, 0.0, np.random.default_rng(5))
+    np.testing.assert_array_equal(_bins(traj.angles.astype(np.float32)), traj.cells[traj.patch])
+    peaks = np.array([-traj.force[traj.press == p, 2].min() for p in range(traj.press.max() + 1)])
+    levels = np.asarray(drawn.layers_n)[np.argmin(np.abs(peaks[:, None] / 0.95 - drawn.layers_n), axis=1)]
+    if seconds < LONG_PLAN_S:
+        assert drawn.layers_random and not np.array_equal(levels, np.resize(drawn.layers_n, len(levels)))
+        assert len(set(levels.tolist())) > 1
+    else:
+        assert "layers_random" not in drawn.to_json()
+        np.testing.assert_array_equal(levels, np.resize(drawn.layers_n, len(levels)))
+    assert all("layers_random" not in p.to_json() for p in PROTOCOLS.values())
+    with pytest.raises(ValueError, match="generator"):
+        patch_cells(drawn, 0.0)
+    with pytest.raises(ValueError, match="layer_cycle"):
+        Protocol(name="x", layers_random=True)
+    with pytest.raises(AnytipError, match="halton, random"):
+        design_protocol(seconds, points="sobol")
 
 
 def test_press_summary_counts_in_words():

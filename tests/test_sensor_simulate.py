@@ -8,7 +8,7 @@ import pytest
 from anytip.data.runfile import read_run, write_run
 from anytip.data.simulated import regenerate, simulate_fleet, simulate_run
 from anytip.sensor.fleet import FleetConfig
-from anytip.sensor.protocols import Protocol
+from anytip.sensor.protocols import Protocol, design_protocol
 from anytip.sensor.simulate import unit_rng
 from anytip.sensor.variation import draw_unit
 
@@ -55,6 +55,14 @@ def test_fleet_is_deterministic(runs):
 def test_regenerate_is_bit_exact(runs):
     for r in runs[:2]:
         assert regenerate(r.extra["simulator"]).content_hash() == r.content_hash()
+
+
+def test_a_designed_plan_of_random_points_replays_bit_for_bit():
+    """A designed plan's run of random cells and loads (`anytip data simulate --plan-points random`)
+    stores what it drew from in its record, so it replays as every simulated run does."""
+    (run, *_) = simulate_fleet(FleetConfig(), 1, 9, (design_protocol(20.0, points="random"),))
+    assert json.loads(run.extra["simulator"])["protocol"]["order"] == "random"
+    assert regenerate(run.extra["simulator"]).content_hash() == run.content_hash()
 
 
 def test_regenerate_after_file_round_trip(runs, tmp_path):

@@ -76,14 +76,11 @@ def _sensor_model(args: argparse.Namespace, known: str) -> str:
     return model
 
 
-def _plan_points(args: argparse.Namespace, model: str) -> str:
-    """`--plan-points` of a flat design's plan (default 'halton'); AnytipError where `model` has none."""
-    from anytip.sensor import flat
+def _plan_points(args: argparse.Namespace) -> str:
+    """`--plan-points` of a designed plan (default 'halton', the low-discrepancy points)."""
+    from anytip.sensor.protocols import PLAN_POINTS
 
-    if args.plan_points is not None and model not in flat.DESIGNS:
-        raise AnytipError(f"--plan-points chooses a flat design's plan points; {model}'s plan presses the "
-                          f"patches of its protocol")
-    return args.plan_points or flat.PLAN_POINTS[0]
+    return args.plan_points or PLAN_POINTS[0]
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -102,13 +99,16 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         raise AnytipError("--severity is for edge-4baro and pad-16baro; the fingertip's variation is "
                           "set in its fleet config (--fleet, key 'severity')")
     protocols = [p for p in args.protocols.split(",") if p]
-    if args.move_s is not None and not any(map(is_designed, protocols)):
-        raise AnytipError(f"--move-s times the moves of a designed plan (plan<seconds>); --protocols "
-                          f"{args.protocols!r} has none")
+    plan_options = {"--move-s times the moves": args.move_s,
+                    "--plan-points chooses the points": args.plan_points}
+    for what, given in plan_options.items():
+        if given is not None and not any(map(is_designed, protocols)):
+            raise AnytipError(f"{what} of a designed plan (plan<seconds>); --protocols {args.protocols!r} "
+                              f"has none")
     move_s = PLAN_MOVE_S if args.move_s is None else args.move_s
     if not (math.isfinite(move_s) and move_s > 0):
         raise AnytipError(f"--move-s must be a finite number of seconds > 0, got {args.move_s}")
-    points = _plan_points(args, model)
+    points = _plan_points(args)
     registry = _registry(args, create=True)
     start = time.perf_counter()
     if model in flat.DESIGNS:
@@ -120,7 +120,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                                               args.severity, move_s, points)
     else:
         config = load_fleet_config(args.fleet) if args.fleet else FleetConfig()
-        timed = [design_protocol(designed_seconds(p), move_s) if is_designed(p) else p for p in protocols]
+        timed = [design_protocol(designed_seconds(p), move_s, points=points) if is_designed(p) else p
+                 for p in protocols]
         added, unchanged = simulate_into(registry, config, args.units, args.seed, timed,
                                          progress=sys.stderr.isatty())
     print(f"simulated {args.units} units into {registry.root}: {added} runs added, "
@@ -365,7 +366,7 @@ def write_plan(args: argparse.Namespace) -> int:
     if out.exists() and not args.force:
         raise AnytipError(f"--out {out}: exists; choose another or pass --force")
     model = _sensor_model(args, "plans are designed for")
-    points = _plan_points(args, model)
+    points = _plan_points(args)
     if model in flat.DESIGNS:
         if args.remount_s is not None:
             raise AnytipError(f"--remount-s: {model} is calibrated in one orientation, with no re-mount")
@@ -499,8 +500,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="with --plan: the sensor model the plan is for (default: the fingertip, "
                           "fingertip-8baro-r10; also edge-4baro, pad-16baro)")
     cal.add_argument("--plan-points", choices=("halton", "random"), default=None,
-                     help="with --plan and a flat --sensor-model: its points spread evenly (halton, the "
-                          "default) or drawn at random (research log entry 212)")
+                     help="with --plan: its points spread by a low-discrepancy sequence (halton, the "
+                          "default: a flat design's Halton points, the fingertip's patches in the R2 "
+                          "order with its force levels in turn) or drawn at random (entries 212-215)")
     budget = cal.add_mutually_exclusive_group()
     budget.add_argument("--budget-samples", type=int, default=None,
                         help="labeled rows from the start of the calibration stream "
@@ -585,9 +587,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the rig's move before each press of a designed plan (plan<seconds>), in s "
                         "(default 2, as `anytip calibrate --plan` assumes)")
     p.add_argument("--plan-points", choices=("halton", "random"), default=None,
-                   help="edge-4baro and pad-16baro: a designed plan's points spread evenly (halton, the "
-                        "default, what `anytip calibrate --plan` writes) or drawn at random as the random "
-                        "protocols' (a baseline)")
+                   help="a designed plan's points spread by a low-discrepancy sequence (halton, the "
+                        "default, what `anytip calibrate --plan` writes) or drawn at random (a baseline)")
     p = verb("import", cmd_import, "import interchange HDF5 files or CSV rig logs")
     p.add_argument("paths", nargs="+", help="run files (.h5, .hdf5), CSV logs (.csv) or directories of them")
     p.add_argument("--csv-map", default=None,

@@ -45,7 +45,14 @@ from anytip.data.calibration import CalibrationStream
 from anytip.data.seeds import unit_seed
 from anytip.errors import AnytipError
 from anytip.sensor import flat
-from anytip.sensor.protocols import design_protocol, is_designed, is_test_session, press_summary, waypoints
+from anytip.sensor.protocols import (
+    PLAN_POINTS,
+    design_protocol,
+    is_designed,
+    is_test_session,
+    press_summary,
+    waypoints,
+)
 
 WAYPOINT_COLUMNS = ("time_s", "orientation_deg", "theta_deg", "phi_deg", "fx_n", "fy_n", "fz_n")
 
@@ -556,13 +563,14 @@ def designed_name(seconds: float) -> str:
 
 
 def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0,
-                      sensor_model: str | None = None, points: str = flat.PLAN_POINTS[0]
+                      sensor_model: str | None = None, points: str = PLAN_POINTS[0]
                       ) -> tuple[str, float, str]:
     """The designed calibration of `seconds` robot seconds as robot waypoints in CSV, the plan's
     robot time in seconds, re-mounts included, and what it presses in words. The fingertip's
-    (default, `sensor.protocols.design_protocol`): columns WAYPOINT_COLUMNS (docs/cross_sensor.md).
-    A flat design's (`sensor_model` in `sensor.flat.DESIGNS`, `sensor.flat.design_plan` of `points`):
-    stage waypoints (`sensor.flat.plan_waypoints`), one orientation."""
+    (default, `sensor.protocols.design_protocol` of `points`): columns WAYPOINT_COLUMNS
+    (docs/cross_sensor.md). A flat design's (`sensor_model` in `sensor.flat.DESIGNS`,
+    `sensor.flat.design_plan` of `points`): stage waypoints (`sensor.flat.plan_waypoints`), one
+    orientation."""
     if sensor_model is not None:
         design = flat.get_design(sensor_model)
         plan = flat.design_plan(design, seconds, rig.move_s, seed, points)
@@ -570,7 +578,7 @@ def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 
         n = len(plan.level)
         what = f"{n} presses, one at each of {n} places, on 1 orientation"
         return _csv(columns, table, ".6f"), plan.duration_s, what
-    protocol = design_protocol(seconds, rig.move_s, rig.remount_s)
+    protocol = design_protocol(seconds, rig.move_s, rig.remount_s, points)
     table = waypoints(protocol, rig.remount_s, np.random.default_rng(seed))
     total = protocol.duration_s + rig.remount_s * (len(protocol.orientations_deg) - 1)
     return _csv(WAYPOINT_COLUMNS, table, ".4f"), total, press_summary(protocol)

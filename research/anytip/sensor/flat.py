@@ -28,7 +28,7 @@ import numpy as np
 
 from anytip.errors import AnytipError
 from anytip.sensor.physics import relax
-from anytip.sensor.protocols import PLAN_MOVE_S, designed_seconds
+from anytip.sensor.protocols import PLAN_MOVE_S, PLAN_POINTS, designed_seconds
 
 SIMULATOR = "anytip.sensor.flat"
 VERSION = 1
@@ -188,9 +188,6 @@ class FlatPlan:
     @property
     def duration_s(self) -> float:
         return len(self.level) * self.press_s
-
-
-PLAN_POINTS = ("halton", "random")  # a designed plan's points: spread evenly, or drawn at random
 
 
 def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S, seed: int = 0,

@@ -45,14 +45,18 @@ class Protocol(BaseModel):
     patch_rest_s: float = Field(1.0, gt=0, description="no contact before each patch")
     margin_deg: float = Field(0.5, ge=0, lt=7.5, description="press points keep off cell edges")
     sample_rate_hz: float = Field(200.0, gt=0)
-    order: Literal["serpentine", "spread"] = Field(
-        "serpentine", description="patch order: neighbours in turn, or spread over the region "
-        "from the first press on (a subset of patches is always spread)")
+    order: Literal["serpentine", "spread", "random"] = Field(
+        "serpentine", description="patch order: neighbours in turn, spread over the region "
+        "from the first press on (a subset of patches is always spread, unless random), or drawn at "
+        "random (a random subset of the cells in random order, drawn by the run's generator)")
     layer_cycle: bool = Field(
         False, description="`layers_per_patch` presses per patch, each at the next force layer of "
         "layers_n in turn, the cycle running on from patch to patch (else every patch is pressed "
         "once per layer)")
     layers_per_patch: int = Field(1, ge=1, description="presses per patch with layer_cycle")
+    layers_random: bool = Field(
+        False, description="with layer_cycle: each press's force layer drawn at random from layers_n "
+        "instead of the next in turn")
 
     @model_validator(mode="after")
     def _on_grid(self) -> Protocol:
@@ -65,15 +69,17 @@ class Protocol(BaseModel):
         return self
 
     @model_validator(mode="after")
-    def _layers_per_patch_cycle(self) -> Protocol:
+    def _needs_layer_cycle(self) -> Protocol:
         if self.layers_per_patch > 1 and not self.layer_cycle:
             raise ValueError("layers_per_patch > 1 needs layer_cycle (else every layer is pressed)")
+        if self.layers_random and not self.layer_cycle:
+            raise ValueError("layers_random needs layer_cycle (else every layer is pressed in turn)")
         return self
 
     def to_json(self) -> dict:
-        """The protocol as stored in a run. `order`, `layer_cycle` and `layers_per_patch` are left
-        out at their defaults, so runs made before they existed keep their content (and their registry
-        hash)."""
+        """The protocol as stored in a run. `order`, `layer_cycle`, `layers_per_patch` and
+        `layers_random` are left out at their defaults, so runs made before they existed keep their
+        content (and their registry hash)."""
         data = self.model_dump(mode="json")
         if data["order"] == "serpentine":
             del data["order"]
@@ -81,6 +87,8 @@ class Protocol(BaseModel):
             del data["layer_cycle"]
         if data["layers_per_patch"] == 1:
             del data["layers_per_patch"]
+        if not data["layers_random"]:
+            del data["layers_random"]
         return data
 
     @property
@@ -132,6 +140,8 @@ TEST_SESSION = "retest"
 
 DESIGNED = re.compile(r"plan(\d+(?:\.\d+)?)")  # `plan<seconds>`: the designed calibration of that budget
 PLAN_MOVE_S = 2.0  # a designed plan's move before each press where the rig declares none (s)
+# A designed plan's points: spread by a low-discrepancy sequence (the default), or drawn at random
+PLAN_POINTS = ("halton", "random")
 
 
 def designed_seconds(protocol: str | None) -> float | None:
@@ -189,14 +199,20 @@ class Trajectory:
     cells: np.ndarray
 
 
-def patch_cells(protocol: Protocol, orientation_deg: float) -> np.ndarray:
+def patch_cells(protocol: Protocol, orientation_deg: float,
+                rng: np.random.Generator | None = None) -> np.ndarray:
     """(P, 2) global cell indices (theta index 0..5, phi index 0..11) the rig visits.
 
-    All 36 in serpentine order, or a subset spread by a 2-D Kronecker sequence.
+    All 36 in serpentine order, a subset spread by a 2-D Kronecker sequence, or (order 'random')
+    a subset drawn at random by `rng`, in random order.
     """
     phi0 = int(round((orientation_deg - 45.0 + 135.0) / CELL_DEG))
     grid = [(i, j if i % 2 == 0 else CELLS_PER_AXIS - 1 - j) for i in range(6) for j in range(6)]
-    if protocol.patches < len(grid) or protocol.order == "spread":
+    if protocol.order == "random":
+        if rng is None:
+            raise ValueError("a protocol of random patch order needs the run's generator")
+        grid = [grid[k] for k in rng.permutation(len(grid))[: protocol.patches]]
+    elif protocol.patches < len(grid) or protocol.order == "spread":
         g = 1.32471795724474602596  # plastic number: the R2 low-discrepancy sequence
         k = np.arange(max(protocol.patches * 4, 400))
         ti = np.floor(6 * ((0.5 + k / g) % 1)).astype(int)
@@ -217,8 +233,10 @@ def _press_points(cells: np.ndarray, n_layers: int, margin: float, rng: np.rando
 
 def _waypoints(protocol: Protocol, n_presses: int, rng: np.random.Generator) -> np.ndarray:
     """(Q, K + 1, 3) N contact-frame force at the segment ends of each of Q presses: the layers
-    in turn (every layer per patch, or one per patch with `layer_cycle`)."""
-    layers = np.resize(np.asarray(protocol.layers_n, float), n_presses)
+    in turn (every layer per patch, or one per patch with `layer_cycle`; drawn at random with
+    `layers_random`)."""
+    levels = np.asarray(protocol.layers_n, float)
+    layers = rng.choice(levels, n_presses) if protocol.layers_random else np.resize(levels, n_presses)
     fn = layers * rng.uniform(0.9, 1.0, layers.shape)
     d = protocol.directions
     angle = 2 * np.pi * np.arange(d) / d + rng.uniform(0, 2 * np.pi / d, (n_presses, 1))
@@ -245,7 +263,7 @@ def build_trajectory(
     protocol: Protocol, orientation_deg: float, rng: np.random.Generator
 ) -> Trajectory:
     """The rig's commanded trajectory for one orientation; row count is deterministic."""
-    cells = patch_cells(protocol, orientation_deg)
+    cells = patch_cells(protocol, orientation_deg, rng)
     n_layers, n_patch = protocol.presses_per_patch, cells.shape[0]
     points = _press_points(cells, n_layers, protocol.margin_deg, rng)
     force = _interpolate(_waypoints(protocol, n_patch * n_layers, rng), protocol.segment_samples())
@@ -282,7 +300,8 @@ COVERING_ORIENTATIONS_DEG = (0.0, -90.0)  # phi in [-45, 45] and [-135, -45]: th
 CENTRE_ORIENTATION_DEG = -45.0  # phi in [-90, 0]: the one orientation of a plan too short to re-mount
 
 
-def design_protocol(seconds: float, move_s: float = PLAN_MOVE_S, remount_s: float = 30.0) -> Protocol:
+def design_protocol(seconds: float, move_s: float = PLAN_MOVE_S, remount_s: float = 30.0,
+                    points: str = PLAN_POINTS[0]) -> Protocol:
     """The designed calibration of a new unit that fits `seconds` of robot time.
 
     Covers theta in [-45, 45] deg and phi in [-135, 45] deg from two orientations when the
@@ -292,14 +311,20 @@ def design_protocol(seconds: float, move_s: float = PLAN_MOVE_S, remount_s: floa
     takes `move_s` before each press (the protocol's rest between patches). From `LONG_PLAN_S` on,
     each patch is pressed as the full protocol presses it: its four force levels in turn, 0.15 s apart
     (`FULL_PROTOCOL_PRESS`). As many patches per orientation as fit after the re-mounts. Name:
-    plan<seconds>.
+    plan<seconds>. With `points` 'random', the same presses at as many cells drawn at random, in
+    random order, and each press of a short plan at a force level drawn at random (a baseline to
+    measure the design against, research log entry 215).
     """
+    if points not in PLAN_POINTS:
+        raise AnytipError(f"a designed plan's points are one of {', '.join(PLAN_POINTS)}, not {points!r}")
     if not np.isfinite(seconds) or seconds <= 0:
         raise AnytipError(f"a calibration plan needs a finite duration > 0 s, got {seconds}")
     if not (np.isfinite(move_s) and move_s > 0 and np.isfinite(remount_s) and remount_s >= 0):
         raise AnytipError(f"a designed plan needs a move time > 0 s and a re-mount time >= 0 s, "
                           f"got {move_s} and {remount_s}")
     press = FULL_PROTOCOL_PRESS if seconds >= LONG_PLAN_S else DESIGNED_PRESS
+    if points == "random":
+        press = {**press, "order": "random", "layers_random": press.get("layer_cycle", False)}
     probe = Protocol(name="probe", patches=1, patch_rest_s=move_s, **press)
     per_patch = probe.rows_per_orientation() / probe.sample_rate_hz
 
@@ -341,7 +366,7 @@ def waypoints(protocol: Protocol, remount_s: float, rng: np.random.Generator) ->
     seg = protocol.segment_samples() / protocol.sample_rate_hz
     for k, o in enumerate(protocol.orientations_deg):
         clock += remount_s if k else 0.0
-        cells = patch_cells(protocol, o)
+        cells = patch_cells(protocol, o, rng)
         n_layers = protocol.presses_per_patch
         points = np.degrees(_press_points(cells, n_layers, protocol.margin_deg, rng))
         force = _waypoints(protocol, len(points), rng)  # (Q, segments + 1, 3)
