@@ -5,7 +5,7 @@
 # sourcing script's) over units.py's pairs, two at a time. `weighed CORE ARM FOLD UNIT ENTRY BUDGET WEIGHT` is
 # one calibration at `--budget-seconds BUDGET` with the log weighed as WEIGHT seconds (entry 190's
 # as_asked.py), into build/ENTRY/ARM-FOLD/UNIT (entries 192-195). Entry 201 sets UNITS_PY, REG_D, REG_O and
-# USE_LOGS to its own units, registries and logs.
+# USE_LOGS to its own units, registries and logs; entry 215 sets ALONE=1 for the plan alone (no log read).
 G=reports/cross_sensor_response_gpu
 REG_D=${REG_D:-data/val191d} REG_O=${REG_O:-data/val191o} USE_LOGS=${USE_LOGS:-build/entry191_logs}
 mapfile -t pairs < <(python "${UNITS_PY:-$G/entry191/units.py}")
@@ -19,10 +19,12 @@ calibrate_arm() {
   else
     where=(--model $G/entry146/at120/other16_severe_d0/other16_seed${fold:1} --registry $REG_O)
   fi
+  local use=(--ordinary-use 600 --use-log "$USE_LOGS/$unit"_o*.h5)
+  [ "${ALONE:-0}" = 1 ] && use=()
   rm -rf "$out"; mkdir -p "$(dirname "$out")"
   OMP_NUM_THREADS=1 taskset -c "$core" "${run[@]}" calibrate --unit "$unit" --method response \
-    --plan-strategy designed --ordinary-use 600 "${where[@]}" --use-log "$USE_LOGS/$unit"_o*.h5 \
-    "$@" --out "$out" > "$out.log" 2>&1 || { cat "$out.log"; exit 1; }
+    --plan-strategy designed "${where[@]}" "${use[@]}" "$@" --out "$out" > "$out.log" 2>&1 \
+    || { cat "$out.log"; exit 1; }
   echo "$(basename "$(dirname "$out")") $unit $(sha256sum "$out/model.safetensors" | cut -c1-16)"
 }
 half() {  # CORE FIRST STEP ARMS
