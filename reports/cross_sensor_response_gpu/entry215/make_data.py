@@ -4,15 +4,19 @@ made `data/val191d` and `data/val191o`, with the same 32 units each (seeds 41 an
 protocol and the designed 120 s plan at its default 2 s moves, its cells and loads drawn at random
 (`design_protocol(120, points="random")`, what `anytip data simulate --plan-points random` runs). The gate
 (rule 1): every fresh unit's full runs hash as its runs in entry 191's registries, and its plan takes the
-Halton plan's robot time.
+Halton plan's robot time. Entry 216 (`cells`): `data/val216d` and `data/val216o`, the plan's cells drawn at
+random with its loads in turn (order `random`, `layers_random` off).
 
     python reports/cross_sensor_response_gpu/entry215/make_data.py > \\
         reports/cross_sensor_response_gpu/entry215/logs/data.log
+    python reports/cross_sensor_response_gpu/entry215/make_data.py cells > \\
+        reports/cross_sensor_response_gpu/entry215/logs/data216.log
 """
 
 from __future__ import annotations
 
 import runpy
+import sys
 from pathlib import Path
 
 from anytip.data.registry import Registry
@@ -34,10 +38,14 @@ def hashes(registry: Registry, prefix: str) -> dict[tuple[str, str], str]:
             for r in registry.list_runs() if r.unit.startswith(prefix)}
 
 
-def main() -> None:
-    plan = design_protocol(120.0, points="random")
-    assert plan.duration_s == design_protocol(120.0).duration_s
+def main(arm: str = "random") -> None:
+    """Entry 215's registries (`arm` 'random': cells and loads drawn at random) or entry 216's ('cells')."""
+    halton = design_protocol(120.0)
+    plan = (design_protocol(120.0, points="random") if arm == "random"
+            else halton.model_copy(update={"order": "random"}))
+    assert plan.duration_s == halton.duration_s
     for source, before, target, fleet, seed in REGISTRIES:
+        target = target if arm == "random" else target.replace("215", "216")
         reg = linked_copy(Path(source), Path(target))
         config = FleetConfig() if fleet is None else load_fleet_config(fleet)
         added, _ = simulate_into(reg, config, UNITS, seed=seed, protocols=("full", plan))
@@ -47,8 +55,9 @@ def main() -> None:
         plans_differ = sum(new[k] != old.get(k) for k in new if k[1] == "plan120")
         print(f"{target}: {added} runs of {UNITS} units (seed {seed}) added to a copy of {source}; "
               f"rule 1: {full_same} of {sum(k[1] == 'full' for k in new)} full runs hash as in {before}, "
-              f"{plans_differ} of {sum(k[1] == 'plan120' for k in new)} plan runs differ from its Halton plans")
+              f"{plans_differ} of {sum(k[1] == 'plan120' for k in new)} plan runs differ from its Halton "
+              f"plans")
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[1:])
