@@ -7,6 +7,8 @@
 #   bash reports/cross_sensor_response_gpu/entry213/make_registries.sh other16m   # data/other16m, 16 units
 #   bash reports/cross_sensor_response_gpu/entry213/make_registries.sh other16g   # data/other16g (control)
 #   bash reports/cross_sensor_response_gpu/entry213/make_registries.sh fleet88m   # data/fleet88m, 88 units
+#   bash reports/cross_sensor_response_gpu/entry213/make_registries.sh fleet88r   # entry 215: data/fleet88r, as
+#                                                  # fleet88m with the plans' cells and loads drawn at random
 set -euo pipefail
 export OMP_NUM_THREADS=1 PYTHONPATH=research
 reg=$1
@@ -16,7 +18,9 @@ case $reg in
   other16g) base=other16 args=(--fleet configs/fleets/other_elastomer.yaml --units 16 --seed 23
                                --protocols full,short,quick,plan120,plan600,plan150,plan750) ;;
   fleet88m) base=fleet88 args=(--units 88 --seed 40 --move-s 1 --protocols full,short,quick,plan120,plan600,plan150) ;;
-  *) echo "usage: $0 other16m|other16g|fleet88m" >&2; exit 2 ;;
+  fleet88r) base=fleet88 args=(--units 88 --seed 40 --move-s 1 --plan-points random
+                               --protocols full,short,quick,plan120,plan600,plan150) ;;
+  *) echo "usage: $0 other16m|other16g|fleet88m|fleet88r" >&2; exit 2 ;;
 esac
 rm -rf "data/${reg}.tmp"
 cp -a "data/$base" "data/${reg}.tmp"

@@ -5,6 +5,8 @@
 # same beside it, into entry213/m1/.
 #   bash reports/cross_sensor_response_gpu/entry213/rescore.sh other16 K   # K = 0..3, start draw 0, data/other16m
 #   bash reports/cross_sensor_response_gpu/entry213/rescore.sh fleet88 K   # K = 0, 1, data/fleet88m
+#   bash reports/cross_sensor_response_gpu/entry213/rescore.sh fleet88r K  # entry 215: data/fleet88r, into
+#                                                                          # entry215/r1
 #   bash reports/cross_sensor_response_gpu/entry213/rescore.sh control 0   # entry 146's other16 fold 0 again, on
 #                                                                          # data/other16g, into entry213/control
 set -euo pipefail
@@ -18,9 +20,11 @@ case $arm in
              "$k" 0 entry213/m1 "${designed[@]}" "${moves[@]}" ;;
   control) REGISTRY=data/other16g bash reports/cross_sensor_response_gpu/entry121/rescore_other16_designed.sh \
              "$k" 0 entry213/control "${designed[@]}" ;;
-  fleet88) REGISTRY=data/fleet88m bash reports/cross_sensor_response_gpu/entry101/rescore_fleet88_cpu.sh "$k" 1 10 \
-             entry213/m1 --added-protocol plan120 "${designed[@]}" "${moves[@]}" \
+  fleet88|fleet88r) registry=data/fleet88m out=entry213/m1
+           [ "$arm" = fleet88r ] && registry=data/fleet88r out=entry215/r1
+           REGISTRY=$registry bash reports/cross_sensor_response_gpu/entry101/rescore_fleet88_cpu.sh "$k" 1 10 \
+             "$out" --added-protocol plan120 "${designed[@]}" "${moves[@]}" \
              --set "options.plan_strategies=[cover_informative, designed]" \
              --set "options.response.label_free={with_plans: true, zero_shot: false}" --set "options.budgets=[120]" ;;
-  *) echo "usage: $0 other16|fleet88|control FOLD" >&2; exit 2 ;;
+  *) echo "usage: $0 other16|fleet88|fleet88r|control FOLD" >&2; exit 2 ;;
 esac
