@@ -141,6 +141,11 @@ def test_calibrate_plan_writes_a_flat_designs_waypoints_and_names_what_it_refuse
     first = np.array([float(v) for v in drawn.read_text().splitlines()[1].split(",")])
     random_plan = flat.design_plan(flat.get_design("edge-4baro"), 60.0, points="random")
     assert first[1] == pytest.approx(random_plan.where[0, 0], abs=1e-6)
+    by_default, halton = tmp_path / "default.csv", tmp_path / "halton.csv"  # random points by default
+    for path, extra in ((by_default, []), (halton, ["--plan-points", "halton"])):
+        assert main(["calibrate", "--plan", "60", "--sensor-model", "edge-4baro", *extra,
+                     "--out", str(path)]) == 0
+    assert by_default.read_text() == drawn.read_text() != halton.read_text()
     refused = [(["--plan", "60", "--sensor-model", "pad-16baro", "--remount-s", "10"], "no re-mount"),
                (["--plan", "60", "--sensor-model", "fingertip"], "plans are designed for"),
                (["--unit", "U", "--sensor-model", "edge-4baro"], "--sensor-model is for --plan"),

@@ -76,11 +76,15 @@ def _sensor_model(args: argparse.Namespace, known: str) -> str:
     return model
 
 
-def _plan_points(args: argparse.Namespace) -> str:
-    """`--plan-points` of a designed plan (default 'halton', the low-discrepancy points)."""
+def _plan_points(args: argparse.Namespace, model: str) -> str:
+    """`--plan-points` of a designed plan, else `model`'s default: random points on a flat design
+    (`sensor.flat.DEFAULT_PLAN_POINTS`), the low-discrepancy order on the fingertip."""
+    from anytip.sensor import flat
     from anytip.sensor.protocols import PLAN_POINTS
 
-    return args.plan_points or PLAN_POINTS[0]
+    if args.plan_points is not None:
+        return args.plan_points
+    return flat.DEFAULT_PLAN_POINTS if model in flat.DESIGNS else PLAN_POINTS[0]
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
@@ -108,7 +112,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     move_s = PLAN_MOVE_S if args.move_s is None else args.move_s
     if not (math.isfinite(move_s) and move_s > 0):
         raise AnytipError(f"--move-s must be a finite number of seconds > 0, got {args.move_s}")
-    points = _plan_points(args)
+    points = _plan_points(args, model)
     registry = _registry(args, create=True)
     start = time.perf_counter()
     if model in flat.DESIGNS:
@@ -366,7 +370,7 @@ def write_plan(args: argparse.Namespace) -> int:
     if out.exists() and not args.force:
         raise AnytipError(f"--out {out}: exists; choose another or pass --force")
     model = _sensor_model(args, "plans are designed for")
-    points = _plan_points(args)
+    points = _plan_points(args, model)
     if model in flat.DESIGNS:
         if args.remount_s is not None:
             raise AnytipError(f"--remount-s: {model} is calibrated in one orientation, with no re-mount")
@@ -500,9 +504,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="with --plan: the sensor model the plan is for (default: the fingertip, "
                           "fingertip-8baro-r10; also edge-4baro, pad-16baro)")
     cal.add_argument("--plan-points", choices=("halton", "random"), default=None,
-                     help="with --plan: its points spread by a low-discrepancy sequence (halton, the "
-                          "default: a flat design's Halton points, the fingertip's patches in the R2 "
-                          "order with its force levels in turn) or drawn at random (entries 212-215)")
+                     help="with --plan: its points drawn at random (random, a flat design's default) or "
+                          "spread by a low-discrepancy sequence (halton, the fingertip's default: its "
+                          "patches in the R2 order, force levels in turn); research log entries 212-216")
     budget = cal.add_mutually_exclusive_group()
     budget.add_argument("--budget-samples", type=int, default=None,
                         help="labeled rows from the start of the calibration stream "
@@ -587,8 +591,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the rig's move before each press of a designed plan (plan<seconds>), in s "
                         "(default 2, as `anytip calibrate --plan` assumes)")
     p.add_argument("--plan-points", choices=("halton", "random"), default=None,
-                   help="a designed plan's points spread by a low-discrepancy sequence (halton, the "
-                        "default, what `anytip calibrate --plan` writes) or drawn at random (a baseline)")
+                   help="a designed plan's points, as `anytip calibrate --plan` takes them: drawn at "
+                        "random (a flat design's default) or by a low-discrepancy sequence (halton, the "
+                        "fingertip's default)")
     p = verb("import", cmd_import, "import interchange HDF5 files or CSV rig logs")
     p.add_argument("paths", nargs="+", help="run files (.h5, .hdf5), CSV logs (.csv) or directories of them")
     p.add_argument("--csv-map", default=None,

@@ -563,22 +563,23 @@ def designed_name(seconds: float) -> str:
 
 
 def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0,
-                      sensor_model: str | None = None, points: str = PLAN_POINTS[0]
+                      sensor_model: str | None = None, points: str | None = None
                       ) -> tuple[str, float, str]:
     """The designed calibration of `seconds` robot seconds as robot waypoints in CSV, the plan's
-    robot time in seconds, re-mounts included, and what it presses in words. The fingertip's
-    (default, `sensor.protocols.design_protocol` of `points`): columns WAYPOINT_COLUMNS
+    robot time in seconds, re-mounts included, and what it presses in words; `points` None takes the
+    sensor's default. The fingertip's (default, `sensor.protocols.design_protocol` of `points`): columns
+    WAYPOINT_COLUMNS
     (docs/cross_sensor.md). A flat design's (`sensor_model` in `sensor.flat.DESIGNS`,
     `sensor.flat.design_plan` of `points`): stage waypoints (`sensor.flat.plan_waypoints`), one
     orientation."""
     if sensor_model is not None:
         design = flat.get_design(sensor_model)
-        plan = flat.design_plan(design, seconds, rig.move_s, seed, points)
+        plan = flat.design_plan(design, seconds, rig.move_s, seed, points or flat.DEFAULT_PLAN_POINTS)
         columns, table = flat.plan_waypoints(design, plan)
         n = len(plan.level)
         what = f"{n} presses, one at each of {n} places, on 1 orientation"
         return _csv(columns, table, ".6f"), plan.duration_s, what
-    protocol = design_protocol(seconds, rig.move_s, rig.remount_s, points)
+    protocol = design_protocol(seconds, rig.move_s, rig.remount_s, points or PLAN_POINTS[0])
     table = waypoints(protocol, rig.remount_s, np.random.default_rng(seed))
     total = protocol.duration_s + rig.remount_s * (len(protocol.orientations_deg) - 1)
     return _csv(WAYPOINT_COLUMNS, table, ".4f"), total, press_summary(protocol)

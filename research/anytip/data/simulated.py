@@ -16,7 +16,7 @@ from anytip.data.runfile import CalibrationRun, Target
 from anytip.sensor import flat
 from anytip.sensor import simulate as sim
 from anytip.sensor.fleet import FleetConfig
-from anytip.sensor.protocols import PLAN_MOVE_S, PLAN_POINTS, Protocol
+from anytip.sensor.protocols import PLAN_MOVE_S, Protocol
 
 
 def as_run(run: sim.SimulatedRun) -> CalibrationRun:
@@ -64,7 +64,8 @@ def regenerate(simulator_json: dict[str, Any] | str) -> CalibrationRun:
 
 def simulate_flat_into(registry: Registry, sensor_model: str, n_units: int, seed: int,
                        protocols: Sequence[str] = ("full",), severity: float = 1.0,
-                       move_s: float = PLAN_MOVE_S, points: str = PLAN_POINTS[0]) -> tuple[int, int]:
+                       move_s: float = PLAN_MOVE_S, points: str = flat.DEFAULT_PLAN_POINTS
+                       ) -> tuple[int, int]:
     """Simulate `n_units` units of a flat sensor model (`anytip.sensor.flat.DESIGNS`) and add
     their runs, one unit per transaction; returns (runs added, runs already there). The rig moves
     `move_s` before each press of a designed plan (plan<seconds>) of `points` (`flat.design_plan`)."""

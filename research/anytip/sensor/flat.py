@@ -190,15 +190,20 @@ class FlatPlan:
         return len(self.level) * self.press_s
 
 
+# A flat design's plan draws its points at random by default: level with presses chosen from full runs, where
+# Halton points trail them by 5-15% (research log entries 212 and 214). A run's record names its points
+# unless they are Halton's (PLAN_POINTS[0]), so runs simulated before keep their content.
+DEFAULT_PLAN_POINTS = "random"
+
+
 def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S, seed: int = 0,
-                points: str = PLAN_POINTS[0]) -> FlatPlan:
+                points: str = DEFAULT_PLAN_POINTS) -> FlatPlan:
     """The designed calibration of `design` that fits `seconds` of robot time: as many presses as
-    fit (each `move_s` plus about 1.1 s of contact), spread evenly over the pressed region, the
-    load levels of the full protocol (0.15-1 of the maximum) and, on a design with shear, its
-    directions and ratios: a scrambled Halton sequence over those dimensions, drawn by `seed`
-    (scipy.stats.qmc). With `points` 'random', the same count of points drawn independently and
-    uniformly over the same ranges, as the random protocols draw theirs (a baseline to measure the
-    design against, research log entry 212). One orientation, no re-mount. Name: plan<seconds>."""
+    fit (each `move_s` plus about 1.1 s of contact) over the pressed region, the load levels of the
+    full protocol (0.15-1 of the maximum) and, on a design with shear, its directions and ratios,
+    drawn by `seed`. `points` 'random' (the default) draws each independently and uniformly over those
+    ranges, as the random protocols draw theirs; 'halton' spreads them evenly by a scrambled Halton
+    sequence (scipy.stats.qmc). One orientation, no re-mount. Name: plan<seconds>."""
     from scipy.stats import qmc
 
     if points not in PLAN_POINTS:
@@ -298,11 +303,11 @@ def _count(presses: int | FlatPlan) -> int:
 
 
 def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[int], sensor_id: str,
-                 created: str, move_s: float = PLAN_MOVE_S, points: str = PLAN_POINTS[0]) -> FlatRun:
+                 created: str, move_s: float = PLAN_MOVE_S, points: str = DEFAULT_PLAN_POINTS) -> FlatRun:
     """One run of `unit` playing `protocol` (a name in PROTOCOLS, or plan<seconds>: `design_plan` with
     `move_s` moves and `points`, drawn from the run's seed), deterministic from `seed`. A designed run
-    whose moves or points are not the defaults records them (`protocol.move_s`, `protocol.points`) so
-    that it replays."""
+    records moves other than the default and points other than Halton's (`protocol.move_s`,
+    `protocol.points`) so that it replays."""
     rng = np.random.default_rng(np.random.SeedSequence(seed))
     presses = _presses(design, protocol, rng, move_s, points)
     xy, force, depth, level = _trajectory(design, unit, presses, rng)
@@ -328,7 +333,7 @@ def simulate_run(design: FlatDesign, unit: FlatUnit, protocol: str, seed: list[i
 
 
 def simulate_fleet(design_name: str, n_units: int, seed: int, protocols: tuple[str, ...] = ("full",),
-                   severity: float = 1.0, move_s: float = PLAN_MOVE_S, points: str = PLAN_POINTS[0]
+                   severity: float = 1.0, move_s: float = PLAN_MOVE_S, points: str = DEFAULT_PLAN_POINTS
                    ) -> list[FlatRun]:
     """Every run of `n_units` units of a flat design, one run per protocol; unit i is drawn from
     SeedSequence([seed, i, 0]) and its run k from [seed, i, k + 1], as for the fingertip. The rig
