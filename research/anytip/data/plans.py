@@ -567,11 +567,10 @@ def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 
                       ) -> tuple[str, float, str]:
     """The designed calibration of `seconds` robot seconds as robot waypoints in CSV, the plan's
     robot time in seconds, re-mounts included, and what it presses in words; `points` None takes the
-    sensor's default. The fingertip's (default, `sensor.protocols.design_protocol` of `points`): columns
-    WAYPOINT_COLUMNS
-    (docs/cross_sensor.md). A flat design's (`sensor_model` in `sensor.flat.DESIGNS`,
-    `sensor.flat.design_plan` of `points`): stage waypoints (`sensor.flat.plan_waypoints`), one
-    orientation."""
+    sensor's default. The fingertip's (default, `sensor.protocols.design_protocol` of `points`):
+    columns WAYPOINT_COLUMNS (docs/cross_sensor.md). A flat design's (`sensor_model` in
+    `sensor.flat.DESIGNS`, `sensor.flat.design_plan` of `points`): stage waypoints
+    (`sensor.flat.plan_waypoints`), one orientation."""
     if sensor_model is not None:
         design = flat.get_design(sensor_model)
         plan = flat.design_plan(design, seconds, rig.move_s, seed, points or flat.DEFAULT_PLAN_POINTS)
