@@ -76,18 +76,8 @@ def _sensor_model(args: argparse.Namespace, known: str) -> str:
     return model
 
 
-def _plan_points(args: argparse.Namespace, model: str) -> str:
-    """`--plan-points` of a designed plan, else `model`'s default: random points on a flat design
-    (`sensor.flat.DEFAULT_PLAN_POINTS`), the low-discrepancy order on the fingertip."""
-    from anytip.sensor import flat
-    from anytip.sensor.protocols import PLAN_POINTS
-
-    if args.plan_points is not None:
-        return args.plan_points
-    return flat.DEFAULT_PLAN_POINTS if model in flat.DESIGNS else PLAN_POINTS[0]
-
-
 def cmd_simulate(args: argparse.Namespace) -> int:
+    from anytip.data.plans import plan_points
     from anytip.data.simulated import simulate_flat_into, simulate_into
     from anytip.sensor import flat
     from anytip.sensor.fleet import FleetConfig, load_fleet_config
@@ -112,7 +102,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     move_s = PLAN_MOVE_S if args.move_s is None else args.move_s
     if not (math.isfinite(move_s) and move_s > 0):
         raise AnytipError(f"--move-s must be a finite number of seconds > 0, got {args.move_s}")
-    points = _plan_points(args, model)
+    points = plan_points(model, args.plan_points)
     registry = _registry(args, create=True)
     start = time.perf_counter()
     if model in flat.DESIGNS:
@@ -370,7 +360,6 @@ def write_plan(args: argparse.Namespace) -> int:
     if out.exists() and not args.force:
         raise AnytipError(f"--out {out}: exists; choose another or pass --force")
     model = _sensor_model(args, "plans are designed for")
-    points = _plan_points(args, model)
     if model in flat.DESIGNS:
         if args.remount_s is not None:
             raise AnytipError(f"--remount-s: {model} is calibrated in one orientation, with no re-mount")
@@ -379,7 +368,7 @@ def write_plan(args: argparse.Namespace) -> int:
         remount_s = 30.0 if args.remount_s is None else args.remount_s
         rig, timing = RigTiming(args.move_s, remount_s), f"moves {args.move_s:g} s, re-mounts {remount_s:g} s"
     flat_model = model if model in flat.DESIGNS else None
-    text, seconds, what = designed_plan_csv(args.plan, rig, args.seed or 0, flat_model, points)
+    text, seconds, what = designed_plan_csv(args.plan, rig, args.seed or 0, flat_model, args.plan_points)
     write_text(out, text)
     print(f"wrote {out}: {what}; {text.count(chr(10)) - 1} waypoints, "
           f"{seconds:.1f} s of robot time ({timing})")

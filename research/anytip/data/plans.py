@@ -562,23 +562,32 @@ def designed_name(seconds: float) -> str:
     return f"plan{seconds:g}"
 
 
+def plan_points(sensor_model: str | None, points: str | None = None) -> str:
+    """`points`, else the designed plan's default points of `sensor_model` (None: the fingertip):
+    drawn at random on a flat design (`sensor.flat.DEFAULT_PLAN_POINTS`), the low-discrepancy order
+    on the fingertip (PLAN_POINTS[0])."""
+    if points is not None:
+        return points
+    return flat.DEFAULT_PLAN_POINTS if sensor_model in flat.DESIGNS else PLAN_POINTS[0]
+
+
 def designed_plan_csv(seconds: float, rig: RigTiming = RigTiming(), seed: int = 0,
                       sensor_model: str | None = None, points: str | None = None
                       ) -> tuple[str, float, str]:
     """The designed calibration of `seconds` robot seconds as robot waypoints in CSV, the plan's
     robot time in seconds, re-mounts included, and what it presses in words; `points` None takes the
-    sensor's default. The fingertip's (default, `sensor.protocols.design_protocol` of `points`):
-    columns WAYPOINT_COLUMNS (docs/cross_sensor.md). A flat design's (`sensor_model` in
+    sensor's default (`plan_points`). The fingertip's (default, `sensor.protocols.design_protocol` of
+    `points`): columns WAYPOINT_COLUMNS (docs/cross_sensor.md). A flat design's (`sensor_model` in
     `sensor.flat.DESIGNS`, `sensor.flat.design_plan` of `points`): stage waypoints
     (`sensor.flat.plan_waypoints`), one orientation."""
     if sensor_model is not None:
         design = flat.get_design(sensor_model)
-        plan = flat.design_plan(design, seconds, rig.move_s, seed, points or flat.DEFAULT_PLAN_POINTS)
+        plan = flat.design_plan(design, seconds, rig.move_s, seed, plan_points(sensor_model, points))
         columns, table = flat.plan_waypoints(design, plan)
         n = len(plan.level)
         what = f"{n} presses, one at each of {n} places, on 1 orientation"
         return _csv(columns, table, ".6f"), plan.duration_s, what
-    protocol = design_protocol(seconds, rig.move_s, rig.remount_s, points or PLAN_POINTS[0])
+    protocol = design_protocol(seconds, rig.move_s, rig.remount_s, plan_points(None, points))
     table = waypoints(protocol, rig.remount_s, np.random.default_rng(seed))
     total = protocol.duration_s + rig.remount_s * (len(protocol.orientations_deg) - 1)
     return _csv(WAYPOINT_COLUMNS, table, ".4f"), total, press_summary(protocol)

@@ -28,7 +28,7 @@ import numpy as np
 
 from anytip.errors import AnytipError
 from anytip.sensor.physics import relax
-from anytip.sensor.protocols import PLAN_MOVE_S, PLAN_POINTS, designed_seconds
+from anytip.sensor.protocols import PLAN_MOVE_S, PLAN_POINTS, check_plan_points, designed_seconds
 
 SIMULATOR = "anytip.sensor.flat"
 VERSION = 1
@@ -206,8 +206,7 @@ def design_plan(design: FlatDesign, seconds: float, move_s: float = PLAN_MOVE_S,
     sequence (scipy.stats.qmc). One orientation, no re-mount. Name: plan<seconds>."""
     from scipy.stats import qmc
 
-    if points not in PLAN_POINTS:
-        raise AnytipError(f"a designed plan's points are one of {', '.join(PLAN_POINTS)}, not {points!r}")
+    check_plan_points(points)
     if not np.isfinite(seconds) or seconds <= 0:
         raise AnytipError(f"a calibration plan needs a finite duration > 0 s, got {seconds}")
     if not np.isfinite(move_s) or move_s <= 0:

@@ -144,6 +144,12 @@ PLAN_MOVE_S = 2.0  # a designed plan's move before each press where the rig decl
 PLAN_POINTS = ("halton", "random")
 
 
+def check_plan_points(points: str) -> None:
+    """AnytipError unless `points` names a designed plan's points (PLAN_POINTS)."""
+    if points not in PLAN_POINTS:
+        raise AnytipError(f"a designed plan's points are one of {', '.join(PLAN_POINTS)}, not {points!r}")
+
+
 def designed_seconds(protocol: str | None) -> float | None:
     """The robot seconds a designed calibration's name states (`plan120` -> 120.0), else None."""
     designed = None if protocol is None else DESIGNED.fullmatch(protocol)
@@ -315,8 +321,7 @@ def design_protocol(seconds: float, move_s: float = PLAN_MOVE_S, remount_s: floa
     random order, and each press of a short plan at a force level drawn at random (a baseline to
     measure the design against, research log entry 215).
     """
-    if points not in PLAN_POINTS:
-        raise AnytipError(f"a designed plan's points are one of {', '.join(PLAN_POINTS)}, not {points!r}")
+    check_plan_points(points)
     if not np.isfinite(seconds) or seconds <= 0:
         raise AnytipError(f"a calibration plan needs a finite duration > 0 s, got {seconds}")
     if not (np.isfinite(move_s) and move_s > 0 and np.isfinite(remount_s) and remount_s >= 0):
