@@ -18,3 +18,8 @@ anytip data simulate --registry data/edge24f --units 24 --seed 31 \
 # Research log entry 212: the same units, their designed plans' points drawn at random (`--plan-points random`).
 anytip data simulate --registry data/edge24r --units 24 --seed 31 \
   --protocols full,short,plan30,plan120,plan600,plan60 --sensor-model edge-4baro --move-s 0.4 --plan-points random
+# Research log entry 217: the pad's units again (data/pad24's full and short runs), each with its designed
+# calibrations of 30, 120 and 600 s at the flat designs' default points (random, entry 214) and 2 s moves, run
+# after its full and short runs.
+anytip data simulate --registry data/pad24p --units 24 --seed 32 --protocols full,short,plan30,plan120,plan600 \
+  --sensor-model pad-16baro
