@@ -292,26 +292,33 @@ def evenly_spaced(n: int, at_most: int) -> Tensor:
 class _PlanProblem(NamedTuple):
     """M jobs' code-fit problem on at most `code_rows` evenly spaced rows each: pressures Xp
     (M, B, C) Pa, labels Yp (M, B, D), each row's weight per barometer row_w (M, B, C) 1/Pa^2 (zero
-    on padding)."""
+    on padding), and each job's number of rows n (M,).
+
+    Each job's sums over its rows run on its own rows alone, one job at a time: a sum over a batch
+    padded to another job's rows, or a contraction batched over another number of jobs, may take
+    another kernel and round otherwise (seen on AVX-512 cores), and a job's codes must not depend
+    on the jobs fitted beside it."""
 
     Xp: Tensor
     Yp: Tensor
     row_w: Tensor
+    n: list[int]
 
     def loss(self, fit: ResponseFit, codes: Tensor) -> Tensor:
         """(M, C): each (job, barometer) problem's loss at codes (M, C, k)."""
         with torch.no_grad():
-            err = self.Xp - fit.model(self.Yp, codes[:, None])
-            return (self.row_w * err**2).sum(1) / 2 + fit.code_prior.penalty(codes)
+            err = self.row_w * (self.Xp - fit.model(self.Yp, codes[:, None])) ** 2
+            own = torch.stack([err[m, :n].sum(0) for m, n in enumerate(self.n)])
+            return own / 2 + fit.code_prior.penalty(codes)
 
     def system(self, fit: ResponseFit, codes: Tensor) -> tuple[Tensor, Tensor]:
         """The Gauss-Newton Hessian (M, C, k, k) of the loss at codes (M, C, k), and minus its
         gradient (M, C, k)."""
         pred, J = code_jacobian(fit.model, self.Yp, codes[:, None])  # J (M, B, C, k)
-        JW = J * self.row_w[..., None]
-        H = torch.einsum("mbck,mbcj->mckj", JW, J) + fit.code_prior.precision
-        g = torch.einsum("mbck,mbc->mck", JW, self.Xp - pred) + fit.code_prior.pull(codes)
-        return H, g
+        JW, r = J * self.row_w[..., None], self.Xp - pred
+        H = torch.stack([torch.einsum("bck,bcj->ckj", JW[m, :n], J[m, :n]) for m, n in enumerate(self.n)])
+        g = torch.stack([torch.einsum("bck,bc->ck", JW[m, :n], r[m, :n]) for m, n in enumerate(self.n)])
+        return H + fit.code_prior.precision, g + fit.code_prior.pull(codes)
 
 
 def _plan_problem(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
@@ -326,7 +333,8 @@ def _plan_problem(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effectiv
                       for y, t in zip(Y, take, strict=True)], device)
     valid = (torch.arange(Xp.shape[1], device=device)[None] < n[:, None]).float()  # (M, B)
     weight = torch.tensor(n_effective, dtype=torch.float32, device=device) / n.clamp_min(1)  # per row
-    return _PlanProblem(Xp, Yp, valid[..., None] * weight[:, None, None] / fit.noise_var.to(device))
+    return _PlanProblem(Xp, Yp, valid[..., None] * weight[:, None, None] / fit.noise_var.to(device),
+                        [max(len(t), 1) for t in take])
 
 
 def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
