@@ -292,7 +292,7 @@ def evenly_spaced(n: int, at_most: int) -> Tensor:
 class _PlanProblem(NamedTuple):
     """M jobs' code-fit problem on at most `code_rows` evenly spaced rows each: pressures Xp
     (M, B, C) Pa, labels Yp (M, B, D), each row's weight per barometer row_w (M, B, C) 1/Pa^2 (zero
-    on padding), and each job's number of rows n (M,).
+    on padding), and each job's number of rows n (M ints; 1 for a job without rows, its one zero row).
 
     Each job's sums over its rows run on its own rows alone, one job at a time: a sum over a batch
     padded to another job's rows, or a contraction batched over another number of jobs, may take
@@ -333,8 +333,8 @@ def _plan_problem(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effectiv
                       for y, t in zip(Y, take, strict=True)], device)
     valid = (torch.arange(Xp.shape[1], device=device)[None] < n[:, None]).float()  # (M, B)
     weight = torch.tensor(n_effective, dtype=torch.float32, device=device) / n.clamp_min(1)  # per row
-    return _PlanProblem(Xp, Yp, valid[..., None] * weight[:, None, None] / fit.noise_var.to(device),
-                        [max(len(t), 1) for t in take])
+    row_w = valid[..., None] * weight[:, None, None] / fit.noise_var.to(device)
+    return _PlanProblem(Xp, Yp, row_w, n.tolist())
 
 
 def _codes_by_gauss_newton(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effective: list[float],
