@@ -42,12 +42,12 @@ from anytip.data.registry import Registry
 from anytip.errors import AnytipError
 from anytip.models.io import load_response
 from anytip.models.mlp import MLPConfig
+from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load
 from anytip.pipelines.cross_sensor import min_units, prepare
 from anytip.pipelines.cross_sensor_jobs import mean_loss, plan_of, validation_losses
 from anytip.pipelines.cross_sensor_options import Options, parse_options
 from anytip.rundir import read_json
-from anytip.train.adapt import pooled_scaler
 from anytip.train.data import FleetBatchData, UnitTensors
 from anytip.train.fleet import FitResult, train_fleet
 from anytip.train.metrics import predict, ratio_fields, scores
@@ -179,7 +179,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, run: Path, seed: 
     refs = {r["unit"]: r for r in read_json(run / "metrics.json")["results"]
             if r["method"] == "per_unit" and r["seed"] == seed}
     val = validation_losses([(u, budget, float(ARMS.index(a))) for u, a, _ in jobs], preds, sd, arrays,
-                            set(sd.split.val), pooled_scaler(sd.train.Y_train, sd.train.n_train))
+                            set(sd.split.val), Scaler.pooled(sd.train.Y_train, sd.train.n_train))
     out = []
     for (u, arm, m), pred in zip(jobs, preds, strict=True):
         Xt, Yt = rows_of(arrays, sd.evals[u].test_rows)

@@ -5,6 +5,7 @@ import torch
 from safetensors.torch import load_file, save_file
 from torch import nn
 
+import anytip.models.scaler as scaler_module
 from anytip.deploy.rounding import U_FLOAT32, gamma
 from anytip.errors import AnytipError
 from anytip.models import (
@@ -168,6 +169,30 @@ def test_scaler_fits_only_the_given_rows_and_floors_std():
     # float32 round trip of values ~1e4: a few ulps
     torch.testing.assert_close(s.inverse(z)[:, :40], x[:, :40], rtol=1e-5, atol=1e-3)
     assert s.slice(1).mean.shape == (1, 1, 3)
+
+
+def test_scaler_reads_its_rows_a_block_at_a_time_and_pools_units_without_stacking(monkeypatch):
+    """Statistics summed a block of rows at a time equal those of one float64 pass to float32
+    rounding; the pooled scaler equals `fit` on the units' real rows stacked into one; padding,
+    even NaN, is never read."""
+    g = torch.Generator().manual_seed(1)
+    x = torch.randn(3, 500, 4, generator=g) * torch.tensor([2e4, 3.0, 1.0, 50.0]) + 1e5
+    n = torch.tensor([500, 37, 260])
+    for u in range(3):
+        x[u, int(n[u]):] = float("nan")
+    monkeypatch.setattr(scaler_module, "ELEMENTS_PER_PASS", 3 * 4 * 7)  # 7 rows a block
+    s = Scaler.fit(x, n)
+    for u in range(3):
+        rows = x[u, : int(n[u])].double()
+        torch.testing.assert_close(s.mean[u, 0], rows.mean(0).float(), rtol=2e-7, atol=0)
+        torch.testing.assert_close(s.std[u, 0], rows.std(0, correction=0).float(), rtol=2e-7, atol=0)
+    pooled = Scaler.pooled(x, n)
+    stacked = Scaler.fit(torch.cat([x[u, : int(n[u])] for u in range(3)])[None])
+    assert pooled.mean.shape == (1, 1, 4)
+    torch.testing.assert_close(pooled.mean, stacked.mean, rtol=2e-7, atol=0)
+    torch.testing.assert_close(pooled.std, stacked.std, rtol=2e-7, atol=0)
+    with pytest.raises(ValueError, match="at least one row"):
+        Scaler.pooled(x, torch.tensor([5, 0, 5]))
 
 
 def _scalers(U):

@@ -19,22 +19,34 @@ class Scaler:
     def fit(cls, x: Tensor, n: Tensor | None = None, rel_floor: float = 1e-6) -> Scaler:
         """Fit on x (U, N, d), using only the first n[u] rows of model u (all rows if n is None).
 
-        Statistics are computed in float64. A feature whose std is below `rel_floor` times the
-        largest std of that model (a dead or constant channel) gets that floor instead, so
-        standardising never divides by ~0.
+        Statistics are computed in float64, a block of rows at a time (`_row_sums`), so memory
+        beyond x stays bounded. A feature whose std is below `rel_floor` times the largest std of
+        that model (a dead or constant channel) gets that floor instead, so standardising never
+        divides by ~0.
         """
-        x64 = x.double()
-        U, N, _ = x.shape
-        n = torch.full((U,), N, device=x.device) if n is None else n.to(x.device)
-        if int(n.min()) < 1:
-            raise ValueError("every model needs at least one row to fit a scaler")
-        mask = (torch.arange(N, device=x.device) < n[:, None]).unsqueeze(-1)  # (U, N, 1)
-        count = n.double().view(U, 1, 1)
-        mean = (x64 * mask).sum(1, keepdim=True) / count
-        var = (((x64 - mean) * mask) ** 2).sum(1, keepdim=True) / count
+        n = _row_counts(x, n)
+        count = n.double().view(-1, 1, 1)
+        mean = _row_sums(x, n) / count
+        var = _row_sums(x, n, mean) / count
+        return cls._floored(mean, var, rel_floor, x.dtype)
+
+    @classmethod
+    def pooled(cls, x: Tensor, n: Tensor | None = None, rel_floor: float = 1e-6) -> Scaler:
+        """One scaler (1, 1, d) over the first n[u] rows of every model u of x (U, N, d), as `fit`
+        on those rows stacked into one model, without stacking them."""
+        n = _row_counts(x, n)
+        count = n.double().sum()
+        mean = _row_sums(x, n).sum(0, keepdim=True) / count
+        var = _row_sums(x, n, mean).sum(0, keepdim=True) / count
+        return cls._floored(mean, var, rel_floor, x.dtype)
+
+    @classmethod
+    def _floored(cls, mean: Tensor, var: Tensor, rel_floor: float, dtype: torch.dtype) -> Scaler:
+        """The scaler of float64 mean and var (U, 1, d), each std floored at `rel_floor` of its
+        model's largest."""
         std = var.sqrt()
         floor = (rel_floor * std.amax(-1, keepdim=True)).clamp_min(1e-12)
-        return cls(mean.to(x.dtype), torch.maximum(std, floor).to(x.dtype))
+        return cls(mean.to(dtype), torch.maximum(std, floor).to(dtype))
 
     @classmethod
     def identity(cls, n_models: int, dim: int) -> Scaler:
@@ -61,3 +73,30 @@ class Scaler:
 
     def to(self, device: torch.device | str) -> Scaler:
         return Scaler(self.mean.to(device), self.std.to(device))
+
+
+ELEMENTS_PER_PASS = 1 << 22  # float64 numbers `_row_sums` converts at once (32 MB)
+
+
+def _row_counts(x: Tensor, n: Tensor | None) -> Tensor:
+    """(U,) rows of each model of x (U, N, d) to read: n, or N for every model where n is None."""
+    U, N, _ = x.shape
+    n = torch.full((U,), N, device=x.device) if n is None else n.to(x.device)
+    if U == 0 or int(n.min()) < 1:
+        raise ValueError("every model needs at least one row to fit a scaler")
+    return n
+
+
+def _row_sums(x: Tensor, n: Tensor, centre: Tensor | None = None) -> Tensor:
+    """(U, 1, d) float64: over the first n[u] rows of each model u of x (U, N, d), the sum of x, or
+    of (x - centre)^2 where centre (U or 1, 1, d) is given; a block of rows at a time."""
+    U, N, d = x.shape
+    step = max(1, ELEMENTS_PER_PASS // max(1, U * d))
+    total = torch.zeros(U, 1, d, dtype=torch.float64, device=x.device)
+    for a in range(0, int(n.max()), step):
+        block = x[:, a : a + step].double()
+        if centre is not None:
+            block = (block - centre) ** 2
+        rows = torch.arange(a, a + block.shape[1], device=x.device)
+        total += torch.where((rows < n[:, None]).unsqueeze(-1), block, 0.0).sum(1, keepdim=True)
+    return total

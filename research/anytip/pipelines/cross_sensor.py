@@ -31,6 +31,7 @@ from anytip.data.seeds import CALIBRATION_ROWS, REFERENCE_START, VALIDATION_PATC
 from anytip.data.splits import held_out_patches
 from anytip.models.io import SHARED_FORMAT, read_header, save_shared
 from anytip.models.mlp import MLPConfig
+from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context, load, load_extra, recorded_metrics, report_metrics, unit_of
 from anytip.pipelines.cross_sensor_jobs import (
     Job,
@@ -60,7 +61,6 @@ from anytip.report.cross_sensor import full_set_rows, summary, write_report
 from anytip.train.adapt import (
     AdapterRecipe,
     SharedFit,
-    pooled_scaler,
     train_shared,
 )
 from anytip.train.adapter_prior import AdapterPrior, PriorFamily, make_prior
@@ -215,7 +215,7 @@ def run_seed(ctx: Context, arrays: FleetArrays, opts: Options, seed: int,
     ctx.say(f"seed {seed}: per-unit references trained")
     rows += [dict(base, **r) for r in scratch_rows(ctx, arrays, sd, opts, seed)]
     shape = shared_shape(ctx, opts)
-    pooled = train_shared(sd.train, pooled_scaler(sd.train.X_train, sd.train.n_train), shape,
+    pooled = train_shared(sd.train, Scaler.pooled(sd.train.X_train, sd.train.n_train), shape,
                           "none", spec.training, seed, ctx.device, ctx.progress)
     rows += [dict(base, **r) for r in pooled_rows(pooled, arrays, sd)]
     priors_chosen: dict[str, dict[Budget, float]] = {}

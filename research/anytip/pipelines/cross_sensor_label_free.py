@@ -20,10 +20,10 @@ from torch import Tensor
 from anytip.data.arrays import FleetArrays
 from anytip.data.plans import Budget, Plan, ordinary_use, ordinary_use_seed
 from anytip.errors import AnytipError
+from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context
 from anytip.pipelines.cross_sensor_jobs import UnitLosses, budget_fields, validation_losses
 from anytip.pipelines.cross_sensor_options import Options
-from anytip.train.adapt import pooled_scaler
 from anytip.train.code_encoder import CodeEncoder
 from anytip.train.fleet import FitResult
 from anytip.train.label_free import (
@@ -96,7 +96,7 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
                          [sd.evals[u].test_rows for u in units])
     zero = Budget(0.0, opts.budget_unit, opts.plan_strategies[0])
     loss = validation_losses([(u, zero, 0.0) for u in units], preds, sd, arrays, set(sd.split.val),
-                             pooled_scaler(sd.train.Y_train, sd.train.n_train)).get((zero, 0.0))
+                             Scaler.pooled(sd.train.Y_train, sd.train.n_train)).get((zero, 0.0))
     said = "codes zero"
     if read.fleet.coder is not None:
         said = f"an encoder's codes (left-out units' R^2 {read.fleet.coder.loo_r2:.2f})"

@@ -18,6 +18,7 @@ from anytip.data.arrays import FleetArrays
 from anytip.data.plans import INFORMED, Budget, Plan
 from anytip.errors import AnytipError
 from anytip.models.io import LoadedResponse, ModelFileError, load_response, save_response
+from anytip.models.scaler import Scaler
 from anytip.pipelines.common import Context
 from anytip.pipelines.cross_sensor_jobs import (
     FleetWidths,
@@ -43,7 +44,6 @@ from anytip.pipelines.cross_sensor_label_free import (
     use_rows_for,
 )
 from anytip.pipelines.cross_sensor_options import Options, budget_list
-from anytip.train.adapt import pooled_scaler
 from anytip.train.data import FleetBatchData
 from anytip.train.fleet import FitResult
 from anytip.train.label_free import WITH_USE, with_use_method
@@ -321,7 +321,7 @@ def budget_losses(preds: list[np.ndarray], jobs: list[tuple[str, Budget, Plan]],
                   arrays: FleetArrays) -> dict[Budget, UnitLosses]:
     """Each validation unit's standardised MSE per budget of the jobs' predictions."""
     loss = validation_losses([(u, b, 0.0) for u, b, _ in jobs], preds, sd, arrays, set(sd.split.val),
-                             pooled_scaler(sd.train.Y_train, sd.train.n_train))
+                             Scaler.pooled(sd.train.Y_train, sd.train.n_train))
     return {b: v for (b, _), v in loss.items()}
 
 

@@ -61,12 +61,6 @@ def mean_head(model: AdaptedMLP, d_out: int):
     return lambda x: model(x)[..., :d_out]
 
 
-def pooled_scaler(x: Tensor, n: Tensor) -> Scaler:
-    """One scaler (1, 1, d) over the real rows of every unit of padded x (U, N, d)."""
-    rows = torch.cat([x[u, : int(n[u])] for u in range(x.shape[0])])[None]
-    return Scaler.fit(rows)
-
-
 def input_stats(pressures: list[Tensor], device: torch.device | str = "cpu") -> Scaler:
     """Per-unit input scaler (U, 1, d) from each unit's unlabeled pressures [(n_u, d), ...]."""
     return Scaler(torch.stack([p.double().mean(0, keepdim=True) for p in pressures]).float().to(device),
@@ -102,7 +96,7 @@ def train_shared(data: FleetBatchData, in_scaler: Scaler, config: MLPConfig | No
     device = torch.device(device) if device is not None else data.device
     data, in_scaler = data.to(device), in_scaler.to(device)
     U = data.n_units
-    out_scaler = pooled_scaler(data.Y_train, data.n_train)
+    out_scaler = Scaler.pooled(data.Y_train, data.n_train)
     X, Y = in_scaler.transform(data.X_train), out_scaler.transform(data.Y_train)
     rows_of = torch.arange(U, device=device)[:, None]
     config = config or MLPConfig()
