@@ -1,6 +1,7 @@
 """The baseline pipeline end to end on a tiny fleet: outputs, no leakage, determinism."""
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +50,9 @@ def test_baseline_run_writes_contract_and_is_deterministic(small_registry, tmp_p
     prov = json.loads((a / "provenance.json").read_text())
     assert prov["registry_content_hash"] == small_registry.content_hash()
     assert prov["seeds"] == [0] and len(prov["units"]) == 8
+    # peak resident memory in GB: torch alone takes a few hundred MB, and no process exceeds the machine
+    physical_gb = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 1e9
+    assert 0.05 < prov["peak_memory_gb"] < physical_gb
     models = load_models(a / "models" / "per_unit_seed0")
     assert models.model.n_models == 16
     report = (a / "report.md").read_text()

@@ -13,6 +13,7 @@ import math
 import os
 import platform
 import subprocess
+import sys
 import tempfile
 from collections.abc import Sequence
 from datetime import UTC, datetime
@@ -86,6 +87,23 @@ def machine() -> dict[str, Any]:
         "torch_threads": torch.get_num_threads(),
         "cuda": torch.cuda.get_device_name(0) if torch.cuda.is_available() else None,
     }
+
+
+def peak_memory() -> dict[str, float]:
+    """The process's peak memory so far, in GB (1e9 bytes): `peak_memory_gb`, its resident set
+    (`getrusage`: kB on Linux, bytes on macOS; absent where the platform has no `resource`), and
+    `peak_gpu_memory_gb`, what torch allocated on the GPU, where one was used."""
+    import torch
+
+    out: dict[str, float] = {}
+    if sys.platform != "win32":  # Windows has no `resource`
+        import resource
+
+        rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        out["peak_memory_gb"] = round(rss / (1e9 if sys.platform == "darwin" else 1e6), 2)
+    if torch.cuda.is_available() and torch.cuda.is_initialized():
+        out["peak_gpu_memory_gb"] = round(torch.cuda.max_memory_allocated() / 1e9, 2)
+    return out
 
 
 def finite(data: Any) -> Any:

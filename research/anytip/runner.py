@@ -102,6 +102,7 @@ def run_experiment(spec_path: str | Path, registry: Registry | str | Path, out: 
     start = time.perf_counter()
     rows = module.run(ctx)
     ctx.provenance["wall_s"] = round(time.perf_counter() - start, 2)
+    ctx.provenance.update(rundir.peak_memory())
     keys = [target_key(name) for name in ctx.provenance.get("targets", V1_LAYOUT)]
     rundir.write_metrics(run_dir, rows, keys, spec=spec.name, pipeline=spec.pipeline)
     rundir.write_json(run_dir / "provenance.json", ctx.provenance)
