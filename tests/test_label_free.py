@@ -408,3 +408,21 @@ def test_distilled_rows_repeat_the_use_with_fitted_or_true_contacts_and_a_bad_ch
         LabelFreeRecipe(distil_repeat=0)
     names = {with_use_method(LabelFreeRecipe(distil=d)) for d in ("none", "fitted", "oracle")}  # type: ignore[arg-type]
     assert names == {"response+use", "response+use+distil", "response+use+oracle"}
+
+
+def test_the_search_reads_the_draw_its_recipe_names_and_draw_zero_is_the_seed_order():
+    """`search_draw` (entry 219): draw 0 is the candidates every run before it searched (the run
+    seed's order), another draw is another order of the same labels, the same for the same draw;
+    a recipe recorded before the key existed reads draw 0, and a negative draw is refused."""
+    labels = torch.arange(200, dtype=torch.float32)[:, None].repeat(1, 5)
+    g = torch.Generator().manual_seed(7)
+    seed_order = labels[torch.randperm(200, generator=g)[:50]]
+    assert torch.equal(label_free.search_candidates(labels, 50, 7), seed_order)
+    one, again = (label_free.search_candidates(labels, 50, 7, draw=1) for _ in range(2))
+    assert torch.equal(one, again)
+    assert not torch.equal(one, label_free.search_candidates(labels, 50, 7))
+    assert set(one[:, 0].tolist()) <= set(range(200)) and len(set(one[:, 0].tolist())) == 50
+    old = {k: v for k, v in asdict(LabelFreeRecipe()).items() if k != "search_draw"}
+    assert LabelFreeRecipe.from_json(old).search_draw == 0
+    with pytest.raises(ValueError, match="search_draw"):
+        LabelFreeRecipe(search_draw=-1)

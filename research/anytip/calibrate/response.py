@@ -383,7 +383,7 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
         first = encoder_codes(P, coder, "cpu")
     except ValueError as e:
         raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.encoder: {e}") from None
-    candidates = search_candidates(source.Y, fleet.free.candidates, seed)
+    candidates = search_candidates(source.Y, fleet.free.candidates, seed, fleet.free.search_draw)
     codes, fitted = unit_codes_with_use(fit, recipe, fleet, X, Y0, candidates, seed, plan, first)
     distilled = distilled_rows(fleet.free, X, fitted) if len(plan.X) else None
     return codes[None], read, distilled

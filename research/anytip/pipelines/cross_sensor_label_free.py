@@ -34,9 +34,9 @@ from anytip.train.label_free import (
     distilled_rows,
     fleet_code_encoder,
     fleet_force_scale,
+    label_free_codes,
     plan_and_use_codes,
     search_candidates,
-    unit_codes_with_use,
     use_inputs,
 )
 from anytip.train.metrics import scores
@@ -76,7 +76,8 @@ def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: in
         use = uses[u] = ordinary_use(sd.evals[u].presses, free.seconds, ordinary_use_seed(seed, u))
         X[u], Y0[u], first[u] = use_inputs(arrays.pressure[use.rows], free, start, coder, fit.device)
     fleet = FleetUse(free, opts.rig.effective_hz, force_scale(arrays, sd, opts, free, seed), coder)
-    return OrdinaryUse(fleet, uses, X, Y0, first, search_candidates(source.Y, free.candidates, seed))
+    return OrdinaryUse(fleet, uses, X, Y0, first,
+                       search_candidates(source.Y, free.candidates, seed, free.search_draw))
 
 
 def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
@@ -87,8 +88,11 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     pooled network it starts from; `read`: the units' ordinary use (`read_ordinary_use`)."""
     assert opts.response is not None
     recipe, units = opts.response.recipe(), [*sd.split.val, *sd.split.test]
-    codes = [unit_codes_with_use(fit, recipe, read.fleet, read.X[u], read.Y0[u], read.candidates, seed,
-                                 first=read.first[u])[0] for u in units]
+    fleet = read.fleet
+    fits = [label_free_codes(fit, recipe, fleet.free, read.X[u], read.Y0[u], fleet.n_effective(),
+                             read.candidates, seed, fleet.scale, read.first[u]) for u in units]
+    codes = [z for z, _, _ in fits]
+    objective = {u: trace[-1] if trace else None for u, (_, _, trace) in zip(units, fits, strict=True)}
     carried = ((transfer(fit, source, z), source.Y) for z in codes)
     nets = unit_networks(carried, ctx.spec.model, recipe, seed, [f"{u}@label_free" for u in units],
                          arrays.output_names, fit.device, ctx.progress, start)
@@ -101,8 +105,10 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     if read.fleet.coder is not None:
         said = f"an encoder's codes (left-out units' R^2 {read.fleet.coder.loo_r2:.2f})"
     ctx.say(f"seed {seed}: {len(units)} units' codes fitted from {read.fleet.free.seconds:g} s of unlabeled "
-            f"use, searched from {said}")
+            f"use, searched from {said}; the fit's objective: "
+            + ", ".join(f"{u} {v:.6g}" for u, v in objective.items() if v is not None))
     out = [{"method": METHOD, "unit": u, **budget_fields(zero, Plan.empty()), **use_fields(read.uses[u]),
+            "label_free_objective": objective[u],
             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
            for u, pred in zip(units, preds, strict=True) if u in sd.split.test]
     return out, loss

@@ -45,6 +45,7 @@ from torch import Tensor
 from anytip.data.arrays import FleetArrays
 from anytip.data.calibration import calibration_stream
 from anytip.data.plans import stream_ordinary_use
+from anytip.data.seeds import unit_seed
 from anytip.models.io import LoadedModels
 from anytip.train.code_encoder import CodeEncoder, stream_features
 from anytip.train.fleet import FitResult
@@ -79,7 +80,10 @@ class LabelFreeRecipe:
     not at all (`none`; entry 78); `plan_iterations`: the joint fit's steps with a plan's labeled rows
     (None: `iterations`, as runs before entry 81 recorded it; 10 lose nothing to 30, entry 81);
     `use_weight`: in a joint fit with a plan's labeled rows, the unlabeled rows weigh this times their
-    independent rows (the fit follows the ratio of the two weights, not their scale, entry 187)."""
+    independent rows (the fit follows the ratio of the two weights, not their scale, entry 187);
+    `search_draw`: which random draw of the training units' labeled contacts the search reads (0, the
+    default, the one every run before entry 219 read; others show how far the fit's basin follows the
+    draw)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -94,10 +98,11 @@ class LabelFreeRecipe:
     distil_repeat: int = 1
     plan_iterations: int | None = 10
     use_weight: float = 1.0
+    search_draw: int = 0
 
     def __post_init__(self) -> None:
         counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
-                  "distil_repeat": 1, "plan_iterations": 1}
+                  "distil_repeat": 1, "plan_iterations": 1, "search_draw": 0}
         for key, least in counts.items():
             v = getattr(self, key)
             if not (v is None and key in OPTIONAL) and (type(v) is not int or v < least):
@@ -460,10 +465,11 @@ def nearest_contacts(fit: ResponseFit, X: Tensor, candidates: Tensor, codes: Ten
     return candidates[torch.cat(best)]
 
 
-def search_candidates(labels: Tensor, n: int, seed: int) -> Tensor:
+def search_candidates(labels: Tensor, n: int, seed: int, draw: int = 0) -> Tensor:
     """The contacts a search draws from: `n` of the training units' labeled rows `labels` (S, D),
-    in a random order seeded by the run's `seed` (all of them where there are fewer)."""
-    g = torch.Generator().manual_seed(seed)
+    in a random order seeded by the run's `seed` (all of them where there are fewer); `draw` > 0 takes
+    another order of the same seed (`LabelFreeRecipe.search_draw`)."""
+    g = torch.Generator().manual_seed(seed if draw == 0 else unit_seed(seed, draw, "label-free search draw"))
     return labels[torch.randperm(len(labels), generator=g)[:n].to(labels.device)]
 
 

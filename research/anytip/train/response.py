@@ -291,8 +291,8 @@ def evenly_spaced(n: int, at_most: int) -> Tensor:
 
 class _PlanProblem(NamedTuple):
     """M jobs' code-fit problem on at most `code_rows` evenly spaced rows each: pressures Xp
-    (M, B, C) Pa, labels Yp (M, B, D), each row's weight per barometer row_w (M, B, C) 1/Pa^2 (zero
-    on padding), and each job's number of rows n (M ints; 1 for a job without rows, its one zero row).
+    (M, B, C) Pa, labels Yp (M, B, D), each job's row weight per barometer row_w (M, 1, C) 1/Pa^2,
+    and each job's number of rows n (M ints; 1 for a job without rows, its one zero row, weighed 0).
 
     Each job's sums over its rows run on its own rows alone, one job at a time: a sum over a batch
     padded to another job's rows, or a contraction batched over another number of jobs, may take
@@ -331,9 +331,9 @@ def _plan_problem(fit: ResponseFit, X: list[Tensor], Y: list[Tensor], n_effectiv
                       for x, t in zip(X, take, strict=True)], device)
     Yp, _ = pad_rows([y[t] if len(y) else y.new_zeros(1, Y[0].shape[-1])
                       for y, t in zip(Y, take, strict=True)], device)
-    valid = (torch.arange(Xp.shape[1], device=device)[None] < n[:, None]).float()  # (M, B)
-    weight = torch.tensor(n_effective, dtype=torch.float32, device=device) / n.clamp_min(1)  # per row
-    row_w = valid[..., None] * weight[:, None, None] / fit.noise_var.to(device)
+    has = torch.tensor([len(x) > 0 for x in X], device=device)
+    weight = torch.tensor(n_effective, dtype=torch.float32, device=device) * has / n  # per row
+    row_w = weight[:, None, None] / fit.noise_var.to(device)  # (M, 1, C): padded rows are never summed
     return _PlanProblem(Xp, Yp, row_w, n.tolist())
 
 
