@@ -7,6 +7,7 @@
 set -euo pipefail
 core=$1 draws=$2 folds=$3
 here=reports/cross_sensor_designs
+mkdir -p $here/entry219/logs
 for k in $folds; do
   for d in $draws; do
     out=$here/entry219/draw${d}_seed${k}

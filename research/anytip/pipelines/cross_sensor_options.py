@@ -177,6 +177,10 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.use_weight, gt=0, le=1e6, description="with_plans: in the joint fit with a "
         "plan's labeled rows, the unlabeled rows weigh this times their independent rows (research log "
         "entry 187: the fit follows the ratio of the two weights)")
+    search_draw: int = Field(
+        default=LabelFreeRecipe.search_draw, ge=0, le=1_000_000, description="which random draw of the "
+        "training units' labeled contacts the search reads (0: the one every run before research log "
+        "entry 219 read)")
     with_plans: bool = Field(
         default=False, description="also calibrate every labeled budget with the unit's ordinary use: its "
         "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "
