@@ -426,3 +426,25 @@ def test_the_search_reads_the_draw_its_recipe_names_and_draw_zero_is_the_seed_or
     assert LabelFreeRecipe.from_json(old).search_draw == 0
     with pytest.raises(ValueError, match="search_draw"):
         LabelFreeRecipe(search_draw=-1)
+
+
+def test_starts_average_the_codes_of_the_draws_in_turn():
+    """`starts` (entry 220): the label-free fit runs once per draw, from `search_draw` on, and the unit
+    takes the mean of their codes; one start is `label_free_codes` itself."""
+    fit, labels = _fit(), _contacts(400, 21)
+    codes = 0.2 * torch.randn(8, 4, generator=torch.Generator().manual_seed(3))
+    with torch.no_grad():
+        X = fit.model(_contacts(60, 22), codes)
+    Y0, free = _contacts(60, 23), LabelFreeRecipe(rows=60, candidates=100, rounds=1, iterations=3, starts=3,
+                                                   search_draw=2)
+    draws = label_free.search_draws(labels, free, 5)
+    assert len(draws) == 3 and torch.equal(draws[0], label_free.search_candidates(labels, 100, 5, 2))
+    assert torch.equal(draws[2], label_free.search_candidates(labels, 100, 5, 4))
+    z, c, finals = label_free.started_codes(fit, ResponseRecipe(), free, X, Y0, 60.0, draws, 5)
+    each = [label_free_codes(fit, ResponseRecipe(), free, X, Y0, 60.0, d, 5) for d in draws]
+    assert torch.allclose(z, torch.stack([e[0] for e in each]).mean(0))
+    assert torch.equal(c, each[0][1]) and finals == [e[2][-1] for e in each]
+    one = label_free.started_codes(fit, ResponseRecipe(), free, X, Y0, 60.0, draws[:1], 5)
+    assert torch.equal(one[0], each[0][0])
+    with pytest.raises(ValueError, match="starts"):
+        LabelFreeRecipe(starts=0)

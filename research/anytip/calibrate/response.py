@@ -44,7 +44,7 @@ from anytip.train.label_free import (
     distilled_rows,
     encoder_codes,
     fleet_force_scale,
-    search_candidates,
+    search_draws,
     unit_codes_with_use,
     use_inputs,
     with_use_method,
@@ -383,8 +383,8 @@ def _codes_from_use(path: Path, fit: ResponseFit, recipe: ResponseRecipe, fleet:
         first = encoder_codes(P, coder, "cpu")
     except ValueError as e:
         raise AnytipError(f"{model_paths(path)[1]}: meta.label_free.encoder: {e}") from None
-    candidates = search_candidates(source.Y, fleet.free.candidates, seed, fleet.free.search_draw)
-    codes, fitted = unit_codes_with_use(fit, recipe, fleet, X, Y0, candidates, seed, plan, first)
+    draws = search_draws(source.Y, fleet.free, seed)
+    codes, fitted = unit_codes_with_use(fit, recipe, fleet, X, Y0, draws, seed, plan, first)
     distilled = distilled_rows(fleet.free, X, fitted) if len(plan.X) else None
     return codes[None], read, distilled
 

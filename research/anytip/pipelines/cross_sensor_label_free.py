@@ -34,9 +34,9 @@ from anytip.train.label_free import (
     distilled_rows,
     fleet_code_encoder,
     fleet_force_scale,
-    label_free_codes,
     plan_and_use_codes,
-    search_candidates,
+    search_draws,
+    started_codes,
     use_inputs,
 )
 from anytip.train.metrics import scores
@@ -51,15 +51,16 @@ class OrdinaryUse:
     """What the label-free fits read of the validation and held-out units: per unit the whole presses
     of its ordinary use (`uses`), the fitted rows' pressures X (n, C) Pa and the pooled start
     network's contacts Y0 (n, D) there, and the code encoder's first codes (C, k) or None (`first`);
-    the fleet's candidates (S, D), and what it learnt for reading ordinary use (`fleet`: the recipe,
-    force-scale prior and encoder, saved with the response model for `anytip calibrate`)."""
+    the fleet's candidates (S, D) of each of the search's draws (`draws`), and what it learnt for
+    reading ordinary use (`fleet`: the recipe, force-scale prior and encoder, saved with the response
+    model for `anytip calibrate`)."""
 
     fleet: FleetUse
     uses: dict[str, Plan]
     X: dict[str, Tensor]
     Y0: dict[str, Tensor]
     first: dict[str, Tensor | None]
-    candidates: Tensor
+    draws: list[Tensor]
 
 
 def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: int, fit: ResponseFit,
@@ -76,8 +77,7 @@ def read_ordinary_use(arrays: FleetArrays, sd: SeedData, opts: Options, seed: in
         use = uses[u] = ordinary_use(sd.evals[u].presses, free.seconds, ordinary_use_seed(seed, u))
         X[u], Y0[u], first[u] = use_inputs(arrays.pressure[use.rows], free, start, coder, fit.device)
     fleet = FleetUse(free, opts.rig.effective_hz, force_scale(arrays, sd, opts, free, seed), coder)
-    return OrdinaryUse(fleet, uses, X, Y0, first,
-                       search_candidates(source.Y, free.candidates, seed, free.search_draw))
+    return OrdinaryUse(fleet, uses, X, Y0, first, search_draws(source.Y, free, seed))
 
 
 def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Options, seed: int,
@@ -89,10 +89,10 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     assert opts.response is not None
     recipe, units = opts.response.recipe(), [*sd.split.val, *sd.split.test]
     fleet = read.fleet
-    fits = [label_free_codes(fit, recipe, fleet.free, read.X[u], read.Y0[u], fleet.n_effective(),
-                             read.candidates, seed, fleet.scale, read.first[u]) for u in units]
+    fits = [started_codes(fit, recipe, fleet.free, read.X[u], read.Y0[u], fleet.n_effective(), read.draws,
+                          seed, fleet.scale, read.first[u]) for u in units]
     codes = [z for z, _, _ in fits]
-    objective = {u: trace[-1] if trace else None for u, (_, _, trace) in zip(units, fits, strict=True)}
+    objective = {u: finals for u, (_, _, finals) in zip(units, fits, strict=True)}
     carried = ((transfer(fit, source, z), source.Y) for z in codes)
     nets = unit_networks(carried, ctx.spec.model, recipe, seed, [f"{u}@label_free" for u in units],
                          arrays.output_names, fit.device, ctx.progress, start)
@@ -105,10 +105,10 @@ def label_free_rows(ctx: Context, arrays: FleetArrays, sd: SeedData, opts: Optio
     if read.fleet.coder is not None:
         said = f"an encoder's codes (left-out units' R^2 {read.fleet.coder.loo_r2:.2f})"
     ctx.say(f"seed {seed}: {len(units)} units' codes fitted from {read.fleet.free.seconds:g} s of unlabeled "
-            f"use, searched from {said}; the fit's objective: "
-            + ", ".join(f"{u} {v:.6g}" for u, v in objective.items() if v is not None))
+            f"use, searched from {said}; the fit's objective per draw: "
+            + ", ".join(f"{u} {' '.join(f'{v:.6g}' for v in finals)}" for u, finals in objective.items()))
     out = [{"method": METHOD, "unit": u, **budget_fields(zero, Plan.empty()), **use_fields(read.uses[u]),
-            "label_free_objective": objective[u],
+            "label_free_objectives": objective[u],
             **scores(pred, arrays.targets[sd.evals[u].test_rows], arrays.layout)}
            for u, pred in zip(units, preds, strict=True) if u in sd.split.test]
     return out, loss
@@ -124,7 +124,7 @@ def plan_use_codes(fit: ResponseFit, opts: Options, read: OrdinaryUse, seed: int
     assert opts.response is not None
     recipe, fleet = opts.response.recipe(), read.fleet
     fits = [plan_and_use_codes(fit, recipe, fleet.free, read.X[u], read.Y0[u], fleet.n_effective(),
-                               read.candidates, seed,
+                               read.draws[0], seed,
                                Labeled(x.to(fit.device), y.to(fit.device), plan.n_effective), z, fleet.scale)
             for (u, plan), x, y, z in zip(jobs, X, Y, codes, strict=True)]
     return torch.stack([z for z, _ in fits]), [c for _, c in fits]

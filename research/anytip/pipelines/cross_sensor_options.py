@@ -181,6 +181,10 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.search_draw, ge=0, le=1_000_000, description="which random draw of the "
         "training units' labeled contacts the search reads (0: the one every run before research log "
         "entry 219 read)")
+    starts: int = Field(
+        default=LabelFreeRecipe.starts, ge=1, le=64, description="the label-free fit runs from this many "
+        "draws of contacts in turn (`search_draw` on) and a unit takes the mean of their codes (research "
+        "log entry 220)")
     with_plans: bool = Field(
         default=False, description="also calibrate every labeled budget with the unit's ordinary use: its "
         "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "

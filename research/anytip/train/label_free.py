@@ -83,7 +83,8 @@ class LabelFreeRecipe:
     independent rows (the fit follows the ratio of the two weights, not their scale, entry 187);
     `search_draw`: which random draw of the training units' labeled contacts the search reads (0, the
     default, the one every run before entry 219 read; others show how far the fit's basin follows the
-    draw)."""
+    draw); `starts`: the label-free fit runs from that many draws in turn (`search_draw` on) and the
+    unit takes the mean of their codes (entry 220)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -99,10 +100,12 @@ class LabelFreeRecipe:
     plan_iterations: int | None = 10
     use_weight: float = 1.0
     search_draw: int = 0
+    starts: int = 1
 
     def __post_init__(self) -> None:
         counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
-                  "distil_repeat": 1, "plan_iterations": 1, "search_draw": 0}
+                  "distil_repeat": 1, "plan_iterations": 1, "search_draw": 0,
+                  "starts": 1}
         for key, least in counts.items():
             v = getattr(self, key)
             if not (v is None and key in OPTIONAL) and (type(v) is not int or v < least):
@@ -473,6 +476,13 @@ def search_candidates(labels: Tensor, n: int, seed: int, draw: int = 0) -> Tenso
     return labels[torch.randperm(len(labels), generator=g)[:n].to(labels.device)]
 
 
+def search_draws(labels: Tensor, free: LabelFreeRecipe, seed: int) -> list[Tensor]:
+    """The candidates (S, D) of each of the recipe's `starts` draws, from `search_draw` on
+    (`search_candidates`); the first is the one a joint fit with a plan's rows reads."""
+    first = free.search_draw
+    return [search_candidates(labels, free.candidates, seed, first + i) for i in range(free.starts)]
+
+
 def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, candidates: Tensor,
                    seed: int, rounds: int, scale: ForceScale | None = None, codes: Tensor | None = None
                    ) -> tuple[Tensor, Tensor]:
@@ -508,6 +518,18 @@ def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRe
     return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
 
 
+def started_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
+                  n_eff: float, draws: list[Tensor], seed: int, scale: ForceScale | None = None,
+                  codes: Tensor | None = None) -> tuple[Tensor, Tensor, list[float]]:
+    """`label_free_codes` from each draw of candidates in `draws` (`search_draws`): the mean of their
+    codes (C, k), the first draw's contacts (n, D), and each draw's final objective (none without
+    rows). Entry 219: the draws end several percent apart per unit, and the lowest objective does
+    not tell the better one."""
+    fits = [label_free_codes(fit, recipe, free, X, Y0, n_eff, c, seed, scale, codes) for c in draws]
+    finals = [trace[-1] for _, _, trace in fits if trace]
+    return torch.stack([z for z, _, _ in fits]).mean(0), fits[0][1], finals
+
+
 def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
                        n_eff: float, candidates: Tensor, seed: int, labeled: Labeled, codes: Tensor,
                        scale: ForceScale | None = None) -> tuple[Tensor, Tensor]:
@@ -527,19 +549,20 @@ def plan_and_use_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFree
 
 
 def unit_codes_with_use(fit: ResponseFit, recipe: ResponseRecipe, fleet: FleetUse, X: Tensor, Y0: Tensor,
-                        candidates: Tensor, seed: int, plan: Labeled | None = None,
+                        draws: list[Tensor], seed: int, plan: Labeled | None = None,
                         first: Tensor | None = None) -> tuple[Tensor, Tensor]:
     """One new unit's codes (C, k) from its ordinary use's pressures X (n, C) Pa, each row's contact
     pulled towards Y0 (n, D), read as `fleet` says: with a plan's labeled rows, their joint fit
     started from the plan's own codes (`plan_and_use_codes`, entries 45-46); without (or with an empty
-    plan), the label-free fit searched from `first` (C, k) (`label_free_codes`, entry 44). Also the
-    rows' fitted contacts (n, D) physical."""
+    plan), the label-free fit searched from `first` (C, k) from each draw of candidates in `draws`
+    (`started_codes`, entries 44 and 220; a plan's joint fit reads the first). Also the rows' fitted
+    contacts (n, D) physical."""
     n_eff = fleet.n_effective()
     if plan is not None and len(plan.X):
         codes = fit_codes(fit, [plan.X], [plan.Y], [plan.n_eff], recipe, seed)[0]
-        return plan_and_use_codes(fit, recipe, fleet.free, X, Y0, n_eff, candidates, seed, plan, codes,
+        return plan_and_use_codes(fit, recipe, fleet.free, X, Y0, n_eff, draws[0], seed, plan, codes,
                                   fleet.scale)
-    z, c, _ = label_free_codes(fit, recipe, fleet.free, X, Y0, n_eff, candidates, seed, fleet.scale, first)
+    z, c, _ = started_codes(fit, recipe, fleet.free, X, Y0, n_eff, draws, seed, fleet.scale, first)
     return z, c
 
 
