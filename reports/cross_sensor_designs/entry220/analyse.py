@@ -1,0 +1,97 @@
+"""Research log entry 220: the mean of four draws' codes (M4) against entry 219's four draws, pad folds 0-3.
+
+    python reports/cross_sensor_designs/entry220/analyse.py
+
+Reads `entry220/mean4_seedK` and `entry219/drawD_seedK` (K, D = 0-3): the held-out units'
+`response:label_free` rows, each validation unit's standardised loss (provenance) and each unit's
+objectives (the runs' logs). Prints the gate, the decision on the validation units and the held-out
+reading, as the entry wrote them down.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+from scipy import stats
+
+HERE = Path(__file__).resolve().parent
+DRAWN = HERE.parent / "entry219"
+FOLDS, DRAWS = range(4), range(4)
+METHOD = "response:label_free"
+
+
+def rows(path: Path, method: str) -> dict[str, dict]:
+    """{unit: row} of one method in a run's metrics.json."""
+    results = json.loads((path / "metrics.json").read_text())["results"]
+    return {r["unit"]: r for r in results if r["method"] == method}
+
+
+def objectives(log: Path) -> dict[str, list[float]]:
+    """{unit: [final objective per draw]} from a run's log line, as printed (six digits)."""
+    line = next(x for x in log.read_text().splitlines() if "the fit's objective" in x)
+    return {u: [float(v) for v in vs.split()]
+            for u, vs in re.findall(r"(PAD\S+) ([-+0-9.e ]+?)(?:,|$)", line.split(":", 2)[2])}
+
+
+def val_losses(run: Path, k: int) -> dict[str, float]:
+    """Each validation unit's standardised loss of the label-free row."""
+    return json.loads((run / "provenance.json").read_text())["cross_sensor"][f"seed{k}"]["val_loss_units"][
+        METHOD]["0"]
+
+
+def geo(values: list[float]) -> str:
+    """Geometric mean of ratios with a 95% t-interval over units."""
+    logs = np.log(values)
+    m, half = logs.mean(), stats.t.ppf(0.975, len(logs) - 1) * logs.std(ddof=1) / np.sqrt(len(logs))
+    return f"x{np.exp(m):.3f} [{np.exp(m - half):.3f}, {np.exp(m + half):.3f}]"
+
+
+def main() -> None:
+    same, refs_equal, val, test = 0, 0, {}, {}
+    for k in FOLDS:
+        run = HERE / f"mean4_seed{k}"
+        mean_obj = objectives(HERE / "logs" / f"mean4_seed{k}.log")
+        drawn_obj = [objectives(DRAWN / "logs" / f"draw{d}_seed{k}.log") for d in DRAWS]
+        same += sum(mean_obj[u] == [drawn_obj[d][u][0] for d in DRAWS] for u in mean_obj)
+        refs = rows(HERE.parent / f"pad_plans_seed{k}", "per_unit")
+        refs_equal += rows(run, "per_unit") == refs
+        drawn_val = [val_losses(DRAWN / f"draw{d}_seed{k}", k) for d in DRAWS]
+        for u, loss in val_losses(run, k).items():
+            val[(k, u)] = (loss, [drawn_val[d][u] for d in DRAWS])
+        drawn_rows = [rows(DRAWN / f"draw{d}_seed{k}", METHOD) for d in DRAWS]
+        for u, r in rows(run, METHOD).items():
+            test[(k, u)] = {"m": (r["force_rmse_n"], r["position_rmse"]),
+                            "d": [(x[u]["force_rmse_n"], x[u]["position_rmse"]) for x in drawn_rows],
+                            "ref": (refs[u]["force_rmse_n"], refs[u]["position_rmse"])}
+    print("Rule 1 (gate):")
+    print(f"  units whose four objectives equal entry 219's draws: {same} of {len(val) + len(test)}; "
+          f"references equal the fold run's in {refs_equal} of {len(FOLDS)} runs")
+
+    print("\nRule 2 (decision, 8 validation units):")
+    m4 = float(np.mean([v[0] for v in val.values()]))
+    by_draw = [float(np.mean([v[1][d] for v in val.values()])) for d in DRAWS]
+    draws_mean = float(np.mean(by_draw))
+    for key in sorted(val):
+        draws = " ".join(f"{x:.5f}" for x in val[key][1])
+        print(f"  fold {key[0]} {key[1]}: M4 {val[key][0]:.5f}, draws {draws}")
+    print(f"  M4 {m4:.5f}: {100 * (m4 / draws_mean - 1):+.1f}% against the draws' mean {draws_mean:.5f}, "
+          f"{100 * (m4 / by_draw[0] - 1):+.1f}% against draw 0's {by_draw[0]:.5f}")
+    taken = m4 <= 0.98 * draws_mean and m4 <= 0.98 * by_draw[0]
+    print(f"  -> starts: 4 {'TAKEN' if taken else 'not taken'}")
+
+    print("\nRule 3 (read after, 24 held-out units):")
+    for name, col in (("force", 0), ("position", 1)):
+        over_0 = [v["m"][col] / v["d"][0][col] for v in test.values()]
+        over_mean = [v["m"][col] / np.exp(np.mean(np.log([x[col] for x in v["d"]]))) for v in test.values()]
+        below_best = sum(v["m"][col] < min(x[col] for x in v["d"]) for v in test.values())
+        ours, refs = ([v[key][col] for v in test.values()] for key in ("m", "ref"))
+        print(f"  {name}: M4 over draw 0 {geo(over_0)}; over the draws' geometric mean {geo(over_mean)}; "
+              f"below the unit's best draw on {below_best} of {len(test)}; against the references "
+              f"{np.mean(ours) / np.mean(refs):.3f}x")
+
+
+if __name__ == "__main__":
+    main()
