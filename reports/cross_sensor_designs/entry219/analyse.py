@@ -28,10 +28,18 @@ def rows(path: Path, method: str) -> dict[str, dict]:
     return {r["unit"]: r for r in results if r["method"] == method}
 
 
-def logged_objectives(log: Path) -> dict[str, float]:
-    """{unit: final objective} from the run's log line (validation and held-out units)."""
-    line = next(x for x in log.read_text().splitlines() if "the fit's objective:" in x)
-    return {u: float(v) for u, v in re.findall(r"(\S+) ([-+0-9.e]+)(?:,|$)", line.split("objective:")[1])}
+def objectives(log: Path) -> dict[str, list[float]]:
+    """{unit: [final objective per draw]} from a run's log line (validation and held-out units), as
+    printed (six digits); one per unit where the run read one draw."""
+    line = next(x for x in log.read_text().splitlines() if "the fit's objective" in x)
+    return {u: [float(v) for v in vs.split()]
+            for u, vs in re.findall(r"(PAD\S+) ([-+0-9.e ]+?)(?:,|$)", line.split(":", 2)[2])}
+
+
+def val_losses(run: Path, k: int) -> dict[str, float]:
+    """Each validation unit's standardised loss of fold k's label-free row."""
+    return json.loads((run / "provenance.json").read_text())["cross_sensor"][f"seed{k}"]["val_loss_units"][
+        METHOD]["0"]
 
 
 def geo(values: list[float]) -> str:
@@ -48,10 +56,9 @@ def main() -> None:
         refs = rows(base, "per_unit")
         for d in DRAWS:
             run = HERE / f"draw{d}_seed{k}"
-            objective = logged_objectives(HERE / "logs" / f"draw{d}_seed{k}.log")
-            prov = json.loads((run / "provenance.json").read_text())["cross_sensor"][f"seed{k}"]
+            objective = {u: v[0] for u, v in objectives(HERE / "logs" / f"draw{d}_seed{k}.log").items()}
             same_refs = rows(run, "per_unit") == refs
-            losses = prov["val_loss_units"][METHOD]["0"]
+            losses = val_losses(run, k)
             gate.append((k, d, same_refs, len(objective) == 8))
             for u, loss in losses.items():
                 val.setdefault((k, u), {})[d] = (loss, objective[u])

@@ -2,51 +2,27 @@
 
     python reports/cross_sensor_designs/entry220/analyse.py
 
-Reads `entry220/mean4_seedK` and `entry219/drawD_seedK` (K, D = 0-3): the held-out units'
-`response:label_free` rows, each validation unit's standardised loss (provenance) and each unit's
-objectives (the runs' logs). Prints the gate, the decision on the validation units and the held-out
-reading, as the entry wrote them down.
+Reads `entry220/mean4_seedK` and `entry219/drawD_seedK` (K, D = 0-3) with entry 219's readers: the
+held-out units' `response:label_free` rows, each validation unit's standardised loss (provenance) and
+each unit's objectives (the runs' logs). Prints the gate, the decision on the validation units and the
+held-out reading, as the entry wrote them down.
 """
 
 from __future__ import annotations
 
-import json
-import re
+import importlib.util
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 HERE = Path(__file__).resolve().parent
 DRAWN = HERE.parent / "entry219"
-FOLDS, DRAWS = range(4), range(4)
-METHOD = "response:label_free"
-
-
-def rows(path: Path, method: str) -> dict[str, dict]:
-    """{unit: row} of one method in a run's metrics.json."""
-    results = json.loads((path / "metrics.json").read_text())["results"]
-    return {r["unit"]: r for r in results if r["method"] == method}
-
-
-def objectives(log: Path) -> dict[str, list[float]]:
-    """{unit: [final objective per draw]} from a run's log line, as printed (six digits)."""
-    line = next(x for x in log.read_text().splitlines() if "the fit's objective" in x)
-    return {u: [float(v) for v in vs.split()]
-            for u, vs in re.findall(r"(PAD\S+) ([-+0-9.e ]+?)(?:,|$)", line.split(":", 2)[2])}
-
-
-def val_losses(run: Path, k: int) -> dict[str, float]:
-    """Each validation unit's standardised loss of the label-free row."""
-    return json.loads((run / "provenance.json").read_text())["cross_sensor"][f"seed{k}"]["val_loss_units"][
-        METHOD]["0"]
-
-
-def geo(values: list[float]) -> str:
-    """Geometric mean of ratios with a 95% t-interval over units."""
-    logs = np.log(values)
-    m, half = logs.mean(), stats.t.ppf(0.975, len(logs) - 1) * logs.std(ddof=1) / np.sqrt(len(logs))
-    return f"x{np.exp(m):.3f} [{np.exp(m - half):.3f}, {np.exp(m + half):.3f}]"
+_spec = importlib.util.spec_from_file_location("entry219", DRAWN / "analyse.py")
+assert _spec is not None and _spec.loader is not None
+e219 = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(e219)
+FOLDS, DRAWS, METHOD = e219.FOLDS, e219.DRAWS, e219.METHOD
+rows, objectives, val_losses, geo = e219.rows, e219.objectives, e219.val_losses, e219.geo
 
 
 def read_arm(run: Path, k: int, val: dict, test: dict) -> dict[str, dict]:
