@@ -374,6 +374,7 @@ class Settings:
     validation_only: bool = False
     rounds: int = SEARCH.rounds
     draws: int = DRAWS
+    search_draw: int = 0
 
 
 Curves = dict[str, dict[str, list[float]]]  # per seed: {unit count: the encoder's R^2 per draw}
@@ -428,7 +429,7 @@ def run(run_dir: Path, registry: Path, args: Settings) -> tuple[list[dict], Curv
         source = (transfer_source(ctx, sd, fit, recipe, saved.meta, seed)
                   if set(args.arms) - {"pooled", "input_stats"} else None)  # only arms with codes need it
         candidates = (torch.zeros(0, arrays.targets.shape[1]) if source is None
-                      else search_candidates(source.Y, SEARCH.candidates, seed))
+                      else search_candidates(source.Y, SEARCH.candidates, seed, args.search_draw))
         scale = None
         if set(SCALED) & set(args.arms):
             use = LabelFreeRecipe(args.seconds, args.rows)
@@ -540,6 +541,10 @@ def main(argv: list[str] | None = None) -> int:
                              "zero, each row's nearest contact under them)")
     parser.add_argument("--draws", type=int, default=DRAWS,
                         help="candidate draws the joint_scale_draws arm averages the codes of")
+    parser.add_argument("--search-draw", type=int, default=0,
+                        help="which draw of the training units' labeled contacts the search arms read (0: "
+                             "the seed's own order, as every run before entry 222; "
+                             "`options.response.label_free.search_draw`)")
     parser.add_argument("--plan-seconds", type=float, default=120.0, help="robot-seconds of the `plan` arm")
     parser.add_argument("--validation-only", action="store_true",
                         help="fit and score the validation units only (what a method is chosen on)")
@@ -553,6 +558,8 @@ def main(argv: list[str] | None = None) -> int:
         arms = arm_names(args.arms)
     except ValueError as e:
         parser.error(f"--arms {args.arms!r}: {e}")
+    if args.search_draw < 0:
+        parser.error(f"--search-draw {args.search_draw}: a draw is 0 or more")
     if ("encoder_more" in arms) != (args.encoder_units is not None):
         parser.error("the encoder_more arm and --encoder-units go together")
     torch.set_num_threads(1)
@@ -560,13 +567,15 @@ def main(argv: list[str] | None = None) -> int:
         rows, curves = run(args.run, args.registry, Settings(arms, args.seconds, args.rows, args.iterations,
                                                              args.plan_seconds, args.encoder_units,
                                                              args.unlabeled, args.pull,
-                                                             args.validation_only, args.rounds, args.draws))
+                                                             args.validation_only, args.rounds, args.draws,
+                                                             args.search_draw))
     except AnytipError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
     args.out.parent.mkdir(parents=True, exist_ok=True)
     found = {"run": str(args.run), "seconds": args.seconds, "unlabeled": args.unlabeled, "pull": args.pull,
-             "iterations": args.iterations, "search_rounds": args.rounds, "rows": rows}
+             "iterations": args.iterations, "search_rounds": args.rounds, "search_draw": args.search_draw,
+             "rows": rows}
     if curves:
         found["encoder_r2_by_units"] = curves
     args.out.write_text(json.dumps(found, indent=1))
