@@ -30,6 +30,9 @@ from the run's pooled start network:
   random draw of the training units' labeled contacts (entry 43);
 - `joint_scale_encoder`: `joint_scale_start` whose search starts from the `encoder` arm's codes
   instead of codes zero (entry 44);
+- `joint_scale_rescaled`: `joint_scale_encoder`'s fit with its contacts' forces scaled to the prior's
+  mean square and the codes refitted to them (`rescaled_codes`, `LabelFreeRecipe.final_scale`; entry
+  223); needs `joint_scale_encoder`;
 - `stream_labels`: codes fitted on the same rows with their labels (no label-free method has them):
   the most those seconds of pressures could tell the codes;
 - `plan`: codes fitted on the labeled rows of the run's plan of `--plan-seconds` robot-seconds (the
@@ -95,6 +98,7 @@ from anytip.train.label_free import (
     label_free_codes,
     mean_square_force,
     plan_and_use_codes,
+    rescaled_codes,
     search_candidates,
     searched_start,
 )
@@ -114,9 +118,10 @@ from anytip.train.response import (
 from anytip.train.shared_split import predict_rows
 
 SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws", "joint_scale_encoder",
-          "plan_joint", "plan_joint_all")  # the arms with the force-scale prior
+          "joint_scale_rescaled", "plan_joint", "plan_joint_all")  # the arms with the force-scale prior
 ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale",
-        "joint_scale_start", "joint_scale_draws", "joint_scale_encoder", "encoder", "encoder_own",
+        "joint_scale_start", "joint_scale_draws", "joint_scale_encoder", "joint_scale_rescaled", "encoder",
+        "encoder_own",
         "encoder_more", "stream_labels", "all_labels", "plan", "plan_joint",
         "plan_joint_all")
 JOINT = ("joint", "joint_truth", "joint_search", *SCALED)  # the joint fit's arms
@@ -305,14 +310,23 @@ def unit_codes(fit: ResponseFit, recipe: ResponseRecipe, start: LoadedModels, ar
                 tag = "scaled_search" if from_codes is None else "encoder_search"
                 found |= {f"code_rms_{tag}_off_truth": float((z - labelled).pow(2).mean().sqrt()),
                           f"contact_error_{tag}": float(((c - Y) / std).pow(2).mean().sqrt())}
+        ends = {}
         for arm in [a for a in starts if a in arms]:
             codes[arm], contacts, trace = joint_fit(fit, X, Y0, n_eff, args.iterations, args.pull,
                                                     starts[arm], scale if arm in SCALED else None)
+            ends[arm] = contacts
             found |= {f"data_term_{arm}": data_term(fit, X, contacts, codes[arm]),
                       f"force_ms_{arm}": mean_square_force(contacts, cols),
                       "objective" if arm == "joint" else f"objective_{arm}": trace,
                       f"code_rms_{arm}_off_truth": float((codes[arm] - labelled).pow(2).mean().sqrt()),
                       f"contact_error_{arm}": float(((contacts - Y) / std).pow(2).mean().sqrt())}
+        if "joint_scale_rescaled" in arms:
+            arm = "joint_scale_rescaled"
+            codes[arm], contacts = rescaled_codes(fit, recipe, X, n_eff, ends["joint_scale_encoder"], scale,
+                                                  seed)
+            found |= {f"data_term_{arm}": data_term(fit, X, contacts, codes[arm]),
+                      f"force_ms_{arm}": mean_square_force(contacts, cols),
+                      f"code_rms_{arm}_off_truth": float((codes[arm] - labelled).pow(2).mean().sqrt())}
         if "joint_scale_draws" in arms:  # draw 0 is joint_scale_start's, reused where that arm ran
             pools, first = (candidates, *draws), codes.get("joint_scale_start")
             codes["joint_scale_draws"], of_draws = mean_of_draws(fit, recipe, X, Y0, n_eff, pools, seed, args,
@@ -560,6 +574,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--arms {args.arms!r}: {e}")
     if args.search_draw < 0:
         parser.error(f"--search-draw {args.search_draw}: a draw is 0 or more")
+    if "joint_scale_rescaled" in arms and "joint_scale_encoder" not in arms:
+        parser.error("the joint_scale_rescaled arm rescales joint_scale_encoder's fit: list both")
     if ("encoder_more" in arms) != (args.encoder_units is not None):
         parser.error("the encoder_more arm and --encoder-units go together")
     torch.set_num_threads(1)

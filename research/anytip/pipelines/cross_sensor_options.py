@@ -185,6 +185,9 @@ class LabelFreeOptions(BaseModel):
         default=LabelFreeRecipe.starts, ge=1, le=64, description="the label-free fit runs from this many "
         "draws of contacts in turn (`search_draw` on) and a unit takes the mean of their codes (research "
         "log entry 220)")
+    final_scale: bool = Field(
+        default=LabelFreeRecipe.final_scale, description="after the label-free fit, scale its contacts' "
+        "forces to the force-scale prior's mean square and refit the codes to them (research log entry 223)")
     with_plans: bool = Field(
         default=False, description="also calibrate every labeled budget with the unit's ordinary use: its "
         "codes from one joint fit of the plan's labeled rows and the ordinary use's unlabeled ones, rows "

@@ -84,7 +84,9 @@ class LabelFreeRecipe:
     `search_draw`: which random draw of the training units' labeled contacts the search reads (0, the
     default, the one every run before entry 219 read; others show how far the fit's basin follows the
     draw); `starts`: the label-free fit runs from that many draws in turn (`search_draw` on) and the
-    unit takes the mean of their codes (entry 220)."""
+    unit takes the mean of their codes (entry 220); `final_scale`: after the joint fit, its contacts'
+    forces are scaled to the force-scale prior's mean square and the codes refitted to them
+    (`rescaled_codes`, entry 223), as each search round does before it."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -101,6 +103,7 @@ class LabelFreeRecipe:
     use_weight: float = 1.0
     search_draw: int = 0
     starts: int = 1
+    final_scale: bool = False
 
     def __post_init__(self) -> None:
         counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
@@ -114,8 +117,9 @@ class LabelFreeRecipe:
             v = getattr(self, key)
             if type(v) not in (int, float) or not 0 < v <= most:
                 raise ValueError(f"{key}: expected a number in (0, {most:g}], got {v!r}")
-        if type(self.force_scale) is not bool:
-            raise ValueError(f"force_scale: expected true or false, got {self.force_scale!r}")
+        for key in ("force_scale", "final_scale"):
+            if type(getattr(self, key)) is not bool:
+                raise ValueError(f"{key}: expected true or false, got {getattr(self, key)!r}")
         if self.start not in ("encoder", "zero"):
             raise ValueError(f"start: expected 'encoder' or 'zero', got {self.start!r}")
         if self.distil not in DISTIL:
@@ -504,6 +508,16 @@ def searched_start(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: f
     return codes, nearest()
 
 
+def rescaled_codes(fit: ResponseFit, recipe: ResponseRecipe, X: Tensor, n_eff: float, contacts: Tensor,
+                   scale: ForceScale, seed: int) -> tuple[Tensor, Tensor]:
+    """The codes' MAP (C, k) given the contacts (n, D) physical of unlabeled pressures X (n, C) Pa with
+    their forces scaled to the prior's mean square (`ForceScale.match`), and those contacts: a joint fit
+    ends below the prior's force scale by a few percent, and the further a unit's fit ends from its
+    true scale the larger its force error (entries 222-223)."""
+    matched = scale.match(contacts)
+    return fit_codes(fit, [X], [matched], [n_eff], recipe, seed)[0], matched
+
+
 def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
                      n_eff: float, candidates: Tensor, seed: int, scale: ForceScale | None = None,
                      codes: Tensor | None = None) -> tuple[Tensor, Tensor, list[float]]:
@@ -511,11 +525,15 @@ def label_free_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRe
     searched start (its search from `codes`, default the code prior's mean), pulled towards a start
     network's contacts Y0 (n, D), with the force-scale prior `scale` where given; its contacts (n, D)
     and its objective after each step. Without rows the codes stay at the prior's mean (the fleet's
-    typical unit), as `fit_codes` leaves a job without rows."""
+    typical unit), as `fit_codes` leaves a job without rows. With `free.final_scale` and a prior, the
+    codes and contacts are `rescaled_codes`' from the fit's contacts (the objective still the fit's)."""
     if not len(X):
         return fit.code_prior.mean.clone(), Y0, []
     start = searched_start(fit, recipe, X, n_eff, candidates, seed, free.rounds, scale, codes)
-    return joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
+    z, c, trace = joint_fit(fit, X, Y0, n_eff, free.iterations, free.pull, start, scale)
+    if free.final_scale and scale is not None:
+        z, c = rescaled_codes(fit, recipe, X, n_eff, c, scale, seed)
+    return z, c, trace
 
 
 def started_codes(fit: ResponseFit, recipe: ResponseRecipe, free: LabelFreeRecipe, X: Tensor, Y0: Tensor,
