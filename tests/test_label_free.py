@@ -451,16 +451,17 @@ def test_starts_average_the_codes_of_the_draws_in_turn():
 
 
 def test_final_scale_refits_the_codes_to_the_fits_contacts_at_the_priors_scale():
-    """`final_scale` (entry 223): the fit's contacts are scaled to the prior's mean square force, the
-    codes are the MAP given them, the objective is still the fit's; without a prior nothing changes;
-    a recipe recorded before the key existed reads false, and a value not true or false is refused."""
+    """`final_scale` (entry 223, on by default): the fit's contacts are scaled to the prior's mean square
+    force, the codes are the MAP given them, the objective is still the fit's; without a prior nothing
+    changes; a recipe recorded before the key existed reads false, and a value not true or false is
+    refused."""
     fit, labels = _fit(), _contacts(400, 31)
     codes = 0.2 * torch.randn(8, 4, generator=torch.Generator().manual_seed(4))
     with torch.no_grad():
         X = fit.model(_contacts(60, 32), codes)
     Y0, candidates = _contacts(60, 33), label_free.search_candidates(labels, 100, 6)
     scale, recipe = ForceScale((0, 1, 2), 30.0, 4.0), ResponseRecipe()
-    plain = LabelFreeRecipe(rows=60, candidates=100, rounds=1, iterations=3)
+    plain = LabelFreeRecipe(rows=60, candidates=100, rounds=1, iterations=3, final_scale=False)
     z0, c0, trace0 = label_free_codes(fit, recipe, plain, X, Y0, 60.0, candidates, 6, scale)
     z, c, trace = label_free_codes(fit, recipe, replace(plain, final_scale=True), X, Y0, 60.0, candidates, 6,
                                    scale)
@@ -472,6 +473,6 @@ def test_final_scale_refits_the_codes_to_the_fits_contacts_at_the_priors_scale()
     unscaled = label_free_codes(fit, recipe, replace(plain, final_scale=True), X, Y0, 60.0, candidates, 6)
     assert torch.equal(unscaled[0], label_free_codes(fit, recipe, plain, X, Y0, 60.0, candidates, 6)[0])
     old = {k: v for k, v in asdict(LabelFreeRecipe()).items() if k != "final_scale"}
-    assert LabelFreeRecipe.from_json(old).final_scale is False
+    assert LabelFreeRecipe.from_json(old).final_scale is False and LabelFreeRecipe().final_scale is True
     with pytest.raises(ValueError, match="final_scale: expected true or false"):
         LabelFreeRecipe(final_scale=1)  # type: ignore[arg-type]

@@ -86,7 +86,9 @@ class LabelFreeRecipe:
     draw); `starts`: the label-free fit runs from that many draws in turn (`search_draw` on) and the
     unit takes the mean of their codes (entry 220); `final_scale`: after the joint fit, its contacts'
     forces are scaled to the force-scale prior's mean square and the codes refitted to them
-    (`rescaled_codes`, entry 223), as each search round does before it."""
+    (`rescaled_codes`, entry 223: on by default since, false in a recipe recorded before), as each
+    search round does before it; a joint fit with a plan's labeled rows is left as it ends (their
+    labels carry the scale)."""
 
     seconds: float = 600.0
     rows: int = 4096
@@ -103,7 +105,7 @@ class LabelFreeRecipe:
     use_weight: float = 1.0
     search_draw: int = 0
     starts: int = 1
-    final_scale: bool = False
+    final_scale: bool = True
 
     def __post_init__(self) -> None:
         counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
@@ -141,7 +143,8 @@ class LabelFreeRecipe:
         unknown = set(values) - {f.name for f in fields(cls)}
         if unknown:
             raise ValueError(f"unknown keys {sorted(unknown)}")
-        return cls(**{"plan_iterations": None, **values})  # recorded before entry 81: `iterations` steps
+        # recorded before entry 81: `iterations` steps; before entry 223: the fit's contacts as they end
+        return cls(**{"plan_iterations": None, "final_scale": False, **values})
 
 
 @dataclass(frozen=True)
