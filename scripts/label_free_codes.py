@@ -121,9 +121,7 @@ SCALED = ("joint_scale", "joint_scale_start", "joint_scale_draws", "joint_scale_
           "joint_scale_rescaled", "plan_joint", "plan_joint_all")  # the arms with the force-scale prior
 ARMS = ("pooled", "input_stats", "zero", "joint", "joint_truth", "joint_search", "joint_scale",
         "joint_scale_start", "joint_scale_draws", "joint_scale_encoder", "joint_scale_rescaled", "encoder",
-        "encoder_own",
-        "encoder_more", "stream_labels", "all_labels", "plan", "plan_joint",
-        "plan_joint_all")
+        "encoder_own", "encoder_more", "stream_labels", "all_labels", "plan", "plan_joint", "plan_joint_all")
 JOINT = ("joint", "joint_truth", "joint_search", *SCALED)  # the joint fit's arms
 SEARCH = LabelFreeRecipe()  # the searched start's candidates and default rounds (the joint_search arms)
 DRAWS = 3  # candidate draws the joint_scale_draws arm averages by default
