@@ -109,8 +109,7 @@ class LabelFreeRecipe:
 
     def __post_init__(self) -> None:
         counts = {"rows": 1, "candidates": 1, "rounds": 0, "iterations": 1, "plan_rows": 1,
-                  "distil_repeat": 1, "plan_iterations": 1, "search_draw": 0,
-                  "starts": 1}
+                  "distil_repeat": 1, "plan_iterations": 1, "search_draw": 0, "starts": 1}
         for key, least in counts.items():
             v = getattr(self, key)
             if not (v is None and key in OPTIONAL) and (type(v) is not int or v < least):
